@@ -1,0 +1,126 @@
+//! The arm's links as kinematic, position-based Rapier bodies (thesis §2.2.1).
+//!
+//! Every link that has collision geometry becomes one kinematic body whose next pose is
+//! set from forward kinematics before each physics step, so the solver sees the link
+//! velocities implied by consecutive poses. Its colliders are the link's URDF collision
+//! primitives. Arm colliders belong to the [`groups::ARM`] interaction group and interact
+//! only with the environment ([`groups::ENVIRONMENT`]): adjacent links overlap at their
+//! joints and are never tested against each other. Because arm bodies are kinematic and
+//! environment bodies fixed, the kinematic–fixed collision type is switched on so that
+//! arm–object contacts are detected.
+//!
+//! Links whose collision geometry is a mesh file are given no collider yet (mesh loading
+//! comes with the environments); [`Arm::skipped`] lists them so callers can warn.
+
+use crate::kinematics::urdf::{Geometry, RobotModel};
+use nalgebra::{Isometry3, UnitQuaternion, Vector3};
+use rapier3d_f64::prelude::*;
+
+/// Interaction groups of the simulated world.
+pub mod groups {
+    use rapier3d_f64::prelude::Group;
+    /// The arm's links.
+    pub const ARM: Group = Group::GROUP_1;
+    /// Fixed environment: objects, maze walls, floor.
+    pub const ENVIRONMENT: Group = Group::GROUP_2;
+}
+
+/// The arm's bodies in a Rapier world.
+#[derive(Debug, Clone)]
+pub struct Arm {
+    /// (link index in the model, body handle) for every link with a collider.
+    pub bodies: Vec<(usize, RigidBodyHandle)>,
+    /// Link names whose mesh collision geometry was not turned into a collider.
+    pub skipped: Vec<String>,
+    /// Pose of the model's root link in the world frame.
+    pub root_pose: Isometry3<f64>,
+}
+
+/// Rapier's shape and its pose in the link frame for a URDF primitive (None for meshes).
+fn collider_for(geometry: &Geometry, origin: &Isometry3<f64>) -> Option<ColliderBuilder> {
+    // URDF cylinders and capsules run along z; Rapier's along y.
+    let z_to_y = Isometry3::from_parts(
+        Default::default(),
+        UnitQuaternion::rotation_between(&Vector3::y(), &Vector3::z()).expect("not opposite"),
+    );
+    let (builder, local) = match geometry {
+        Geometry::Box { size } => (
+            ColliderBuilder::cuboid(size.x / 2.0, size.y / 2.0, size.z / 2.0),
+            *origin,
+        ),
+        Geometry::Sphere { radius } => (ColliderBuilder::ball(*radius), *origin),
+        Geometry::Cylinder { radius, length } => (
+            ColliderBuilder::cylinder(length / 2.0, *radius),
+            origin * z_to_y,
+        ),
+        Geometry::Capsule { radius, length } => (
+            ColliderBuilder::capsule_y(length / 2.0, *radius),
+            origin * z_to_y,
+        ),
+        Geometry::Mesh { .. } => return None,
+    };
+    Some(builder.position(local.into()))
+}
+
+impl Arm {
+    /// Adds the arm of `model` to `world`, its root at `root_pose`, posed at model joint
+    /// positions `q` (one per model joint).
+    pub fn build(
+        model: &RobotModel,
+        world: &mut PhysicsWorld,
+        root_pose: Isometry3<f64>,
+        q: &[f64],
+    ) -> Self {
+        let poses = model.link_poses(q);
+        let mut arm = Self {
+            bodies: Vec::new(),
+            skipped: Vec::new(),
+            root_pose,
+        };
+        for (i, link) in model.links.iter().enumerate() {
+            let shapes: Vec<_> = link
+                .collisions
+                .iter()
+                .filter_map(|c| collider_for(&c.geometry, &c.origin))
+                .collect();
+            if shapes.len() < link.collisions.len() {
+                arm.skipped.push(link.name.clone());
+            }
+            if shapes.is_empty() {
+                continue;
+            }
+            let body = world.insert_body(
+                RigidBodyBuilder::kinematic_position_based().pose((root_pose * poses[i]).into()),
+            );
+            for shape in shapes {
+                let collider = shape
+                    .collision_groups(InteractionGroups::new(
+                        groups::ARM,
+                        groups::ENVIRONMENT,
+                        InteractionTestMode::And,
+                    ))
+                    .active_collision_types(
+                        ActiveCollisionTypes::default() | ActiveCollisionTypes::KINEMATIC_FIXED,
+                    );
+                world.insert_collider(collider, Some(body));
+            }
+            arm.bodies.push((i, body));
+        }
+        arm
+    }
+
+    /// Sets the pose each link body moves to during the next step, for model joint
+    /// positions `q`.
+    pub fn drive(&self, model: &RobotModel, world: &mut PhysicsWorld, q: &[f64]) {
+        let poses = model.link_poses(q);
+        for &(link, handle) in &self.bodies {
+            world.bodies[handle].set_next_kinematic_position((self.root_pose * poses[link]).into());
+        }
+    }
+
+    /// The current world pose of link `link`'s body, if it has one.
+    pub fn link_pose(&self, world: &PhysicsWorld, link: usize) -> Option<Isometry3<f64>> {
+        let (_, handle) = self.bodies.iter().find(|(l, _)| *l == link)?;
+        Some((*world.bodies[*handle].position()).into())
+    }
+}

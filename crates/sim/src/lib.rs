@@ -1,0 +1,10 @@
+//! # whisker-sim
+//!
+//! The physics testbed of whisker-slam: the arm loaded from URDF with forward and inverse
+//! kinematics ([`kinematics`]), the arm's links as kinematic Rapier bodies ([`arm`]) and
+//! the simulated world that holds them ([`world`]). It produces data in the sensor data
+//! model of `whisker-slam`.
+
+pub mod arm;
+pub mod kinematics;
+pub mod world;

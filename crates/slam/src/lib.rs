@@ -1,0 +1,15 @@
+//! # whisker-slam
+//!
+//! The algorithms of the whisker-slam testbed that would run unchanged on a real robot's
+//! logs: the sensor data model, the signal front end, RatSLAM and WhiskerRatSLAM, object
+//! maps, recognition and exploration (see `DESIGN.md` and the thesis, Chapters 3–6).
+//!
+//! This crate depends on neither the simulator (`whisker-sim`), Rapier nor Rerun.
+//!
+//! Conventions shared by the whole workspace and defined here:
+//! - [`pose`]: poses are nalgebra [`nalgebra::Isometry3<f64>`]; roll/pitch/yaw follow the
+//!   URDF convention (R = Rz(yaw)·Ry(pitch)·Rx(roll)).
+//! - [`rng`]: every random draw comes from a named sub-stream of a scenario seed.
+
+pub mod pose;
+pub mod rng;

@@ -1,0 +1,112 @@
+//! `whisker`: the command line of the whisker-slam testbed (see README.md).
+
+mod error;
+mod output;
+mod plan;
+mod recording;
+mod run;
+mod scenario;
+mod urdf_cmd;
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Tactile SLAM and object recognition testbed for an actively whisked artificial
+/// whisker array on a UR5 arm.
+#[derive(Parser)]
+#[command(name = "whisker", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scenario: simulate it and write its results and Rerun recording.
+    Run {
+        /// The scenario TOML file.
+        scenario: PathBuf,
+        /// Output directory (overrides `output.dir` of the scenario).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Validate a scenario and print what would run; writes nothing.
+    Check {
+        /// The scenario TOML file.
+        scenario: PathBuf,
+    },
+    /// Inspect a URDF robot description.
+    Urdf {
+        #[command(subcommand)]
+        command: UrdfCommand,
+    },
+}
+
+#[derive(Subcommand)]
+enum UrdfCommand {
+    /// Links, joints, limits and the default chain.
+    Info {
+        /// The URDF file.
+        urdf: PathBuf,
+        /// Directory searched for `package://` meshes (repeatable).
+        #[arg(long = "package-path")]
+        package_paths: Vec<PathBuf>,
+    },
+    /// Forward kinematics: the pose of a link in another link's frame.
+    Fk {
+        /// The URDF file.
+        urdf: PathBuf,
+        /// Joint positions of the chain from --base to --link, comma-separated (rad; m for prismatic).
+        #[arg(long, allow_hyphen_values = true)]
+        joints: String,
+        /// Frame the pose is expressed in [default: base_link, else the root link].
+        #[arg(long)]
+        base: Option<String>,
+        /// Link whose pose is computed [default: tool0, else the only leaf link].
+        #[arg(long)]
+        link: Option<String>,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+        /// Directory searched for `package://` meshes (repeatable).
+        #[arg(long = "package-path")]
+        package_paths: Vec<PathBuf>,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run { scenario, out } => run::run(&scenario, out),
+        Command::Check { scenario } => run::check(&scenario),
+        Command::Urdf { command } => match command {
+            UrdfCommand::Info {
+                urdf,
+                package_paths,
+            } => urdf_cmd::info(&urdf, &package_paths),
+            UrdfCommand::Fk {
+                urdf,
+                joints,
+                base,
+                link,
+                json,
+                package_paths,
+            } => urdf_cmd::fk(
+                &urdf,
+                &package_paths,
+                &joints,
+                base.as_deref(),
+                link.as_deref(),
+                json,
+            ),
+        },
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(e.exit_code() as u8)
+        }
+    }
+}

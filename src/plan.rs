@@ -1,0 +1,151 @@
+//! Turning a scenario into a concrete arm motion: the robot model, the chain from the
+//! base link to the tip link, and a joint trajectory through the waypoints (tip poses
+//! solved by IK from the previous waypoint's configuration, §2.2.1).
+
+use crate::error::{CliError, CliResult};
+use crate::scenario::{Scenario, Target};
+use std::path::Path;
+use whisker_sim::kinematics::ik::{self, IkOptions};
+use whisker_sim::kinematics::{Chain, JointTrajectory, PackagePaths, RobotModel};
+use whisker_slam::pose;
+
+/// A scenario's arm motion, ready to simulate.
+pub struct Plan {
+    /// The robot model.
+    pub model: RobotModel,
+    /// The chain from `arm.base_link` to `arm.tip_link`.
+    pub chain: Chain,
+    /// Chain configuration at each waypoint, the initial one first (rad, m).
+    pub waypoints: Vec<Vec<f64>>,
+    /// Per-joint speed limits used (rad/s, m/s).
+    pub speed: Vec<f64>,
+    /// The joint trajectory.
+    pub trajectory: JointTrajectory,
+}
+
+/// Converts joint values as written in a scenario (deg, m) to chain units (rad, m).
+fn chain_units(chain: &Chain, values: &[f64]) -> Vec<f64> {
+    values
+        .iter()
+        .zip(&chain.angular)
+        .map(|(v, &angular)| if angular { v.to_radians() } else { *v })
+        .collect()
+}
+
+/// Checks a configuration against the chain: count and limits.
+fn check_joints(file: &Path, field: &str, chain: &Chain, q: &[f64]) -> CliResult {
+    if q.len() != chain.dof() {
+        return Err(CliError::field(
+            file,
+            field,
+            format!(
+                "expected {} values (one per joint of the chain {} -> {}: {}), got {}",
+                chain.dof(),
+                chain.base,
+                chain.tip,
+                chain.joint_names.join(", "),
+                q.len()
+            ),
+        ));
+    }
+    for (i, v) in q.iter().enumerate() {
+        let (lo, hi) = (chain.lower[i], chain.upper[i]);
+        if *v < lo - 1e-12 || *v > hi + 1e-12 {
+            let unit = |x: f64| {
+                if chain.angular[i] {
+                    format!("{:.3}°", x.to_degrees())
+                } else {
+                    format!("{x:.4} m")
+                }
+            };
+            return Err(CliError::field(
+                file,
+                &format!("{field}[{i}]"),
+                format!(
+                    "joint {} at {} is outside its limits [{}, {}]",
+                    chain.joint_names[i],
+                    unit(*v),
+                    unit(lo),
+                    unit(hi)
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+impl Plan {
+    /// Loads the URDF of `scenario` (read from `file`) and plans its trajectory.
+    pub fn new(scenario: &Scenario, file: &Path) -> CliResult<Self> {
+        let packages = PackagePaths::new(scenario.package_paths(file));
+        let urdf = scenario.urdf_path(file);
+        if !urdf.is_file() {
+            return Err(CliError::field(
+                file,
+                "arm.urdf",
+                format!("no such file: {}", urdf.display()),
+            ));
+        }
+        let model = RobotModel::load(&urdf, &packages)?;
+        let arm = &scenario.arm;
+        let chain = Chain::new(&model, &arm.base_link, &arm.tip_link)
+            .map_err(|e| CliError::field(file, "arm.base_link / arm.tip_link", e))?;
+        if chain.dof() == 0 {
+            return Err(CliError::field(
+                file,
+                "arm.tip_link",
+                format!("no movable joint between {} and {}", chain.base, chain.tip),
+            ));
+        }
+        let start = chain_units(&chain, &arm.initial_joints_deg);
+        check_joints(file, "arm.initial_joints_deg", &chain, &start)?;
+
+        let options = IkOptions {
+            seed: scenario.seed,
+            ..IkOptions::default()
+        };
+        let mut waypoints = vec![start];
+        let mut holds = vec![0.0];
+        for (k, w) in scenario.trajectory.waypoints.iter().enumerate() {
+            let field = format!("trajectory.waypoints[{k}]");
+            let previous = waypoints.last().expect("start");
+            let q = match w.target(file, &field)? {
+                Target::Joints(values) => {
+                    let q = chain_units(&chain, &values);
+                    check_joints(file, &format!("{field}.joints_deg"), &chain, &q)?;
+                    q
+                }
+                Target::Pose { position, rpy } => {
+                    let target = pose::from_xyz_rpy(position, rpy);
+                    ik::solve(&chain, &target, previous, &options)
+                        .map_err(|e| CliError::field(file, &field, e))?
+                }
+            };
+            waypoints.push(q);
+            holds.push(w.hold_s);
+        }
+        let speed: Vec<f64> = chain
+            .velocity
+            .iter()
+            .map(|v| v.min(arm.joint_speed_limit_rad_s))
+            .collect();
+        let trajectory = JointTrajectory::through(&waypoints, &holds, &speed);
+        Ok(Self {
+            model,
+            chain,
+            waypoints,
+            speed,
+            trajectory,
+        })
+    }
+
+    /// Model joint positions (one per URDF joint) for chain configuration `q`; joints
+    /// off the chain stay at 0.
+    pub fn model_joints(&self, q: &[f64]) -> Vec<f64> {
+        let mut all = vec![0.0; self.model.joints.len()];
+        for (&j, v) in self.chain.joint_indices.iter().zip(q) {
+            all[j] = *v;
+        }
+        all
+    }
+}

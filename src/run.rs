@@ -1,0 +1,261 @@
+//! `whisker run SCENARIO` and `whisker check SCENARIO`.
+//!
+//! `run` plans the arm motion of a scenario, drives the arm's kinematic bodies through it
+//! in a Rapier world at the output sample period, and writes to the output directory:
+//! - `path.csv`: one row per sample (columns documented in `scenarios/README.md`),
+//! - `summary.json`: the run's figures,
+//! - `run.rrd`: the Rerun recording (unless `output.recording = false`).
+//!
+//! `check` does everything up to the simulation (parsing, URDF, IK of every waypoint)
+//! and prints what would run, writing nothing.
+
+use crate::error::CliResult;
+use crate::output;
+use crate::plan::Plan;
+use crate::recording::Recording;
+use crate::scenario::Scenario;
+use nalgebra::Isometry3;
+use serde_json::json;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use whisker_sim::world::World;
+use whisker_slam::pose;
+
+fn describe(file: &Path, scenario: &Scenario, plan: &Plan) -> String {
+    let c = &plan.chain;
+    let mut s = String::new();
+    let _ = writeln!(s, "scenario   {} (seed {})", file.display(), scenario.seed);
+    let _ = writeln!(
+        s,
+        "arm        {} from {}: {} -> {}, {} joints ({})",
+        plan.model.name,
+        scenario.urdf_path(file).display(),
+        c.base,
+        c.tip,
+        c.dof(),
+        c.joint_names.join(", ")
+    );
+    let speed = plan.speed.iter().cloned().fold(f64::INFINITY, f64::min);
+    let _ = writeln!(
+        s,
+        "trajectory {} waypoints, {:.2} s at joint speeds ≤ {speed} rad/s",
+        plan.waypoints.len() - 1,
+        plan.trajectory.duration()
+    );
+    for (k, q) in plan.waypoints.iter().enumerate() {
+        let tip = c.fk(q);
+        let p = tip.translation.vector;
+        let r = pose::rpy(&tip.rotation).map(f64::to_degrees);
+        let deg: Vec<String> = q.iter().map(|v| format!("{:.2}", v.to_degrees())).collect();
+        let label = if k == 0 {
+            "start".to_string()
+        } else {
+            format!("#{}", k - 1)
+        };
+        let _ = writeln!(
+            s,
+            "  {label:>5}  tip ({:.4}, {:.4}, {:.4}) m  rpy ({:.1}, {:.1}, {:.1})°  joints [{}]°",
+            p.x,
+            p.y,
+            p.z,
+            r[0],
+            r[1],
+            r[2],
+            deg.join(", ")
+        );
+    }
+    s
+}
+
+/// `whisker check`: validate and print what would run.
+pub fn check(file: &Path) -> CliResult {
+    let scenario = Scenario::load(file)?;
+    let plan = Plan::new(&scenario, file)?;
+    print!("{}", describe(file, &scenario, &plan));
+    let dir = &scenario.output.dir;
+    let rrd = if scenario.output.recording {
+        ", run.rrd"
+    } else {
+        ""
+    };
+    println!(
+        "output     {} (path.csv every {} s, summary.json{rrd})",
+        dir.display(),
+        scenario.output.sample_period_s
+    );
+    let skipped = mesh_colliders_skipped(&plan);
+    if !skipped.is_empty() {
+        println!(
+            "warning    links with mesh collision geometry get no collider yet: {}",
+            skipped.join(", ")
+        );
+    }
+    println!("ok");
+    Ok(())
+}
+
+fn mesh_colliders_skipped(plan: &Plan) -> Vec<String> {
+    plan.model
+        .links
+        .iter()
+        .filter(|l| {
+            l.collisions
+                .iter()
+                .any(|c| matches!(c.geometry, whisker_sim::kinematics::Geometry::Mesh { .. }))
+        })
+        .map(|l| l.name.clone())
+        .collect()
+}
+
+/// `whisker run`: simulate and write the outputs.
+pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
+    let scenario = Scenario::load(file)?;
+    let plan = Plan::new(&scenario, file)?;
+    print!("{}", describe(file, &scenario, &plan));
+    let dir = out.unwrap_or_else(|| scenario.output.dir.clone());
+    output::create_dir(&dir)?;
+
+    let dt = scenario.output.sample_period_s;
+    let chain = &plan.chain;
+    let model = &plan.model;
+    let base = model.link(&chain.base).expect("chain base exists");
+    let tip_link = model.link(&chain.tip).expect("chain tip exists");
+    let skeleton_links: Vec<usize> = std::iter::once(model.root)
+        .chain(
+            model
+                .path_from_root(tip_link)
+                .iter()
+                .map(|&j| model.joints[j].child),
+        )
+        .collect();
+
+    let recording = if scenario.output.recording {
+        let id = format!(
+            "{}-seed{}",
+            file.file_stem().unwrap_or_default().to_string_lossy(),
+            scenario.seed
+        );
+        let rec = Recording::create(&dir.join("run.rrd"), &id)?;
+        let tips: Vec<Isometry3<f64>> = plan.waypoints.iter().map(|q| chain.fk(q)).collect();
+        rec.waypoints(&tips)?;
+        Some(rec)
+    } else {
+        None
+    };
+
+    let mut world = World::new(model.clone(), plan.model_joints(&plan.waypoints[0]), dt);
+    let mut csv = String::from("t_s");
+    for (name, &angular) in chain.joint_names.iter().zip(&chain.angular) {
+        let _ = write!(csv, ",{name}");
+    }
+    csv.push_str(",tip_x_m,tip_y_m,tip_z_m,tip_qx,tip_qy,tip_qz,tip_qw,arm_collision\n");
+
+    let steps = (plan.trajectory.duration() / dt).ceil() as usize;
+    let mut tip_path = Vec::with_capacity(steps + 1);
+    let mut collision_samples = 0usize;
+    let mut collided_links: Vec<String> = Vec::new();
+    for k in 0..=steps {
+        let t = (k as f64 * dt).min(plan.trajectory.duration());
+        let q = plan.trajectory.sample(t);
+        let all = plan.model_joints(&q);
+        if k > 0 {
+            world.step(&all);
+        }
+        let tip = chain.fk(&q);
+        let hits = world.arm_collisions();
+        let collided = !hits.is_empty();
+        if collided {
+            collision_samples += 1;
+            for h in hits {
+                if !collided_links.contains(&h) {
+                    collided_links.push(h);
+                }
+            }
+        }
+        let _ = write!(csv, "{t}");
+        for v in &q {
+            let _ = write!(csv, ",{v}");
+        }
+        let p = tip.translation.vector;
+        let [qx, qy, qz, qw] = pose::quaternion_xyzw(&tip.rotation);
+        let _ = writeln!(
+            csv,
+            ",{},{},{},{qx},{qy},{qz},{qw},{}",
+            p.x,
+            p.y,
+            p.z,
+            u8::from(collided)
+        );
+        if let Some(rec) = &recording {
+            let poses = model.link_poses(&all);
+            let base_inv = poses[base].inverse();
+            let links: Vec<Isometry3<f64>> = skeleton_links
+                .iter()
+                .map(|&l| base_inv * poses[l])
+                .collect();
+            rec.arm(t, &links, &tip)?;
+        }
+        tip_path.push(tip);
+    }
+
+    let length: f64 = tip_path
+        .windows(2)
+        .map(|w| (w[1].translation.vector - w[0].translation.vector).norm())
+        .sum();
+    let waypoints: Vec<_> = plan
+        .waypoints
+        .iter()
+        .map(|q| {
+            let tip = chain.fk(q);
+            json!({
+                "joints_rad": q,
+                "tip_position_m": tip.translation.vector.as_slice(),
+                "tip_rpy_deg": pose::rpy(&tip.rotation).map(f64::to_degrees),
+            })
+        })
+        .collect();
+    let summary = json!({
+        "scenario": file.display().to_string(),
+        "seed": scenario.seed,
+        "urdf": scenario.urdf_path(file).display().to_string(),
+        "base_link": chain.base,
+        "tip_link": chain.tip,
+        "joint_names": chain.joint_names,
+        "duration_s": plan.trajectory.duration(),
+        "sample_period_s": dt,
+        "samples": steps + 1,
+        "tip_path_length_m": length,
+        "waypoints": waypoints,
+        "arm_collision_samples": collision_samples,
+        "arm_collision_links": collided_links,
+    });
+
+    output::write_atomic(&dir.join("path.csv"), csv.as_bytes())?;
+    let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
+    output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
+    if let Some(rec) = recording {
+        rec.finish(&tip_path)?;
+    }
+    println!(
+        "simulated  {} samples every {dt} s; tip travelled {length:.3} m; arm–environment collisions: {}",
+        steps + 1,
+        if collision_samples == 0 {
+            "none".to_string()
+        } else {
+            format!(
+                "{collision_samples} samples ({})",
+                collided_links.join(", ")
+            )
+        }
+    );
+    let rrd = if scenario.output.recording {
+        ", run.rrd"
+    } else {
+        ""
+    };
+    println!(
+        "wrote      {}/{{path.csv, summary.json{rrd}}}",
+        dir.display()
+    );
+    Ok(())
+}

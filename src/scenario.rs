@@ -1,0 +1,250 @@
+//! The scenario file format, version 1 (documented field by field in
+//! `scenarios/README.md`).
+//!
+//! A scenario is a TOML file. Unknown fields are rejected, every number is checked to be
+//! finite and in range, and every error names the file and the field. Paths of inputs
+//! (the URDF, package search directories) are relative to the scenario file; the output
+//! directory is relative to the working directory.
+
+use crate::error::{CliError, CliResult};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// Default joint-speed limit (rad/s): the thesis moved the arm at 0.1 rad/s (§2.2.1).
+pub const DEFAULT_JOINT_SPEED_RAD_S: f64 = 0.1;
+
+/// A whole scenario.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// Format version; 1.
+    #[serde(default = "one")]
+    pub version: u32,
+    /// Seed of every random sub-stream of the experiment.
+    #[serde(default)]
+    pub seed: u64,
+    /// The arm.
+    pub arm: ArmConfig,
+    /// Where the arm goes.
+    pub trajectory: TrajectoryConfig,
+    /// What is written.
+    #[serde(default)]
+    pub output: OutputConfig,
+}
+
+/// `[arm]`: the robot description and its initial state.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ArmConfig {
+    /// URDF file, relative to the scenario file.
+    pub urdf: PathBuf,
+    /// Directories searched for `package://` mesh references, relative to the scenario.
+    #[serde(default)]
+    pub package_paths: Vec<PathBuf>,
+    /// The link the chain starts at (poses are expressed in it).
+    #[serde(default = "base_link")]
+    pub base_link: String,
+    /// The link whose pose trajectory waypoints give.
+    #[serde(default = "whisker_array")]
+    pub tip_link: String,
+    /// Initial position of each chain joint, base to tip (deg; m for prismatic joints).
+    pub initial_joints_deg: Vec<f64>,
+    /// Speed limit of every joint (rad/s), further capped by the URDF's own limits.
+    #[serde(default = "default_speed")]
+    pub joint_speed_limit_rad_s: f64,
+}
+
+/// `[trajectory]`: waypoints visited in order from the initial configuration.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrajectoryConfig {
+    /// The waypoints.
+    pub waypoints: Vec<Waypoint>,
+}
+
+/// One `[[trajectory.waypoints]]` entry: either a pose of the tip link
+/// (`position_m` + `rpy_deg`) or a joint configuration (`joints_deg`).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Waypoint {
+    /// Tip-link position in the base link frame (m).
+    pub position_m: Option<[f64; 3]>,
+    /// Tip-link orientation as roll, pitch, yaw in the base link frame (deg).
+    pub rpy_deg: Option<[f64; 3]>,
+    /// Joint configuration (deg; m for prismatic joints).
+    pub joints_deg: Option<Vec<f64>>,
+    /// Time the arm stays at the waypoint once there (s).
+    #[serde(default)]
+    pub hold_s: f64,
+}
+
+/// `[output]`: where results go.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputConfig {
+    /// Output directory, relative to the working directory.
+    #[serde(default = "out_dir")]
+    pub dir: PathBuf,
+    /// Period of the rows of `path.csv` and of the arm's simulation step (s).
+    #[serde(default = "sample_period")]
+    pub sample_period_s: f64,
+    /// Whether to write the Rerun recording `run.rrd`.
+    #[serde(default = "yes")]
+    pub recording: bool,
+}
+
+impl Default for OutputConfig {
+    fn default() -> Self {
+        Self {
+            dir: out_dir(),
+            sample_period_s: sample_period(),
+            recording: true,
+        }
+    }
+}
+
+fn one() -> u32 {
+    1
+}
+fn yes() -> bool {
+    true
+}
+fn base_link() -> String {
+    "base_link".into()
+}
+fn whisker_array() -> String {
+    "whisker_array".into()
+}
+fn default_speed() -> f64 {
+    DEFAULT_JOINT_SPEED_RAD_S
+}
+fn out_dir() -> PathBuf {
+    PathBuf::from("out")
+}
+fn sample_period() -> f64 {
+    0.01
+}
+
+/// A waypoint resolved to what it asks for.
+#[derive(Debug, Clone)]
+pub enum Target {
+    /// Tip pose: position (m) and roll, pitch, yaw (rad).
+    Pose { position: [f64; 3], rpy: [f64; 3] },
+    /// Chain joint positions as written (deg; m for prismatic joints).
+    Joints(Vec<f64>),
+}
+
+impl Scenario {
+    /// Reads and checks a scenario file (what does not depend on the URDF).
+    pub fn load(path: &Path) -> CliResult<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            CliError::Input(format!("{}: cannot read scenario: {e}", path.display()))
+        })?;
+        let scenario: Self = toml::from_str(&text).map_err(|e| {
+            CliError::Input(format!("{}: {}", path.display(), e.to_string().trim_end()))
+        })?;
+        scenario.validate(path)?;
+        Ok(scenario)
+    }
+
+    fn validate(&self, file: &Path) -> CliResult {
+        let bad = |field: &str, msg: String| Err(CliError::field(file, field, msg));
+        if self.version != 1 {
+            return bad("version", format!("expected 1, got {}", self.version));
+        }
+        finite_all(file, "arm.initial_joints_deg", &self.arm.initial_joints_deg)?;
+        positive(
+            file,
+            "arm.joint_speed_limit_rad_s",
+            self.arm.joint_speed_limit_rad_s,
+        )?;
+        positive(file, "output.sample_period_s", self.output.sample_period_s)?;
+        if self.trajectory.waypoints.is_empty() {
+            return bad(
+                "trajectory.waypoints",
+                "expected at least one waypoint".into(),
+            );
+        }
+        for (k, w) in self.trajectory.waypoints.iter().enumerate() {
+            let field = format!("trajectory.waypoints[{k}]");
+            w.target(file, &field)?;
+            if !(w.hold_s.is_finite() && w.hold_s >= 0.0) {
+                return bad(
+                    &format!("{field}.hold_s"),
+                    format!("expected a finite number ≥ 0, got {}", w.hold_s),
+                );
+            }
+        }
+        Ok(())
+    }
+
+    /// The URDF path, resolved against the scenario file's directory.
+    pub fn urdf_path(&self, file: &Path) -> PathBuf {
+        relative_to(file, &self.arm.urdf)
+    }
+
+    /// The package search directories, resolved against the scenario file's directory.
+    pub fn package_paths(&self, file: &Path) -> Vec<PathBuf> {
+        self.arm
+            .package_paths
+            .iter()
+            .map(|p| relative_to(file, p))
+            .collect()
+    }
+}
+
+impl Waypoint {
+    /// What the waypoint asks for, or an error naming `field` if it is ill-formed.
+    pub fn target(&self, file: &Path, field: &str) -> CliResult<Target> {
+        match (&self.position_m, &self.rpy_deg, &self.joints_deg) {
+            (Some(p), Some(r), None) => {
+                finite_all(file, &format!("{field}.position_m"), p)?;
+                finite_all(file, &format!("{field}.rpy_deg"), r)?;
+                Ok(Target::Pose {
+                    position: *p,
+                    rpy: r.map(f64::to_radians),
+                })
+            }
+            (None, None, Some(q)) => {
+                finite_all(file, &format!("{field}.joints_deg"), q)?;
+                Ok(Target::Joints(q.clone()))
+            }
+            _ => Err(CliError::field(
+                file,
+                field,
+                "expected either `position_m` and `rpy_deg` (a tip pose) or `joints_deg` (a joint configuration), not both or parts",
+            )),
+        }
+    }
+}
+
+fn relative_to(file: &Path, p: &Path) -> PathBuf {
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        file.parent().unwrap_or(Path::new("")).join(p)
+    }
+}
+
+fn finite_all(file: &Path, field: &str, values: &[f64]) -> CliResult {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(CliError::field(
+            file,
+            &format!("{field}[{i}]"),
+            format!("expected a finite number, got {}", values[i]),
+        )),
+        None => Ok(()),
+    }
+}
+
+fn positive(file: &Path, field: &str, v: f64) -> CliResult {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(CliError::field(
+            file,
+            field,
+            format!("expected a positive number, got {v}"),
+        ))
+    }
+}

@@ -1,0 +1,233 @@
+//! `whisker urdf info URDF` and `whisker urdf fk URDF --joints …`.
+
+use crate::error::{CliError, CliResult};
+use serde_json::json;
+use std::path::{Path, PathBuf};
+use whisker_sim::kinematics::urdf::Geometry;
+use whisker_sim::kinematics::{Chain, PackagePaths, RobotModel};
+use whisker_slam::pose;
+
+/// Loads a URDF given on the command line.
+pub fn load(path: &Path, package_paths: &[PathBuf]) -> CliResult<RobotModel> {
+    if !path.is_file() {
+        return Err(CliError::Input(format!(
+            "{}: no such URDF file",
+            path.display()
+        )));
+    }
+    Ok(RobotModel::load(
+        path,
+        &PackagePaths::new(package_paths.iter().cloned()),
+    )?)
+}
+
+fn leaves(model: &RobotModel) -> Vec<usize> {
+    (0..model.links.len())
+        .filter(|&l| !model.joints.iter().any(|j| j.parent == l))
+        .collect()
+}
+
+/// The default base link: `base_link` if present, else the root.
+pub fn default_base(model: &RobotModel) -> String {
+    if model.link("base_link").is_some() {
+        "base_link".into()
+    } else {
+        model.links[model.root].name.clone()
+    }
+}
+
+/// The default tip link: `tool0` if present, else the only leaf link.
+pub fn default_tip(model: &RobotModel) -> CliResult<String> {
+    if model.link("tool0").is_some() {
+        return Ok("tool0".into());
+    }
+    match leaves(model).as_slice() {
+        [l] => Ok(model.links[*l].name.clone()),
+        many => Err(CliError::Input(format!(
+            "{}: no tool0 link and {} leaf links ({}): choose one with --link",
+            model.source.display(),
+            many.len(),
+            many.iter()
+                .map(|&l| model.links[l].name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ))),
+    }
+}
+
+fn fmt_limit(v: f64, angular: bool) -> String {
+    if !v.is_finite() {
+        return "∞".into();
+    }
+    if angular {
+        format!("{:.1}°", v.to_degrees())
+    } else {
+        format!("{v:.4} m")
+    }
+}
+
+/// `whisker urdf info`.
+pub fn info(path: &Path, package_paths: &[PathBuf]) -> CliResult {
+    let model = load(path, package_paths)?;
+    println!("robot  {} ({})", model.name, path.display());
+    println!("root   {}", model.links[model.root].name);
+    println!("links  {}", model.links.len());
+    for l in &model.links {
+        let shapes: Vec<String> = l
+            .collisions
+            .iter()
+            .map(|c| match &c.geometry {
+                Geometry::Box { size } => {
+                    format!("box {:.3}×{:.3}×{:.3} m", size.x, size.y, size.z)
+                }
+                Geometry::Cylinder { radius, length } => {
+                    format!("cylinder r {radius:.3} l {length:.3} m")
+                }
+                Geometry::Capsule { radius, length } => {
+                    format!("capsule r {radius:.3} l {length:.3} m")
+                }
+                Geometry::Sphere { radius } => format!("sphere r {radius:.3} m"),
+                Geometry::Mesh {
+                    filename, resolved, ..
+                } => match resolved {
+                    Some(p) => format!("mesh {}", p.display()),
+                    None => format!("mesh {filename} (not found)"),
+                },
+            })
+            .collect();
+        let shapes = if shapes.is_empty() {
+            "no collision geometry".to_string()
+        } else {
+            shapes.join("; ")
+        };
+        println!("  {:<24} {shapes}", l.name);
+    }
+    println!("joints {}", model.joints.len());
+    for j in &model.joints {
+        let angular = !matches!(j.kind, whisker_sim::kinematics::JointKind::Prismatic);
+        let limits = if j.kind.is_single_dof() {
+            format!(
+                " limits [{}, {}] speed ≤ {}",
+                fmt_limit(j.limits.lower, angular),
+                fmt_limit(j.limits.upper, angular),
+                if j.limits.velocity.is_finite() {
+                    format!("{}", j.limits.velocity)
+                } else {
+                    "∞".into()
+                }
+            )
+        } else {
+            String::new()
+        };
+        let a = j.axis;
+        let axis = if j.kind.is_single_dof() {
+            format!(" axis ({}, {}, {})", a.x, a.y, a.z)
+        } else {
+            String::new()
+        };
+        println!(
+            "  {:<34} {:<10} {} -> {}{axis}{limits}",
+            j.name,
+            j.kind.name(),
+            model.links[j.parent].name,
+            model.links[j.child].name
+        );
+    }
+    let base = default_base(&model);
+    if let Ok(tip) = default_tip(&model)
+        && let Ok(chain) = Chain::new(&model, &base, &tip)
+    {
+        println!(
+            "chain  {base} -> {tip}: {} joints ({})",
+            chain.dof(),
+            chain.joint_names.join(", ")
+        );
+    }
+    Ok(())
+}
+
+/// Parses `q1,q2,…` (radians or metres).
+pub fn parse_joints(text: &str) -> CliResult<Vec<f64>> {
+    if text.trim().is_empty() {
+        return Ok(Vec::new());
+    }
+    text.split(',')
+        .enumerate()
+        .map(|(i, s)| match s.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(CliError::Input(format!(
+                "--joints: value {} ({:?}) is not a finite number; expected comma-separated joint positions in rad (m for prismatic)",
+                i + 1,
+                s.trim()
+            ))),
+        })
+        .collect()
+}
+
+/// `whisker urdf fk`.
+pub fn fk(
+    path: &Path,
+    package_paths: &[PathBuf],
+    joints: &str,
+    base: Option<&str>,
+    link: Option<&str>,
+    as_json: bool,
+) -> CliResult {
+    let model = load(path, package_paths)?;
+    let base = base
+        .map(str::to_string)
+        .unwrap_or_else(|| default_base(&model));
+    let tip = match link {
+        Some(l) => l.to_string(),
+        None => default_tip(&model)?,
+    };
+    let chain = Chain::new(&model, &base, &tip)
+        .map_err(|e| CliError::Input(format!("--base/--link: {e}")))?;
+    let q = parse_joints(joints)?;
+    if q.len() != chain.dof() {
+        return Err(CliError::Input(format!(
+            "--joints: expected {} values for the chain {base} -> {tip} ({}), got {}",
+            chain.dof(),
+            chain.joint_names.join(", "),
+            q.len()
+        )));
+    }
+    let p = chain.fk(&q);
+    let t = p.translation.vector;
+    let quat = pose::quaternion_xyzw(&p.rotation);
+    let m = pose::matrix(&p);
+    let rows: Vec<[f64; 4]> = (0..4)
+        .map(|r| [m[(r, 0)], m[(r, 1)], m[(r, 2)], m[(r, 3)]])
+        .collect();
+    if as_json {
+        let out = json!({
+            "base": base,
+            "link": tip,
+            "joint_names": chain.joint_names,
+            "joints": q,
+            "position_m": [t.x, t.y, t.z],
+            "quaternion_xyzw": quat,
+            "rpy_rad": pose::rpy(&p.rotation),
+            "matrix": rows,
+        });
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&out).expect("plain JSON")
+        );
+    } else {
+        println!("pose of {tip} in {base}");
+        println!("position_m       {:.6} {:.6} {:.6}", t.x, t.y, t.z);
+        println!(
+            "quaternion_xyzw  {:.6} {:.6} {:.6} {:.6}",
+            quat[0], quat[1], quat[2], quat[3]
+        );
+        println!("matrix");
+        for r in rows {
+            println!(
+                "  {:>10.6} {:>10.6} {:>10.6} {:>10.6}",
+                r[0], r[1], r[2], r[3]
+            );
+        }
+    }
+    Ok(())
+}
