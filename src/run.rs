@@ -146,7 +146,7 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
     let mut world = World::new(model.clone(), plan.model_joints(&plan.waypoints[0]), dt);
     let mut csv = String::from("t_s");
     for (name, &angular) in chain.joint_names.iter().zip(&chain.angular) {
-        let _ = write!(csv, ",{name}");
+        let _ = write!(csv, ",{name}_{}", if angular { "rad" } else { "m" });
     }
     csv.push_str(",tip_x_m,tip_y_m,tip_z_m,tip_qx,tip_qy,tip_qz,tip_qw,arm_collision\n");
 

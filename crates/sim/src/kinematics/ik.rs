@@ -51,7 +51,7 @@ pub enum IkError {
     /// No attempt reached the target within tolerance (out of reach, or only reachable
     /// outside the joint limits).
     #[error(
-        "target pose of \"{tip}\" is unreachable within the joint limits: the best of {attempts} attempts is {position_error:.3e} m and {orientation_error:.3e} rad away"
+        "target pose of \"{tip}\" is unreachable within the joint limits: the best of {attempts} attempts ends {position_error:.6} m and {orientation_error:.6} rad away"
     )]
     Unreachable {
         tip: String,
@@ -64,11 +64,12 @@ pub enum IkError {
     BadStart { expected: usize, got: Vec<f64> },
 }
 
+/// Residual of configuration `q`: see [`residual`].
 fn pose_error(chain: &Chain, q: &[f64], target: &Isometry3<f64>) -> (DVector<f64>, f64, f64) {
-    let (tip, _) = (chain.fk(q), ());
-    residual(&tip, target)
+    residual(&chain.fk(q), target)
 }
 
+/// The 6-D error (Δp, rotation vector) from `tip` to `target`, and its two norms.
 fn residual(tip: &Isometry3<f64>, target: &Isometry3<f64>) -> (DVector<f64>, f64, f64) {
     let dp = target.translation.vector - tip.translation.vector;
     let dr = pose::rotation_error(&tip.rotation, &target.rotation);
@@ -149,9 +150,9 @@ pub fn solve(
     chain.clamp(&mut q0);
     for attempt in 0..=opts.restarts {
         if attempt > 0 {
-            for i in 0..q0.len() {
+            for (i, v) in q0.iter_mut().enumerate() {
                 let (lo, hi) = (chain.lower[i].max(-PI), chain.upper[i].min(PI));
-                q0[i] = if lo < hi {
+                *v = if lo < hi {
                     rng.random_range(lo..hi)
                 } else {
                     lo

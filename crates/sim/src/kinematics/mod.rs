@@ -12,6 +12,7 @@ pub mod ik;
 pub mod package_path;
 pub mod trajectory;
 pub mod urdf;
+mod urdf_numbers;
 
 pub use chain::Chain;
 pub use ik::{IkError, IkOptions};

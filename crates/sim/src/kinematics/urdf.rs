@@ -176,8 +176,13 @@ impl RobotModel {
             element: element.to_string(),
             message,
         };
-        let robot = urdf_rs::read_from_string(text)
-            .map_err(|e| err("<robot>", format!("not a valid URDF document: {e}")))?;
+        let robot =
+            urdf_rs::read_from_string(text).map_err(
+                |e| match super::urdf_numbers::find_bad_number(text) {
+                    Some((element, message)) => err(&element, message),
+                    None => err("<robot>", format!("not a valid URDF document: {e}")),
+                },
+            )?;
         if robot.links.is_empty() {
             return Err(err("<robot>", "no <link> elements".into()));
         }

@@ -1,0 +1,425 @@
+//! End-to-end tests of the `whisker` binary: the quickstart run, `check`, `urdf fk` on
+//! any standard UR5 description, and bad input (exit code 2, file and field named,
+//! nothing written).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn repo(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+fn whisker(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_whisker"))
+        .args(args)
+        .output()
+        .expect("whisker runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// The quickstart scenario's text with its output directory and URDF made absolute, so
+/// it can be run from a temporary directory.
+fn quickstart_in(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(repo("scenarios/quickstart.toml")).unwrap();
+    let urdf = repo("assets/urdf/ur5_whisker_array.urdf");
+    let text = text
+        .replace(
+            "\"../assets/urdf/ur5_whisker_array.urdf\"",
+            &format!("{:?}", urdf.display().to_string()),
+        )
+        .replace(
+            "\"out/quickstart\"",
+            &format!("{:?}", dir.join("out").display().to_string()),
+        );
+    let path = dir.join("quickstart.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn quickstart_reaches_its_waypoints_within_the_joint_speed_limit() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scenario = quickstart_in(tmp.path());
+    let o = whisker(&["run", scenario.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = tmp.path().join("out");
+
+    // Every pose waypoint of the scenario is reached by the tip (FK of the IK answer).
+    let spec: toml::Value = toml::from_str(&std::fs::read_to_string(&scenario).unwrap()).unwrap();
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let wanted = spec["trajectory"]["waypoints"].as_array().unwrap();
+    let reached = summary["waypoints"].as_array().unwrap();
+    assert_eq!(reached.len(), wanted.len() + 1, "start + waypoints");
+    let floats = |v: &serde_json::Value| -> Vec<f64> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    for (w, r) in wanted.iter().zip(&reached[1..]) {
+        if let Some(p) = w.get("position_m") {
+            let p: Vec<f64> = p
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_float().unwrap())
+                .collect();
+            let got = floats(&r["tip_position_m"]);
+            for i in 0..3 {
+                assert!(
+                    (p[i] - got[i]).abs() < 1e-6,
+                    "waypoint {w:?}: tip at {got:?}"
+                );
+            }
+        }
+    }
+
+    // path.csv: the documented header, a row per sample, joint speeds ≤ 0.1 rad/s, and the
+    // final row at the last waypoint.
+    let csv = std::fs::read_to_string(out.join("path.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(header[0], "t_s");
+    assert_eq!(header[1], "shoulder_pan_joint_rad");
+    assert_eq!(
+        header[7..],
+        [
+            "tip_x_m",
+            "tip_y_m",
+            "tip_z_m",
+            "tip_qx",
+            "tip_qy",
+            "tip_qz",
+            "tip_qw",
+            "arm_collision"
+        ]
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len() as u64, summary["samples"].as_u64().unwrap());
+    let mut peak: f64 = 0.0;
+    for w in rows.windows(2) {
+        let dt = w[1][0] - w[0][0];
+        if dt <= 0.0 {
+            continue;
+        }
+        for (a, b) in w[0][1..7].iter().zip(&w[1][1..7]) {
+            peak = peak.max((b - a).abs() / dt);
+        }
+    }
+    assert!(peak <= 0.1 + 1e-9, "a joint moved at {peak} rad/s");
+    assert!(
+        peak > 0.099,
+        "the slowest-limited joint should move at the limit, peak {peak}"
+    );
+    let last = rows.last().unwrap();
+    let home = floats(&reached[0]["joints_rad"]);
+    for j in 0..6 {
+        assert!((last[1 + j] - home[j]).abs() < 1e-9);
+    }
+    // The unit quaternion columns are normalised.
+    for r in &rows {
+        let n = (r[10] * r[10] + r[11] * r[11] + r[12] * r[12] + r[13] * r[13]).sqrt();
+        assert!((n - 1.0).abs() < 1e-9);
+    }
+    assert!(std::fs::metadata(out.join("run.rrd")).unwrap().len() > 1000);
+    // No temporary files are left behind.
+    for entry in std::fs::read_dir(&out).unwrap() {
+        let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+        assert!(!name.starts_with('.'), "left over: {name}");
+    }
+
+    // Same seed, same bytes (results do not depend on anything but the scenario).
+    let again = tmp.path().join("again");
+    let o = whisker(&[
+        "run",
+        scenario.to_str().unwrap(),
+        "--out",
+        again.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read(out.join("path.csv")).unwrap(),
+        std::fs::read(again.join("path.csv")).unwrap()
+    );
+}
+
+#[test]
+fn check_validates_and_writes_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scenario = quickstart_in(tmp.path());
+    let o = whisker(&["check", scenario.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(
+        text.contains("base_link -> whisker_array, 6 joints") && text.trim_end().ends_with("ok"),
+        "{text}"
+    );
+    assert!(!tmp.path().join("out").exists());
+}
+
+#[test]
+fn urdf_fk_gives_the_published_ur5_poses_for_any_standard_description() {
+    let cases = [
+        ("0,0,0,0,0,0", [0.817250, 0.191450, -0.005491]),
+        (
+            "0,-1.5707963267948966,0,-1.5707963267948966,0,0",
+            [0.0, 0.191450, 1.001059],
+        ),
+        ("0.1,-0.5,0.8,-1.2,1.5,0.3", [0.857037, 0.201539, 0.182468]),
+    ];
+    for urdf in [
+        "assets/urdf/ur5_whisker_array.urdf",
+        "tests/fixtures/ur5_ros_style.urdf",
+    ] {
+        let path = repo(urdf);
+        for (q, expected) in cases {
+            let o = whisker(&[
+                "urdf",
+                "fk",
+                path.to_str().unwrap(),
+                "--joints",
+                q,
+                "--json",
+            ]);
+            assert!(o.status.success(), "{}", stderr(&o));
+            let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+            assert_eq!(v["base"], "base_link");
+            assert_eq!(v["link"], "tool0");
+            for i in 0..3 {
+                let got = v["position_m"][i].as_f64().unwrap();
+                assert!(
+                    (got - expected[i]).abs() < 1e-6,
+                    "{urdf} q={q}: {got} vs {}",
+                    expected[i]
+                );
+                assert_eq!(v["matrix"][i][3].as_f64().unwrap(), got);
+            }
+            let quat: Vec<f64> = (0..4)
+                .map(|i| v["quaternion_xyzw"][i].as_f64().unwrap())
+                .collect();
+            assert!((quat.iter().map(|x| x * x).sum::<f64>() - 1.0).abs() < 1e-12);
+        }
+    }
+    // --base and --link choose the frames; the array mount is 60 mm beyond tool0.
+    let path = repo("assets/urdf/ur5_whisker_array.urdf");
+    let o = whisker(&[
+        "urdf",
+        "fk",
+        path.to_str().unwrap(),
+        "--joints",
+        "0,0,0,0,0,0",
+        "--base",
+        "base_link",
+        "--link",
+        "whisker_array",
+        "--json",
+    ]);
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert!((v["position_m"][1].as_f64().unwrap() - (0.191450 + 0.060)).abs() < 1e-6);
+    let info = whisker(&["urdf", "info", path.to_str().unwrap()]);
+    assert!(info.status.success());
+    assert!(stdout(&info).contains("chain  base_link -> tool0: 6 joints"));
+}
+
+/// Writes a scenario holding `body` (with `URDF` replaced by the project's arm) and runs it.
+fn run_bad(dir: &Path, name: &str, body: &str) -> (Output, PathBuf) {
+    let urdf = repo("assets/urdf/ur5_whisker_array.urdf");
+    let path = dir.join(format!("{name}.toml"));
+    let text = body
+        .replace("URDF", &format!("{:?}", urdf.display().to_string()))
+        .replace(
+            "OUT",
+            &format!(
+                "{:?}",
+                dir.join(format!("out-{name}")).display().to_string()
+            ),
+        );
+    std::fs::write(&path, text).unwrap();
+    (whisker(&["run", path.to_str().unwrap()]), path)
+}
+
+const ARM: &str = "[arm]\nurdf = URDF\ninitial_joints_deg = [0, -90, 90, -90, -90, 0]\n";
+const WAYPOINT: &str = "[[trajectory.waypoints]]\njoints_deg = [0, -80, 80, -90, -90, 0]\n";
+const OUTPUT: &str = "[output]\ndir = OUT\n";
+
+#[test]
+fn malformed_scenarios_exit_2_naming_file_and_field_and_write_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cyclic = tmp.path().join("cyclic.urdf");
+    std::fs::write(
+        &cyclic,
+        r#"<robot name="c"><link name="a"/><link name="b"/>
+        <joint name="ab" type="fixed"><parent link="a"/><child link="b"/></joint>
+        <joint name="ba" type="fixed"><parent link="b"/><child link="a"/></joint></robot>"#,
+    )
+    .unwrap();
+    let cyclic_arm = format!(
+        "[arm]\nurdf = {:?}\ninitial_joints_deg = []\n",
+        cyclic.display().to_string()
+    );
+    let cases: Vec<(&str, String, &str)> = vec![
+        (
+            "unknown_field",
+            format!("{ARM}colour = \"red\"\n{WAYPOINT}{OUTPUT}"),
+            "colour",
+        ),
+        (
+            "wrong_type",
+            format!("seed = \"one\"\n{ARM}{WAYPOINT}{OUTPUT}"),
+            "seed",
+        ),
+        ("missing_section", format!("{ARM}{OUTPUT}"), "trajectory"),
+        (
+            "missing_urdf_file",
+            format!(
+                "[arm]\nurdf = \"nowhere.urdf\"\ninitial_joints_deg = [0,0,0,0,0,0]\n{WAYPOINT}{OUTPUT}"
+            ),
+            "arm.urdf",
+        ),
+        (
+            "negative_speed",
+            format!("{ARM}joint_speed_limit_rad_s = -0.1\n{WAYPOINT}{OUTPUT}"),
+            "arm.joint_speed_limit_rad_s",
+        ),
+        (
+            "joint_count",
+            format!("[arm]\nurdf = URDF\ninitial_joints_deg = [0, -90, 90]\n{WAYPOINT}{OUTPUT}"),
+            "arm.initial_joints_deg",
+        ),
+        (
+            "nan_joint",
+            format!(
+                "[arm]\nurdf = URDF\ninitial_joints_deg = [0, nan, 90, -90, -90, 0]\n{WAYPOINT}{OUTPUT}"
+            ),
+            "arm.initial_joints_deg[1]",
+        ),
+        (
+            "outside_limits",
+            format!(
+                "[arm]\nurdf = URDF\ninitial_joints_deg = [0, -90, 200, -90, -90, 0]\n{WAYPOINT}{OUTPUT}"
+            ),
+            "arm.initial_joints_deg[2]",
+        ),
+        (
+            "both_kinds",
+            format!(
+                "{ARM}[[trajectory.waypoints]]\nposition_m = [0.5, 0, 0.3]\nrpy_deg = [180, 0, 0]\njoints_deg = [0,0,0,0,0,0]\n{OUTPUT}"
+            ),
+            "trajectory.waypoints[0]",
+        ),
+        (
+            "half_pose",
+            format!("{ARM}[[trajectory.waypoints]]\nposition_m = [0.5, 0, 0.3]\n{OUTPUT}"),
+            "trajectory.waypoints[0]",
+        ),
+        (
+            "unreachable",
+            format!(
+                "{ARM}{WAYPOINT}[[trajectory.waypoints]]\nposition_m = [2.0, 0, 0.3]\nrpy_deg = [180, 0, 0]\n{OUTPUT}"
+            ),
+            "trajectory.waypoints[1]",
+        ),
+        (
+            "inf_position",
+            format!(
+                "{ARM}[[trajectory.waypoints]]\nposition_m = [inf, 0, 0.3]\nrpy_deg = [180, 0, 0]\n{OUTPUT}"
+            ),
+            "trajectory.waypoints[0].position_m[0]",
+        ),
+        (
+            "negative_hold",
+            format!(
+                "{ARM}[[trajectory.waypoints]]\njoints_deg = [0, -80, 80, -90, -90, 0]\nhold_s = -1\n{OUTPUT}"
+            ),
+            "trajectory.waypoints[0].hold_s",
+        ),
+        (
+            "no_waypoints",
+            format!("{ARM}[trajectory]\nwaypoints = []\n{OUTPUT}"),
+            "trajectory.waypoints",
+        ),
+        (
+            "unknown_link",
+            format!("{ARM}tip_link = \"flange\"\n{WAYPOINT}{OUTPUT}"),
+            "flange",
+        ),
+        (
+            "zero_period",
+            format!("{ARM}{WAYPOINT}{OUTPUT}sample_period_s = 0.0\n"),
+            "output.sample_period_s",
+        ),
+        (
+            "bad_version",
+            format!("version = 2\n{ARM}{WAYPOINT}{OUTPUT}"),
+            "version",
+        ),
+        (
+            "cyclic_urdf",
+            format!("{cyclic_arm}{WAYPOINT}{OUTPUT}"),
+            "cycle",
+        ),
+        ("not_toml", "[arm\nurdf = ".to_string(), "line 1"),
+    ];
+    for (name, body, field) in &cases {
+        let (o, path) = run_bad(tmp.path(), name, body);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+        assert!(
+            err.contains(path.file_name().unwrap().to_str().unwrap())
+                || err.contains("cyclic.urdf"),
+            "{name}: file not named: {err}"
+        );
+        assert!(err.contains(field), "{name}: {field:?} not named: {err}");
+        assert!(!err.contains("panicked"), "{name}: {err}");
+        assert!(
+            !tmp.path().join(format!("out-{name}")).exists(),
+            "{name}: wrote output"
+        );
+    }
+    let (o, _) = run_bad(tmp.path(), "missing", "");
+    assert_eq!(o.status.code(), Some(2));
+    let o = whisker(&["run", tmp.path().join("absent.toml").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("absent.toml"));
+}
+
+#[test]
+fn bad_command_lines_exit_2() {
+    let urdf = repo("assets/urdf/ur5_whisker_array.urdf");
+    let u = urdf.to_str().unwrap();
+    for (args, needle) in [
+        (
+            vec!["urdf", "fk", u, "--joints", "0,0,zero,0,0,0"],
+            "value 3",
+        ),
+        (
+            vec!["urdf", "fk", u, "--joints", "0,0,0"],
+            "expected 6 values",
+        ),
+        (
+            vec!["urdf", "fk", u, "--joints", "0,0,0,0,0,0", "--link", "nose"],
+            "nose",
+        ),
+        (
+            vec!["urdf", "fk", "/no/such.urdf", "--joints", "0"],
+            "/no/such.urdf",
+        ),
+        (vec!["urdf", "info", "/no/such.urdf"], "/no/such.urdf"),
+        (vec!["frobnicate"], "frobnicate"),
+    ] {
+        let o = whisker(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+    }
+}
