@@ -450,3 +450,70 @@ fn bad_command_lines_exit_2() {
         assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
     }
 }
+
+#[test]
+fn broken_urdfs_exit_2_naming_file_and_element() {
+    let tmp = tempfile::tempdir().unwrap();
+    let j = |name: &str, parent: &str, child: &str, extra: &str| {
+        format!(
+            r#"<joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>{extra}</joint>"#
+        )
+    };
+    let links = r#"<link name="a"/><link name="b"/><link name="c"/>"#;
+    let cases = [
+        (
+            "missing_parent",
+            format!("{links}{}{}", j("j1", "x", "b", ""), j("j2", "b", "c", "")),
+            "<joint name=\"j1\">",
+        ),
+        (
+            "cycle",
+            format!(
+                "{links}{}{}{}",
+                j("j1", "a", "b", ""),
+                j("j2", "b", "c", ""),
+                j("j3", "c", "a", "")
+            ),
+            "cycle",
+        ),
+        (
+            "two_roots",
+            format!("{links}{}", j("j1", "a", "b", "")),
+            "root links (a, c)",
+        ),
+        (
+            "nan",
+            format!(
+                "{links}{}{}",
+                j("j1", "a", "b", ""),
+                j("j2", "b", "c", r#"<origin xyz="0 nan 0"/>"#)
+            ),
+            "<joint name=\"j2\">",
+        ),
+        (
+            "bad_number",
+            format!(
+                "{links}{}{}",
+                j("j1", "a", "b", ""),
+                j("j2", "b", "c", r#"<origin rpy="0 0 1.5.7"/>"#)
+            ),
+            "rpy=\"0 0 1.5.7\"",
+        ),
+    ];
+    for (name, body, needle) in cases {
+        let path = tmp.path().join(format!("{name}.urdf"));
+        std::fs::write(&path, format!("<robot name=\"r\">{body}</robot>")).unwrap();
+        for args in [
+            vec!["urdf", "info", path.to_str().unwrap()],
+            vec!["urdf", "fk", path.to_str().unwrap(), "--joints", "0,0"],
+        ] {
+            let o = whisker(&args);
+            let err = stderr(&o);
+            assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+            assert!(
+                err.contains(&format!("{name}.urdf")) && err.contains(needle),
+                "{name}: {err}"
+            );
+        }
+    }
+}
