@@ -1,5 +1,6 @@
 //! `whisker`: the command line of the whisker-slam testbed (see README.md).
 
+mod characterize;
 mod error;
 mod output;
 mod plan;
@@ -36,6 +37,8 @@ enum Command {
         /// The scenario TOML file.
         scenario: PathBuf,
     },
+    /// Characterise one whisker design: static point load, then ring-down.
+    Characterize(characterize::Options),
     /// Inspect a URDF robot description.
     Urdf {
         #[command(subcommand)]
@@ -80,6 +83,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run { scenario, out } => run::run(&scenario, out),
         Command::Check { scenario } => run::check(&scenario),
+        Command::Characterize(options) => characterize::run(&options),
         Command::Urdf { command } => match command {
             UrdfCommand::Info {
                 urdf,

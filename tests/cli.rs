@@ -517,3 +517,47 @@ fn broken_urdfs_exit_2_naming_file_and_element() {
         }
     }
 }
+
+#[test]
+fn characterize_reports_a_whisker_in_moment_balance() {
+    let o = whisker(&[
+        "characterize",
+        "--length",
+        "0.06",
+        "--segments",
+        "10",
+        "--force",
+        "0.004",
+        "--at",
+        "0.05",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let get = |k: &str| v[k].as_f64().unwrap_or_else(|| panic!("{k} missing"));
+    // Statics: the base carries the load's moment; the shaft bends towards the load, more
+    // at the tip than at the load point; the magnet moves the other way.
+    assert!((get("base_moment_nm") / (0.004 * 0.05) - 1.0).abs() < 0.01);
+    assert!(get("tip_deflection_m") > get("load_deflection_m") && get("load_deflection_m") > 0.0);
+    assert!(get("follicle_deflection_m") < 0.0);
+    // A 60 mm whisker rings at a few hundred hertz at most (clamped: 180 Hz).
+    assert!((50.0..200.0).contains(&get("first_frequency_hz")));
+    assert!((0.0..0.1).contains(&get("damping_ratio")));
+    for (args, needle) in [
+        (vec!["characterize", "--length", "-1"], "length"),
+        (vec!["characterize", "--at", "0.5"], "--at"),
+        (
+            vec!["characterize", "--tip-diameter", "0.003"],
+            "tip_diameter",
+        ),
+        (vec!["characterize", "--segments", "1"], "segments"),
+        (
+            vec!["characterize", "--follicle-stiffness", "nan"],
+            "--follicle-stiffness",
+        ),
+    ] {
+        let o = whisker(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+    }
+}

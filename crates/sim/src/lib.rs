@@ -7,4 +7,5 @@
 
 pub mod arm;
 pub mod kinematics;
+pub mod whisker;
 pub mod world;
