@@ -13,3 +13,4 @@
 
 pub mod pose;
 pub mod rng;
+pub mod sensor;
