@@ -29,7 +29,7 @@ pub struct Options {
     #[arg(long, default_value_t = 0.03)]
     pub damping_ratio: f64,
     /// Number of rigid segments.
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, default_value_t = BeamDesign::with_length(0.1).segments)]
     pub segments: usize,
     /// Rotational stiffness of the follicle (N·m/rad); 0 clamps the shaft rigidly.
     #[arg(long, default_value_t = FollicleDesign::default().stiffness)]

@@ -1,5 +1,6 @@
 //! `whisker`: the command line of the whisker-slam testbed (see README.md).
 
+mod bench;
 mod characterize;
 mod error;
 mod output;
@@ -39,11 +40,22 @@ enum Command {
     },
     /// Characterise one whisker design: static point load, then ring-down.
     Characterize(characterize::Options),
+    /// Benchmarks (timing; never part of the tests).
+    Bench {
+        #[command(subcommand)]
+        command: BenchCommand,
+    },
     /// Inspect a URDF robot description.
     Urdf {
         #[command(subcommand)]
         command: UrdfCommand,
     },
+}
+
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// Real-time factor of the physics sensing mode (1 and 18 whiskers, free and in contact).
+    Physics(bench::Options),
 }
 
 #[derive(Subcommand)]
@@ -84,6 +96,9 @@ fn main() -> ExitCode {
         Command::Run { scenario, out } => run::run(&scenario, out),
         Command::Check { scenario } => run::check(&scenario),
         Command::Characterize(options) => characterize::run(&options),
+        Command::Bench {
+            command: BenchCommand::Physics(options),
+        } => bench::physics(&options),
         Command::Urdf { command } => match command {
             UrdfCommand::Info {
                 urdf,

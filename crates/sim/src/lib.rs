@@ -7,5 +7,6 @@
 
 pub mod arm;
 pub mod kinematics;
+pub mod sensing;
 pub mod whisker;
 pub mod world;

@@ -29,7 +29,11 @@ use nalgebra::{Isometry3, Rotation3, Translation3, UnitQuaternion, Vector3};
 use std::f64::consts::FRAC_PI_2;
 
 /// Rings of the array, rostral first: (whisker length m, ring radius m, axial offset m).
-pub const RINGS: [(f64, f64, f64); 3] = [(0.060, 0.025, 0.0), (0.100, 0.040, -0.020), (0.160, 0.055, -0.040)];
+pub const RINGS: [(f64, f64, f64); 3] = [
+    (0.060, 0.025, 0.0),
+    (0.100, 0.040, -0.020),
+    (0.160, 0.055, -0.040),
+];
 
 /// Whisker modules per ring.
 pub const PER_RING: usize = 6;

@@ -51,7 +51,10 @@ impl SensorModel {
                 return Err(format!("{name} must be a positive number, got {v}"));
             }
         }
-        for (name, v) in [("noise_counts", self.noise_counts), ("angle_noise_rad", self.angle_noise_rad)] {
+        for (name, v) in [
+            ("noise_counts", self.noise_counts),
+            ("angle_noise_rad", self.angle_noise_rad),
+        ] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(format!("{name} must be a number ≥ 0, got {v}"));
             }
@@ -60,7 +63,9 @@ impl SensorModel {
     }
 
     fn deflection(&self, metres: f64, rng: &mut impl Rng) -> f64 {
-        let noise = Normal::new(0.0, self.noise_counts).expect("validated").sample(rng);
+        let noise = Normal::new(0.0, self.noise_counts)
+            .expect("validated")
+            .sample(rng);
         (metres * self.gain_counts_per_m + noise)
             .round()
             .clamp(-self.saturation_counts, self.saturation_counts)
@@ -68,7 +73,9 @@ impl SensorModel {
 
     /// One reading from the true whisk angle (rad) and magnet displacement (m, x and y).
     pub fn read(&self, angle: f64, magnet: (f64, f64), rng: &mut impl Rng) -> Sample {
-        let angle_noise = Normal::new(0.0, self.angle_noise_rad).expect("validated").sample(rng);
+        let angle_noise = Normal::new(0.0, self.angle_noise_rad)
+            .expect("validated")
+            .sample(rng);
         let q = self.angle_resolution_rad;
         Sample {
             angle_rad: ((angle + angle_noise) / q).round() * q,
@@ -95,7 +102,9 @@ mod tests {
         let mut r = rng::substream(9, "test/sensor");
         let n = 20_000;
         let true_y = 1.234e-5;
-        let ys: Vec<f64> = (0..n).map(|_| m.read(1.0, (0.0, true_y), &mut r).y).collect();
+        let ys: Vec<f64> = (0..n)
+            .map(|_| m.read(1.0, (0.0, true_y), &mut r).y)
+            .collect();
         assert!(ys.iter().all(|y| y.fract() == 0.0));
         let mean = ys.iter().sum::<f64>() / n as f64;
         let sd = (ys.iter().map(|y| (y - mean).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt();
@@ -106,7 +115,10 @@ mod tests {
         let big = m.read(1.0, (1.0, -1.0), &mut r);
         assert_eq!((big.x, big.y), (m.saturation_counts, -m.saturation_counts));
         let a = m.read(1.0, (0.0, 0.0), &mut r).angle_rad;
-        assert!((a / m.angle_resolution_rad).fract().abs() < 1e-9 || (a / m.angle_resolution_rad).fract().abs() > 1.0 - 1e-9);
+        assert!(
+            (a / m.angle_resolution_rad).fract().abs() < 1e-9
+                || (a / m.angle_resolution_rad).fract().abs() > 1.0 - 1e-9
+        );
         assert!((a - 1.0).abs() < 0.01);
     }
 }

@@ -1,0 +1,202 @@
+//! Physics sensing: the whisker array simulated in Rapier at the sensors' 2 kHz.
+//!
+//! Each whisker lives in a Rapier world of its own that holds the fixed environment
+//! (whiskers never touch each other or the arm, so nothing couples them): worlds step
+//! in parallel and each one's result depends only on its own inputs, so the streams are
+//! bit-identical whatever the number of threads (Rapier's `enhanced-determinism`).
+//! Every step the whisker's driver is posed at the array's pose × the module pose × the
+//! commanded whisk angle, the world steps by dt, and the sensors read the follicle; the
+//! controller sees each reading before the next command (RCP).
+//!
+//! Contact settings (`shared/notes/physics.md`): stiff contacts (30 kHz natural
+//! frequency, critically damped) so that mg-scale segments do not sink into surfaces,
+//! no contact recycling, a length unit of 1 cm, which sets the allowed penetration to
+//! 10 µm, and contacts predicted 2 mm ahead so that fast whisks do not pass through thin
+//! objects between two steps.
+
+use crate::whisker::array::Module;
+use crate::whisker::body::Whisker;
+use crate::whisker::control::{Controller, WhiskingPattern};
+use crate::whisker::follicle::FollicleDesign;
+use crate::whisker::sensor::SensorModel;
+use nalgebra::Isometry3;
+use rapier3d_f64::prelude::*;
+use rayon::prelude::*;
+use whisker_slam::rng::{self, StreamRng};
+use whisker_slam::sensor::Sample;
+
+/// Interaction group of whisker shafts.
+pub const WHISKER_GROUP: Group = Group::GROUP_3;
+
+/// A fixed piece of the environment: a shape and its pose in the world.
+pub type EnvironmentPiece = (SharedShape, Isometry3<f64>);
+
+/// Everything that configures one whisker's simulation.
+#[derive(Debug, Clone)]
+pub struct WhiskerConfig {
+    /// The module (geometry and shaft design).
+    pub module: Module,
+    /// The follicle (None: rigid).
+    pub follicle: Option<FollicleDesign>,
+    /// The whisking pattern.
+    pub pattern: WhiskingPattern,
+    /// RCP threshold on |y| (counts), or None for open loop.
+    pub rcp_threshold: Option<f64>,
+    /// The sensors.
+    pub sensor: SensorModel,
+}
+
+/// One whisker in its own world.
+pub struct WhiskerUnit {
+    /// Its configuration.
+    pub config: WhiskerConfig,
+    /// The Rapier world.
+    pub world: PhysicsWorld,
+    /// The whisker's bodies.
+    pub whisker: Whisker,
+    /// Its motor controller.
+    pub controller: Controller,
+    rng: StreamRng,
+    last: Sample,
+    steps: u64,
+}
+
+/// Applies the contact settings described in the module documentation.
+pub fn contact_parameters(p: &mut IntegrationParameters, dt: f64) {
+    p.dt = dt;
+    p.length_unit = 0.01;
+    p.contact_softness = SpringCoefficients::new(30000.0, 1.0);
+    p.static_contact_softness = SpringCoefficients::new(30000.0, 1.0);
+    p.contact_recycling = false;
+    // Speculative contacts 2 mm ahead: a whisker whisked at 10 Hz meets a surface at up
+    // to ~3 m/s, 1.5 mm per 0.5 ms step.
+    p.normalized_prediction_distance = 0.2;
+}
+
+impl WhiskerUnit {
+    /// A whisker in a world holding `environment`, its array frame at `array_pose`,
+    /// stepping at `dt`, its sensor noise drawn from the sub-stream
+    /// `"sensor/whisker/NN"` of `seed`.
+    pub fn new(
+        config: WhiskerConfig,
+        environment: &[EnvironmentPiece],
+        array_pose: &Isometry3<f64>,
+        seed: u64,
+        dt: f64,
+    ) -> Self {
+        let mut world = PhysicsWorld::new();
+        world.gravity = Vector::new(0.0, 0.0, -9.81);
+        contact_parameters(&mut world.integration_parameters, dt);
+        for (shape, pose) in environment {
+            world.insert_collider(
+                ColliderBuilder::new(shape.clone())
+                    .position((*pose).into())
+                    .collision_groups(InteractionGroups::new(
+                        Group::GROUP_2,
+                        Group::ALL,
+                        InteractionTestMode::And,
+                    )),
+                None,
+            );
+        }
+        let controller = Controller::new(config.pattern, config.rcp_threshold);
+        let theta = config.pattern.angle(0.0);
+        let pose = array_pose * config.module.whisker_pose(theta);
+        let groups =
+            InteractionGroups::new(WHISKER_GROUP, Group::GROUP_2, InteractionTestMode::And);
+        let whisker = Whisker::build(
+            &mut world,
+            pose,
+            config.module.beam,
+            config.follicle,
+            groups,
+        );
+        let rng = rng::substream(seed, &format!("sensor/whisker/{:02}", config.module.index));
+        Self {
+            config,
+            world,
+            whisker,
+            controller,
+            rng,
+            last: Sample {
+                angle_rad: theta,
+                ..Sample::default()
+            },
+            steps: 0,
+        }
+    }
+
+    /// Simulated time (s).
+    pub fn time(&self) -> f64 {
+        self.steps as f64 * self.world.integration_parameters.dt
+    }
+
+    /// Advances one step with the array frame at `array_pose` at the step's end, and
+    /// returns the sensors' reading.
+    pub fn step(&mut self, array_pose: &Isometry3<f64>) -> Sample {
+        let t = (self.steps + 1) as f64 * self.world.integration_parameters.dt;
+        let theta = self.controller.command(t, self.last.y);
+        let pose = array_pose * self.config.module.whisker_pose(theta);
+        self.whisker.drive(&mut self.world, pose);
+        self.world.step();
+        self.steps += 1;
+        let magnet = self.whisker.magnet_displacement(&self.world);
+        self.last = self.config.sensor.read(theta, magnet, &mut self.rng);
+        self.last
+    }
+
+    /// Whether any body of the world holds a non-finite value or was quarantined.
+    pub fn is_broken(&self) -> bool {
+        !self.world.quarantine().is_empty()
+            || self.whisker.segments.iter().any(|&h| {
+                let p = self.world.bodies[h].translation();
+                !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite())
+            })
+    }
+
+    /// Deepest penetration of the shaft into the environment after the last step (m, ≥ 0).
+    pub fn penetration(&self) -> f64 {
+        let mut deepest: f64 = 0.0;
+        for &seg in &self.whisker.segments {
+            for &c in self.world.bodies[seg].colliders() {
+                for pair in self.world.narrow_phase.contact_pairs_with(c) {
+                    if let Some((_, contact)) = pair.find_deepest_contact() {
+                        deepest = deepest.max(-contact.dist);
+                    }
+                }
+            }
+        }
+        deepest
+    }
+}
+
+/// The whole array: one [`WhiskerUnit`] per module, stepped in parallel.
+pub struct PhysicsArray {
+    /// The whiskers, in module order.
+    pub units: Vec<WhiskerUnit>,
+}
+
+impl PhysicsArray {
+    /// Builds every whisker of `configs` in its own world (see [`WhiskerUnit::new`]).
+    pub fn new(
+        configs: Vec<WhiskerConfig>,
+        environment: &[EnvironmentPiece],
+        array_pose: &Isometry3<f64>,
+        seed: u64,
+        dt: f64,
+    ) -> Self {
+        let units = configs
+            .into_par_iter()
+            .map(|c| WhiskerUnit::new(c, environment, array_pose, seed, dt))
+            .collect();
+        Self { units }
+    }
+
+    /// Advances every whisker one step; one sample per whisker, in module order.
+    pub fn step(&mut self, array_pose: &Isometry3<f64>) -> Vec<Sample> {
+        self.units
+            .par_iter_mut()
+            .map(|u| u.step(array_pose))
+            .collect()
+    }
+}
