@@ -16,7 +16,7 @@
 
 use crate::whisker::array::Module;
 use crate::whisker::body::Whisker;
-use crate::whisker::control::{Controller, WhiskingPattern};
+use crate::whisker::control::{Controller, RcpThreshold, WhiskingPattern};
 use crate::whisker::follicle::FollicleDesign;
 use crate::whisker::sensor::SensorModel;
 use nalgebra::Isometry3;
@@ -167,6 +167,42 @@ impl WhiskerUnit {
             }
         }
         deepest
+    }
+}
+
+/// The RCP threshold (counts) of a whisker, as the thesis calibrated it: for
+/// [`RcpThreshold::NoiseMultiple`]`(k)`, k × the standard deviation of the y deflection
+/// about its mean over one whisk cycle of free whisking (§3.2.2: whisking in the absence
+/// of any obstacle, so it holds sensor noise and the shaft's own whisking dynamics),
+/// simulated in an empty world with noise from the sub-stream
+/// `"calibration/whisker/NN"`; for [`RcpThreshold::Saturation`], the sensor's maximum
+/// detectable deflection (§4.1.1).
+///
+/// The free-whisking deflection grows with the square of the whisking frequency and with
+/// the whisker's length: for the 160 mm whisker at 5 Hz its σ is about 190 counts, so
+/// 20 σ exceeds the default saturation (2047) and RCP by that rule never fires. Callers
+/// should check the result against the sensor's saturation.
+pub fn calibrate_rcp(config: &WhiskerConfig, mode: RcpThreshold, seed: u64, dt: f64) -> f64 {
+    match mode {
+        RcpThreshold::Saturation => config.sensor.saturation_counts,
+        RcpThreshold::NoiseMultiple(k) => {
+            let free = WhiskerConfig {
+                rcp_threshold: None,
+                ..config.clone()
+            };
+            let mut unit = WhiskerUnit::new(free, &[], &Isometry3::identity(), seed, dt);
+            unit.rng = rng::substream(
+                seed,
+                &format!("calibration/whisker/{:02}", config.module.index),
+            );
+            let n = (1.0 / (config.pattern.frequency * dt)).round() as usize;
+            let y: Vec<f64> = (0..n)
+                .map(|_| unit.step(&Isometry3::identity()).y)
+                .collect();
+            let mean = y.iter().sum::<f64>() / n as f64;
+            let var = y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1).max(1) as f64;
+            k * var.sqrt()
+        }
     }
 }
 
