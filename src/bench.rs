@@ -14,6 +14,7 @@ use serde_json::json;
 use std::time::Instant;
 use whisker_sim::sensing::physics::{EnvironmentPiece, PhysicsArray, WhiskerConfig};
 use whisker_sim::whisker::array;
+use whisker_sim::whisker::beam::Bending;
 use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_sim::whisker::follicle::FollicleDesign;
 use whisker_sim::whisker::sensor::SensorModel;
@@ -24,15 +25,22 @@ pub struct Options {
     /// Simulated time per case (s).
     #[arg(long, default_value_t = 0.5)]
     pub duration: f64,
+    /// Shaft joint model of every whisker.
+    #[arg(long, value_enum, default_value_t = crate::characterize::BendingArg::Spatial)]
+    pub bending: crate::characterize::BendingArg,
     /// Print a JSON list of {case, threads, real_time_factor, …}.
     #[arg(long)]
     pub json: bool,
 }
 
-fn configs(count: usize) -> Vec<WhiskerConfig> {
+fn configs(count: usize, bending: Bending) -> Vec<WhiskerConfig> {
     array::modules()
         .into_iter()
         .take(count)
+        .map(|mut module| {
+            module.beam.bending = bending;
+            module
+        })
         .map(|module| WhiskerConfig {
             module,
             follicle: Some(FollicleDesign::default()),
@@ -49,6 +57,7 @@ fn time_case(
     environment: &[EnvironmentPiece],
     duration: f64,
     threads: usize,
+    bending: Bending,
 ) -> Result<f64, String> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -57,7 +66,7 @@ fn time_case(
     pool.install(|| {
         let dt = 1.0 / whisker_slam::sensor::SAMPLE_RATE_HZ;
         let pose = Isometry3::identity();
-        let mut array = PhysicsArray::new(configs(whiskers), environment, &pose, 0, dt);
+        let mut array = PhysicsArray::new(configs(whiskers, bending), environment, &pose, 0, dt);
         let steps = (duration / dt).round() as usize;
         let start = Instant::now();
         for _ in 0..steps {
@@ -93,8 +102,14 @@ pub fn physics(o: &Options) -> CliResult {
     let mut baseline = None;
     for (name, whiskers, environment) in &cases {
         for threads in [1, 2] {
-            let wall_s = time_case(*whiskers, environment, o.duration, threads)
-                .map_err(CliError::Failure)?;
+            let wall_s = time_case(
+                *whiskers,
+                environment,
+                o.duration,
+                threads,
+                o.bending.into(),
+            )
+            .map_err(CliError::Failure)?;
             let rtf = o.duration / wall_s;
             let cpu_per_whisker = threads as f64 * wall_s / o.duration / *whiskers as f64;
             let per_whisker_rate = rtf * *whiskers as f64;
@@ -124,9 +139,10 @@ pub fn physics(o: &Options) -> CliResult {
         );
     } else {
         println!(
-            "physics sensing, {} s simulated per case at 2 kHz, {} segments per whisker",
+            "physics sensing, {} s simulated per case at 2 kHz, {} segments per whisker, {:?} bending",
             o.duration,
-            array::modules()[0].beam.segments
+            array::modules()[0].beam.segments,
+            o.bending
         );
         println!(
             "{:<38} {:>7} {:>16} {:>22} {:>14}",

@@ -3,6 +3,7 @@
 
 use crate::error::{CliError, CliResult};
 use serde_json::json;
+use whisker_sim::whisker::beam::Bending;
 use whisker_sim::whisker::characterize::characterize;
 use whisker_sim::whisker::{BeamDesign, FollicleDesign};
 
@@ -31,6 +32,9 @@ pub struct Options {
     /// Number of rigid segments.
     #[arg(long, default_value_t = BeamDesign::with_length(0.1).segments)]
     pub segments: usize,
+    /// Shaft joint model: spatial (spherical joints) or sweep-plane (revolute joints).
+    #[arg(long, value_enum, default_value_t = BendingArg::Spatial)]
+    pub bending: BendingArg,
     /// Rotational stiffness of the follicle (N·m/rad); 0 clamps the shaft rigidly.
     #[arg(long, default_value_t = FollicleDesign::default().stiffness)]
     pub follicle_stiffness: f64,
@@ -45,6 +49,24 @@ pub struct Options {
     pub json: bool,
 }
 
+/// `--bending` values.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BendingArg {
+    /// Spherical joints: the shaft bends in both planes.
+    Spatial,
+    /// Revolute joints: the shaft bends in the sweep plane only (faster).
+    SweepPlane,
+}
+
+impl From<BendingArg> for Bending {
+    fn from(b: BendingArg) -> Self {
+        match b {
+            BendingArg::Spatial => Bending::Spatial,
+            BendingArg::SweepPlane => Bending::SweepPlane,
+        }
+    }
+}
+
 /// Runs `whisker characterize`.
 pub fn run(o: &Options) -> CliResult {
     let beam = BeamDesign {
@@ -55,6 +77,7 @@ pub fn run(o: &Options) -> CliResult {
         density: o.density,
         damping_ratio: o.damping_ratio,
         segments: o.segments,
+        bending: o.bending.into(),
     };
     beam.validate()
         .map_err(|e| CliError::Input(format!("characterize: {e}")))?;

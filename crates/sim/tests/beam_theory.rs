@@ -5,6 +5,7 @@
 
 use nalgebra::{DMatrix, SymmetricEigen};
 use std::f64::consts::{PI, TAU};
+use whisker_sim::whisker::beam::Bending;
 use whisker_sim::whisker::characterize::{characterize, static_load};
 use whisker_sim::whisker::{BeamDesign, FollicleDesign};
 
@@ -194,5 +195,27 @@ fn ring_down_frequency_matches_the_finite_element_modal_solve() {
             "damping ratio {}",
             c.damping_ratio
         );
+    }
+}
+
+/// A shaft that bends only in the sweep plane (revolute joints) responds to an in-plane
+/// load exactly as the spatial one does.
+#[test]
+fn sweep_plane_bending_matches_spatial_bending_in_plane() {
+    let spatial = BeamDesign::with_length(0.1);
+    let planar = BeamDesign {
+        bending: Bending::SweepPlane,
+        ..spatial
+    };
+    for frac in [0.3, 0.9] {
+        let a = frac * spatial.length;
+        let s = static_load(spatial, Some(FollicleDesign::default()), 0.003, a).unwrap();
+        let p = static_load(planar, Some(FollicleDesign::default()), 0.003, a).unwrap();
+        assert!(
+            (p.load_deflection_m / s.load_deflection_m - 1.0).abs() < 1e-3,
+            "{p:?} vs {s:?}"
+        );
+        assert!((p.base_moment_nm / s.base_moment_nm - 1.0).abs() < 1e-3);
+        assert!((p.follicle_deflection_m / s.follicle_deflection_m - 1.0).abs() < 1e-3);
     }
 }

@@ -18,6 +18,17 @@ use std::f64::consts::PI;
 /// Poisson's ratio used for the twist stiffness (polymer resins: 0.3–0.4).
 pub const POISSON_RATIO: f64 = 0.35;
 
+/// How the shaft's joints may bend.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Bending {
+    /// Spherical joints: the shaft bends in both planes (and twists stiffly).
+    Spatial,
+    /// Revolute joints about the whisk axis: the shaft bends only in the sweep plane.
+    /// The follicle still pivots on both axes, so the x deflection is still sensed, but
+    /// the shaft itself is rigid out of the sweep plane. About 4× cheaper per step.
+    SweepPlane,
+}
+
 /// Geometry and material of one whisker shaft (SI units).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BeamDesign {
@@ -35,6 +46,8 @@ pub struct BeamDesign {
     pub damping_ratio: f64,
     /// Number of rigid segments.
     pub segments: usize,
+    /// Joint model of the shaft.
+    pub bending: Bending,
 }
 
 impl BeamDesign {
@@ -53,6 +66,7 @@ impl BeamDesign {
             density: 1150.0,
             damping_ratio: 0.03,
             segments: 16,
+            bending: Bending::Spatial,
         }
     }
 

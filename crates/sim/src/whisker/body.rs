@@ -19,7 +19,7 @@
 //! 0.1 N·m·s/rad per angular DoF would dwarf the whisker's stiffness). Self-contacts and
 //! joint contacts are off. Every body index and handle is public for readouts.
 
-use super::beam::BeamDesign;
+use super::beam::{BeamDesign, Bending};
 use super::follicle::FollicleDesign;
 use nalgebra::{Isometry3, Point3, Vector3};
 use rapier3d_f64::prelude::*;
@@ -85,11 +85,22 @@ impl Whisker {
         );
 
         let mut joints = Vec::new();
-        let spherical = |anchor1: f64| {
+        let spherical = |anchor1: f64| -> GenericJoint {
             SphericalJointBuilder::new()
                 .local_anchor1(Vector::new(0.0, 0.0, anchor1))
                 .local_anchor2(Vector::ZERO)
                 .contacts_enabled(false)
+                .into()
+        };
+        let shaft_joint = |anchor1: f64| -> GenericJoint {
+            match beam.bending {
+                Bending::Spatial => spherical(anchor1),
+                Bending::SweepPlane => RevoluteJointBuilder::new(Vector::X)
+                    .local_anchor1(Vector::new(0.0, 0.0, anchor1))
+                    .local_anchor2(Vector::ZERO)
+                    .contacts_enabled(false)
+                    .into(),
+            }
         };
         // The body the shaft's base joint hangs on, and that joint's anchor in it.
         let (mut parent, mut anchor) = (root, 0.0);
@@ -139,7 +150,7 @@ impl Whisker {
             );
             joints.push(
                 world
-                    .insert_multibody_joint(parent, body, spherical(anchor))
+                    .insert_multibody_joint(parent, body, shaft_joint(anchor))
                     .expect("a tree"),
             );
             segments.push(body);
@@ -172,7 +183,9 @@ impl Whisker {
             .collect()
     }
 
-    /// Writes springs and damping into the multibody joints.
+    /// Writes springs and damping into the multibody joints: bending about X and Y (the
+    /// two first angular DoFs) and twist about Z for spherical joints; bending about X
+    /// alone for revolute ones.
     fn set_springs(&mut self, world: &mut PhysicsWorld) {
         let beta = self.beam.rayleigh_beta() * self.damping_scale;
         for (&handle, (bend, twist)) in self.joints.iter().zip(self.joint_stiffnesses()) {
@@ -181,14 +194,19 @@ impl Whisker {
                 .get_mut(handle)
                 .expect("joint exists");
             let link = multibody.link_mut(link_id).expect("link exists");
-            link.joint.set_spring(3, bend, 0.0);
-            link.joint.set_spring(4, bend, 0.0);
-            link.joint.set_spring(5, twist, 0.0);
+            let dofs = link.joint.ndofs();
             let first = link.assembly_id();
-            let damping = multibody.damping_mut();
-            damping[first] = beta * bend;
-            damping[first + 1] = beta * bend;
-            damping[first + 2] = beta * twist;
+            let per_dof: &[(usize, f64)] = if dofs == 3 {
+                &[(3, bend), (4, bend), (5, twist)]
+            } else {
+                &[(3, bend)]
+            };
+            for &(axis, k) in per_dof {
+                link.joint.set_spring(axis, k, 0.0);
+            }
+            for (i, &(_, k)) in per_dof.iter().enumerate() {
+                multibody.damping_mut()[first + i] = beta * k;
+            }
         }
     }
 
