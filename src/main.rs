@@ -9,6 +9,7 @@ mod recording;
 mod run;
 mod scenario;
 mod urdf_cmd;
+mod whiskers;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;

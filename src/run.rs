@@ -13,7 +13,8 @@ use crate::error::CliResult;
 use crate::output;
 use crate::plan::Plan;
 use crate::recording::Recording;
-use crate::scenario::Scenario;
+use crate::scenario::{Scenario, Sensing};
+use crate::whiskers::ArraySimulation;
 use nalgebra::Isometry3;
 use serde_json::json;
 use std::fmt::Write as _;
@@ -143,6 +144,10 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
         None
     };
 
+    let mut whiskers = match scenario.sensing {
+        Sensing::Physics => Some(ArraySimulation::new(&scenario, file, &plan)?),
+        Sensing::None => None,
+    };
     let mut world = World::new(model.clone(), plan.model_joints(&plan.waypoints[0]), dt);
     let mut csv = String::from("t_s");
     for (name, &angular) in chain.joint_names.iter().zip(&chain.angular) {
@@ -160,6 +165,9 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
         let all = plan.model_joints(&q);
         if k > 0 {
             world.step(&all);
+        }
+        if let Some(w) = &mut whiskers {
+            w.advance_to(&plan, t);
         }
         let tip = chain.fk(&q);
         let hits = world.arm_collisions();
@@ -198,6 +206,7 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
         tip_path.push(tip);
     }
 
+    let whisker_samples = whiskers.as_ref().map_or(0, ArraySimulation::samples);
     let length: f64 = tip_path
         .windows(2)
         .map(|w| (w[1].translation.vector - w[0].translation.vector).norm())
@@ -228,11 +237,16 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
         "waypoints": waypoints,
         "arm_collision_samples": collision_samples,
         "arm_collision_links": collided_links,
+        "sensing": if scenario.sensing == Sensing::Physics { "physics" } else { "none" },
+        "whisker_samples": whisker_samples,
     });
 
     output::write_atomic(&dir.join("path.csv"), csv.as_bytes())?;
     let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
     output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
+    if let Some(w) = whiskers {
+        w.finish(&dir)?;
+    }
     if let Some(rec) = recording {
         rec.finish(&tip_path)?;
     }
@@ -253,8 +267,13 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
     } else {
         ""
     };
+    let csv = if scenario.sensing == Sensing::Physics {
+        ", whiskers.csv"
+    } else {
+        ""
+    };
     println!(
-        "wrote      {}/{{path.csv, summary.json{rrd}}}",
+        "wrote      {}/{{path.csv, summary.json{csv}{rrd}}}",
         dir.display()
     );
     Ok(())

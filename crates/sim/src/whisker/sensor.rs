@@ -66,9 +66,11 @@ impl SensorModel {
         let noise = Normal::new(0.0, self.noise_counts)
             .expect("validated")
             .sample(rng);
+        // `+ 0.0` turns a rounded −0 into 0.
         (metres * self.gain_counts_per_m + noise)
             .round()
             .clamp(-self.saturation_counts, self.saturation_counts)
+            + 0.0
     }
 
     /// One reading from the true whisk angle (rad) and magnet displacement (m, x and y).

@@ -6,6 +6,8 @@
 //! (the URDF, package search directories) are relative to the scenario file; the output
 //! directory is relative to the working directory.
 
+pub mod array;
+
 use crate::error::{CliError, CliResult};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -25,11 +27,28 @@ pub struct Scenario {
     pub seed: u64,
     /// The arm.
     pub arm: ArmConfig,
+    /// How whisker readings are produced: `"none"` (the arm only) or `"physics"`.
+    #[serde(default)]
+    pub sensing: Sensing,
+    /// The whisker array (used with `sensing = "physics"`).
+    #[serde(default)]
+    pub array: array::ArrayConfig,
     /// Where the arm goes.
     pub trajectory: TrajectoryConfig,
     /// What is written.
     #[serde(default)]
     pub output: OutputConfig,
+}
+
+/// Sensing mode of a scenario.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Sensing {
+    /// No whisker simulation: the arm moves, nothing senses.
+    #[default]
+    None,
+    /// Rapier simulates every whisker at 2 kHz (`whiskers.csv`).
+    Physics,
 }
 
 /// `[arm]`: the robot description and its initial state.
@@ -159,6 +178,19 @@ impl Scenario {
             self.arm.joint_speed_limit_rad_s,
         )?;
         positive(file, "output.sample_period_s", self.output.sample_period_s)?;
+        if self.sensing == Sensing::Physics {
+            let ratio = self.output.sample_period_s * whisker_slam::sensor::SAMPLE_RATE_HZ;
+            if (ratio - ratio.round()).abs() > 1e-9 || ratio.round() < 1.0 {
+                return bad(
+                    "output.sample_period_s",
+                    format!(
+                        "with sensing = \"physics\" expected a whole multiple of the sensors' 0.5 ms period, got {}",
+                        self.output.sample_period_s
+                    ),
+                );
+            }
+            self.array.whisker_configs(file)?;
+        }
         if self.trajectory.waypoints.is_empty() {
             return bad(
                 "trajectory.waypoints",

@@ -1,0 +1,321 @@
+//! `[array]` of a scenario: the whisker array's design, whisking, follicle, sensors and
+//! RCP, with per-ring and per-whisker overrides (documented in `scenarios/README.md`).
+
+use crate::error::{CliError, CliResult};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+use whisker_sim::sensing::physics::WhiskerConfig;
+use whisker_sim::whisker::array::{self, COLUMNS, RINGS};
+use whisker_sim::whisker::beam::Bending;
+use whisker_sim::whisker::control::{RcpThreshold, WhiskingPattern};
+use whisker_sim::whisker::follicle::FollicleDesign;
+use whisker_sim::whisker::sensor::SensorModel;
+
+/// Shaft joint model, as written in scenarios.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum BendingConfig {
+    /// Spherical joints (both planes).
+    #[default]
+    Spatial,
+    /// Revolute joints (sweep plane only).
+    SweepPlane,
+}
+
+/// RCP mode, as written in scenarios.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum RcpConfig {
+    /// Open-loop whisking.
+    #[default]
+    Off,
+    /// Threshold = `rcp_noise_multiple` × the free-whisking σ (§3.2.2).
+    Noise,
+    /// Threshold = the sensor's saturation (§4.1.1).
+    Saturation,
+}
+
+/// Whisker shaft parameters; every field optional (unset: the level above, then the
+/// thesis' defaults).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShaftConfig {
+    /// Length (m).
+    pub length_m: Option<f64>,
+    /// Base diameter (m).
+    pub base_diameter_m: Option<f64>,
+    /// Tip diameter (m).
+    pub tip_diameter_m: Option<f64>,
+    /// Young's modulus (Pa).
+    pub youngs_modulus_pa: Option<f64>,
+    /// Density (kg/m³).
+    pub density_kg_m3: Option<f64>,
+    /// Damping ratio of the first mode.
+    pub damping_ratio: Option<f64>,
+}
+
+/// One `[[array.rings]]` entry: whisking of a ring (rostral first).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RingConfig {
+    /// Fully retracted angle (deg).
+    pub retracted_deg: Option<f64>,
+    /// Fully protracted angle (deg).
+    pub protracted_deg: Option<f64>,
+    /// Whisking frequency (Hz).
+    pub frequency_hz: Option<f64>,
+    /// Phase (deg).
+    pub phase_deg: Option<f64>,
+    /// Shaft parameters of the ring's whiskers.
+    #[serde(flatten)]
+    pub shaft: ShaftConfig,
+}
+
+/// `[array.sensor]`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorConfig {
+    /// Deflection gain (counts per metre of magnet travel).
+    pub gain_counts_per_m: Option<f64>,
+    /// Saturation (counts).
+    pub saturation_counts: Option<f64>,
+    /// Deflection noise σ (counts).
+    pub noise_counts: Option<f64>,
+    /// Angle resolution (deg).
+    pub angle_resolution_deg: Option<f64>,
+    /// Angle noise σ (deg).
+    pub angle_noise_deg: Option<f64>,
+}
+
+/// `[array]`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ArrayConfig {
+    /// Segments per whisker.
+    pub segments: Option<usize>,
+    /// Shaft joint model.
+    #[serde(default)]
+    pub bending: BendingConfig,
+    /// Follicle stiffness (N·m/rad); 0 clamps the shafts rigidly.
+    pub follicle_stiffness_nm_per_rad: Option<f64>,
+    /// RCP mode.
+    #[serde(default)]
+    pub rcp: RcpConfig,
+    /// Multiple of the free-whisking σ for `rcp = "noise"`.
+    pub rcp_noise_multiple: Option<f64>,
+    /// Shaft parameters of every whisker.
+    #[serde(default)]
+    pub shaft: ShaftConfig,
+    /// Per-ring whisking and shaft parameters (0 to 3 entries, rostral first).
+    #[serde(default)]
+    pub rings: Vec<RingConfig>,
+    /// Per-whisker shaft parameters, keyed by tactile-image pixel ("A1" … "F3").
+    #[serde(default)]
+    pub whiskers: BTreeMap<String, ShaftConfig>,
+    /// Sensor model.
+    #[serde(default)]
+    pub sensor: SensorConfig,
+}
+
+fn field_error(file: &Path, field: &str, e: impl std::fmt::Display) -> CliError {
+    CliError::field(file, field, e)
+}
+
+fn finite(file: &Path, field: &str, v: Option<f64>) -> CliResult<Option<f64>> {
+    match v {
+        Some(x) if !x.is_finite() => Err(field_error(
+            file,
+            field,
+            format!("expected a finite number, got {x}"),
+        )),
+        other => Ok(other),
+    }
+}
+
+impl ArrayConfig {
+    /// The RCP threshold mode, if any.
+    pub fn rcp_mode(&self) -> Option<RcpThreshold> {
+        match self.rcp {
+            RcpConfig::Off => None,
+            RcpConfig::Noise => Some(RcpThreshold::NoiseMultiple(
+                self.rcp_noise_multiple.unwrap_or(20.0),
+            )),
+            RcpConfig::Saturation => Some(RcpThreshold::Saturation),
+        }
+    }
+
+    /// The 18 whiskers' configurations (RCP thresholds not yet calibrated), checking every
+    /// value and naming the offending field.
+    pub fn whisker_configs(&self, file: &Path) -> CliResult<Vec<WhiskerConfig>> {
+        if self.rings.len() > RINGS.len() {
+            return Err(field_error(
+                file,
+                "array.rings",
+                format!(
+                    "expected at most {} rings, got {}",
+                    RINGS.len(),
+                    self.rings.len()
+                ),
+            ));
+        }
+        let modules = array::modules();
+        for key in self.whiskers.keys() {
+            if !modules.iter().any(|m| &m.pixel() == key) {
+                return Err(field_error(
+                    file,
+                    &format!("array.whiskers.{key}"),
+                    format!(
+                        "no such whisker: expected a pixel label {}1 … {}3",
+                        COLUMNS[0], COLUMNS[5]
+                    ),
+                ));
+            }
+        }
+        if let Some(k) = finite(file, "array.rcp_noise_multiple", self.rcp_noise_multiple)?
+            && k <= 0.0
+        {
+            return Err(field_error(
+                file,
+                "array.rcp_noise_multiple",
+                format!("expected a positive number, got {k}"),
+            ));
+        }
+        let follicle = match finite(
+            file,
+            "array.follicle_stiffness_nm_per_rad",
+            self.follicle_stiffness_nm_per_rad,
+        )? {
+            None => Some(FollicleDesign::default()),
+            Some(0.0) => None,
+            Some(k) if k > 0.0 => Some(FollicleDesign {
+                stiffness: k,
+                ..FollicleDesign::default()
+            }),
+            Some(k) => {
+                return Err(field_error(
+                    file,
+                    "array.follicle_stiffness_nm_per_rad",
+                    format!("expected a number ≥ 0, got {k}"),
+                ));
+            }
+        };
+        let s = &self.sensor;
+        let d = SensorModel::default();
+        let sensor = SensorModel {
+            gain_counts_per_m: finite(file, "array.sensor.gain_counts_per_m", s.gain_counts_per_m)?
+                .unwrap_or(d.gain_counts_per_m),
+            saturation_counts: finite(file, "array.sensor.saturation_counts", s.saturation_counts)?
+                .unwrap_or(d.saturation_counts),
+            noise_counts: finite(file, "array.sensor.noise_counts", s.noise_counts)?
+                .unwrap_or(d.noise_counts),
+            angle_resolution_rad: finite(
+                file,
+                "array.sensor.angle_resolution_deg",
+                s.angle_resolution_deg,
+            )?
+            .map_or(d.angle_resolution_rad, f64::to_radians),
+            angle_noise_rad: finite(file, "array.sensor.angle_noise_deg", s.angle_noise_deg)?
+                .map_or(d.angle_noise_rad, f64::to_radians),
+        };
+        sensor
+            .validate()
+            .map_err(|e| field_error(file, "array.sensor", e))?;
+
+        let mut out = Vec::with_capacity(modules.len());
+        for mut module in modules {
+            let pixel = module.pixel();
+            let ring = self.rings.get(module.ring).cloned().unwrap_or_default();
+            let ring_field = format!("array.rings[{}]", module.ring);
+            let none = ShaftConfig::default();
+            let levels = [
+                ("array.shaft".to_string(), &self.shaft),
+                (ring_field.clone(), &ring.shaft),
+                (
+                    format!("array.whiskers.{pixel}"),
+                    self.whiskers.get(&pixel).unwrap_or(&none),
+                ),
+            ];
+            let b = &mut module.beam;
+            for (field, shaft) in &levels {
+                let set = |target: &mut f64, name: &str, v: Option<f64>| -> CliResult {
+                    if let Some(x) = finite(file, &format!("{field}.{name}"), v)? {
+                        *target = x;
+                    }
+                    Ok(())
+                };
+                set(&mut b.length, "length_m", shaft.length_m)?;
+                set(
+                    &mut b.base_diameter,
+                    "base_diameter_m",
+                    shaft.base_diameter_m,
+                )?;
+                set(&mut b.tip_diameter, "tip_diameter_m", shaft.tip_diameter_m)?;
+                set(
+                    &mut b.youngs_modulus,
+                    "youngs_modulus_pa",
+                    shaft.youngs_modulus_pa,
+                )?;
+                set(&mut b.density, "density_kg_m3", shaft.density_kg_m3)?;
+                set(&mut b.damping_ratio, "damping_ratio", shaft.damping_ratio)?;
+            }
+            if let Some(n) = self.segments {
+                b.segments = n;
+            }
+            b.bending = match self.bending {
+                BendingConfig::Spatial => Bending::Spatial,
+                BendingConfig::SweepPlane => Bending::SweepPlane,
+            };
+            b.validate()
+                .map_err(|e| field_error(file, &format!("array (whisker {pixel})"), e))?;
+
+            let default = WhiskingPattern::default();
+            let angle = |name: &str, v: Option<f64>, d: f64| -> CliResult<f64> {
+                Ok(finite(file, &format!("{ring_field}.{name}"), v)?.map_or(d, f64::to_radians))
+            };
+            let pattern = WhiskingPattern {
+                retracted: angle("retracted_deg", ring.retracted_deg, default.retracted)?,
+                protracted: angle("protracted_deg", ring.protracted_deg, default.protracted)?,
+                frequency: finite(
+                    file,
+                    &format!("{ring_field}.frequency_hz"),
+                    ring.frequency_hz,
+                )?
+                .unwrap_or(default.frequency),
+                phase: angle("phase_deg", ring.phase_deg, default.phase)?,
+            };
+            if !(pattern.frequency > 0.0 && pattern.frequency <= 20.0) {
+                return Err(field_error(
+                    file,
+                    &format!("{ring_field}.frequency_hz"),
+                    format!(
+                        "expected a frequency in (0, 20] Hz, got {}",
+                        pattern.frequency
+                    ),
+                ));
+            }
+            if !(0.0 <= pattern.retracted
+                && pattern.retracted < pattern.protracted
+                && pattern.protracted <= std::f64::consts::PI)
+            {
+                return Err(field_error(
+                    file,
+                    &ring_field,
+                    format!(
+                        "expected 0° ≤ retracted_deg < protracted_deg ≤ 180°, got {:.1}° and {:.1}°",
+                        pattern.retracted.to_degrees(),
+                        pattern.protracted.to_degrees()
+                    ),
+                ));
+            }
+            out.push(WhiskerConfig {
+                module,
+                follicle,
+                pattern,
+                rcp_threshold: None,
+                sensor,
+            });
+        }
+        Ok(out)
+    }
+}

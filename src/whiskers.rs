@@ -1,0 +1,103 @@
+//! Physics sensing during `whisker run` (`sensing = "physics"`): the 18 whiskers follow
+//! the arm's `whisker_array` link at the sensors' 2 kHz and their readings are written to
+//! `whiskers.csv` (columns documented in `scenarios/README.md`).
+
+use crate::error::{CliError, CliResult};
+use crate::output;
+use crate::plan::Plan;
+use crate::scenario::Scenario;
+use rayon::prelude::*;
+use std::fmt::Write as _;
+use std::path::Path;
+use whisker_sim::kinematics::Chain;
+use whisker_sim::sensing::physics::{PhysicsArray, calibrate_rcp};
+use whisker_sim::whisker::control::RcpThreshold;
+use whisker_slam::sensor::SAMPLE_RATE_HZ;
+
+/// The array being simulated along a run.
+pub struct ArraySimulation {
+    array: PhysicsArray,
+    /// Chain from the arm's base to the array link.
+    chain: Chain,
+    dt: f64,
+    steps: u64,
+    csv: String,
+}
+
+impl ArraySimulation {
+    /// Builds the array of `scenario` at the plan's start, calibrating RCP thresholds.
+    pub fn new(scenario: &Scenario, file: &Path, plan: &Plan) -> CliResult<Self> {
+        let mut configs = scenario.array.whisker_configs(file)?;
+        let chain = Chain::new(&plan.model, &plan.chain.base, "whisker_array").map_err(|e| {
+            CliError::field(
+                file,
+                "sensing",
+                format!("\"physics\" needs a whisker_array link in the URDF: {e}"),
+            )
+        })?;
+        if chain.joint_names != plan.chain.joint_names {
+            return Err(CliError::field(
+                file,
+                "arm.tip_link",
+                "the whisker_array link must be moved by the same joints as the tip link",
+            ));
+        }
+        let dt = 1.0 / SAMPLE_RATE_HZ;
+        if let Some(mode) = scenario.array.rcp_mode() {
+            let thresholds: Vec<f64> = configs
+                .par_iter()
+                .map(|c| calibrate_rcp(c, mode, scenario.seed, dt))
+                .collect();
+            for (c, t) in configs.iter_mut().zip(thresholds) {
+                if matches!(mode, RcpThreshold::NoiseMultiple(_)) && t >= c.sensor.saturation_counts
+                {
+                    eprintln!(
+                        "warning    whisker {}: RCP threshold {t:.0} counts (from free whisking) is at or above saturation: RCP cannot fire",
+                        c.module.pixel()
+                    );
+                }
+                c.rcp_threshold = Some(t);
+            }
+        }
+        let mut csv = String::from("t_s");
+        for c in &configs {
+            let p = c.module.pixel();
+            let _ = write!(csv, ",{p}_angle_rad,{p}_x,{p}_y");
+        }
+        csv.push('\n');
+        let start = chain.fk(&plan.waypoints[0]);
+        let array = PhysicsArray::new(configs, &[], &start, scenario.seed, dt);
+        Ok(Self {
+            array,
+            chain,
+            dt,
+            steps: 0,
+            csv,
+        })
+    }
+
+    /// Simulates up to time `t` (s), the arm following the plan's trajectory.
+    pub fn advance_to(&mut self, plan: &Plan, t: f64) {
+        while (self.steps + 1) as f64 * self.dt <= t + 1e-9 {
+            self.steps += 1;
+            let time = self.steps as f64 * self.dt;
+            let pose = self.chain.fk(&plan.trajectory.sample(time));
+            let samples = self.array.step(&pose);
+            let _ = write!(self.csv, "{time}");
+            for s in samples {
+                let _ = write!(self.csv, ",{},{},{}", s.angle_rad, s.x, s.y);
+            }
+            self.csv.push('\n');
+        }
+    }
+
+    /// Number of 2 kHz samples simulated.
+    pub fn samples(&self) -> u64 {
+        self.steps
+    }
+
+    /// Writes `whiskers.csv` into `dir`.
+    pub fn finish(self, dir: &Path) -> CliResult {
+        output::write_atomic(&dir.join("whiskers.csv"), self.csv.as_bytes())
+    }
+}
