@@ -24,6 +24,18 @@ fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
+/// Runs `scenario` with its output redirected to `out` (which is returned); must succeed.
+fn run_into(scenario: &Path, out: &Path) -> PathBuf {
+    let o = whisker(&[
+        "run",
+        scenario.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    out.to_path_buf()
+}
+
 /// The quickstart scenario's text with its output directory and URDF made absolute, so
 /// it can be run from a temporary directory.
 fn quickstart_in(dir: &Path) -> PathBuf {
@@ -140,14 +152,7 @@ fn quickstart_reaches_its_waypoints_within_the_joint_speed_limit() {
     }
 
     // Same seed, same bytes (results do not depend on anything but the scenario).
-    let again = tmp.path().join("again");
-    let o = whisker(&[
-        "run",
-        scenario.to_str().unwrap(),
-        "--out",
-        again.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    let again = run_into(&scenario, &tmp.path().join("again"));
     assert_eq!(
         std::fs::read(out.join("path.csv")).unwrap(),
         std::fs::read(again.join("path.csv")).unwrap()
@@ -593,15 +598,7 @@ fn physics_runs_write_reproducible_2_khz_whisker_streams() {
         }
     }
     // Same seed, same bytes.
-    let again = tmp.path().join("again");
-    let scenario = tmp.path().join("physics.toml");
-    let o = whisker(&[
-        "run",
-        scenario.to_str().unwrap(),
-        "--out",
-        again.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    let again = run_into(&tmp.path().join("physics.toml"), &tmp.path().join("again"));
     assert_eq!(
         csv.as_bytes(),
         std::fs::read(again.join("whiskers.csv")).unwrap()
