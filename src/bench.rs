@@ -28,17 +28,28 @@ pub struct Options {
     /// Shaft joint model of every whisker.
     #[arg(long, value_enum, default_value_t = crate::characterize::BendingArg::Spatial)]
     pub bending: crate::characterize::BendingArg,
+    /// Rapier substeps per 0.5 ms step.
+    #[arg(long, default_value_t = whisker_sim::sensing::physics::DEFAULT_SUBSTEPS)]
+    pub substeps: usize,
+    /// Segments per whisker [default: the array's].
+    #[arg(long)]
+    pub segments: Option<usize>,
     /// Print a JSON list of {case, threads, real_time_factor, …}.
     #[arg(long)]
     pub json: bool,
 }
 
-fn configs(count: usize, bending: Bending) -> Vec<WhiskerConfig> {
+/// The first `count` modules' configurations with the benchmark's settings.
+fn configs(count: usize, o: &Options) -> Vec<WhiskerConfig> {
+    let bending: Bending = o.bending.into();
     array::modules()
         .into_iter()
         .take(count)
         .map(|mut module| {
             module.beam.bending = bending;
+            if let Some(n) = o.segments {
+                module.beam.segments = n;
+            }
             module
         })
         .map(|module| WhiskerConfig {
@@ -47,6 +58,7 @@ fn configs(count: usize, bending: Bending) -> Vec<WhiskerConfig> {
             pattern: WhiskingPattern::default(),
             rcp_threshold: None,
             sensor: SensorModel::default(),
+            substeps: o.substeps,
         })
         .collect()
 }
@@ -57,7 +69,7 @@ fn time_case(
     environment: &[EnvironmentPiece],
     duration: f64,
     threads: usize,
-    bending: Bending,
+    o: &Options,
 ) -> Result<f64, String> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -66,7 +78,7 @@ fn time_case(
     pool.install(|| {
         let dt = 1.0 / whisker_slam::sensor::SAMPLE_RATE_HZ;
         let pose = Isometry3::identity();
-        let mut array = PhysicsArray::new(configs(whiskers, bending), environment, &pose, 0, dt);
+        let mut array = PhysicsArray::new(configs(whiskers, o), environment, &pose, 0, dt);
         let steps = (duration / dt).round() as usize;
         let start = Instant::now();
         for _ in 0..steps {
@@ -78,6 +90,19 @@ fn time_case(
 
 /// Runs `whisker bench physics`.
 pub fn physics(o: &Options) -> CliResult {
+    if !(1..=64).contains(&o.substeps) {
+        return Err(CliError::Input(format!(
+            "--substeps: expected 1 to 64, got {}",
+            o.substeps
+        )));
+    }
+    if let Some(n) = o.segments
+        && !(2..=200).contains(&n)
+    {
+        return Err(CliError::Input(format!(
+            "--segments: expected 2 to 200, got {n}"
+        )));
+    }
     if !(o.duration.is_finite() && o.duration > 0.0) {
         return Err(CliError::Input(format!(
             "--duration: expected a positive number of seconds, got {}",
@@ -102,14 +127,8 @@ pub fn physics(o: &Options) -> CliResult {
     let mut baseline = None;
     for (name, whiskers, environment) in &cases {
         for threads in [1, 2] {
-            let wall_s = time_case(
-                *whiskers,
-                environment,
-                o.duration,
-                threads,
-                o.bending.into(),
-            )
-            .map_err(CliError::Failure)?;
+            let wall_s = time_case(*whiskers, environment, o.duration, threads, o)
+                .map_err(CliError::Failure)?;
             let rtf = o.duration / wall_s;
             let cpu_per_whisker = threads as f64 * wall_s / o.duration / *whiskers as f64;
             let per_whisker_rate = rtf * *whiskers as f64;
@@ -139,10 +158,11 @@ pub fn physics(o: &Options) -> CliResult {
         );
     } else {
         println!(
-            "physics sensing, {} s simulated per case at 2 kHz, {} segments per whisker, {:?} bending",
+            "physics sensing, {} s simulated per case at 2 kHz, {} segments per whisker, {:?} bending, {} substep(s)",
             o.duration,
-            array::modules()[0].beam.segments,
-            o.bending
+            o.segments.unwrap_or(array::modules()[0].beam.segments),
+            o.bending,
+            o.substeps
         );
         println!(
             "{:<38} {:>7} {:>16} {:>22} {:>14}",

@@ -5,7 +5,7 @@ use crate::error::{CliError, CliResult};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
-use whisker_sim::sensing::physics::WhiskerConfig;
+use whisker_sim::sensing::physics::{DEFAULT_SUBSTEPS, WhiskerConfig};
 use whisker_sim::whisker::array::{self, COLUMNS, RINGS};
 use whisker_sim::whisker::beam::Bending;
 use whisker_sim::whisker::control::{RcpThreshold, WhiskingPattern};
@@ -97,6 +97,8 @@ pub struct ArrayConfig {
     /// Shaft joint model.
     #[serde(default)]
     pub bending: BendingConfig,
+    /// Rapier substeps per 0.5 ms step.
+    pub substeps: Option<usize>,
     /// Follicle stiffness (N·m/rad); 0 clamps the shafts rigidly.
     pub follicle_stiffness_nm_per_rad: Option<f64>,
     /// RCP mode.
@@ -200,6 +202,15 @@ impl ArrayConfig {
                 ));
             }
         };
+        if let Some(n) = self.substeps
+            && !(1..=64).contains(&n)
+        {
+            return Err(field_error(
+                file,
+                "array.substeps",
+                format!("expected 1 to 64, got {n}"),
+            ));
+        }
         let s = &self.sensor;
         let d = SensorModel::default();
         let sensor = SensorModel {
@@ -314,6 +325,7 @@ impl ArrayConfig {
                 pattern,
                 rcp_threshold: None,
                 sensor,
+                substeps: self.substeps.unwrap_or(DEFAULT_SUBSTEPS),
             });
         }
         Ok(out)

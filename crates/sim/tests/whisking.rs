@@ -5,7 +5,7 @@
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use rapier3d_f64::prelude::SharedShape;
 use whisker_sim::sensing::physics::{
-    EnvironmentPiece, PhysicsArray, WhiskerConfig, WhiskerUnit, calibrate_rcp,
+    DEFAULT_SUBSTEPS, EnvironmentPiece, PhysicsArray, WhiskerConfig, WhiskerUnit, calibrate_rcp,
 };
 use whisker_sim::whisker::array::{self, Module};
 use whisker_sim::whisker::control::RcpThreshold;
@@ -41,6 +41,7 @@ fn config(module: Module, frequency: f64, rcp: Option<f64>) -> WhiskerConfig {
         },
         rcp_threshold: rcp,
         sensor: SensorModel::default(),
+        substeps: DEFAULT_SUBSTEPS,
     }
 }
 
