@@ -76,7 +76,7 @@ fn time_case(
         .build()
         .map_err(|e| e.to_string())?;
     pool.install(|| {
-        let dt = 1.0 / whisker_slam::sensor::SAMPLE_RATE_HZ;
+        let dt = whisker_sim::sensing::physics::DT;
         let pose = Isometry3::identity();
         let mut array = PhysicsArray::new(configs(whiskers, o), environment, &pose, 0, dt);
         let steps = (duration / dt).round() as usize;

@@ -12,7 +12,6 @@ use std::path::Path;
 use whisker_sim::kinematics::Chain;
 use whisker_sim::sensing::physics::{PhysicsArray, calibrate_rcp};
 use whisker_sim::whisker::control::RcpThreshold;
-use whisker_slam::sensor::SAMPLE_RATE_HZ;
 
 /// The array being simulated along a run.
 pub struct ArraySimulation {
@@ -42,7 +41,7 @@ impl ArraySimulation {
                 "the whisker_array link must be moved by the same joints as the tip link",
             ));
         }
-        let dt = 1.0 / SAMPLE_RATE_HZ;
+        let dt = whisker_sim::sensing::physics::DT;
         if let Some(mode) = scenario.array.rcp_mode() {
             let thresholds: Vec<f64> = configs
                 .par_iter()

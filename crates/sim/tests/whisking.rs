@@ -313,3 +313,36 @@ fn calibrated_rcp_threshold_separates_free_whisking_from_contact() {
         }
     }
 }
+
+/// A whisk cycle holds every whisker's samples from just after full retraction to full
+/// retraction again, through full protraction half way.
+#[test]
+fn a_whisk_cycle_spans_retraction_to_retraction() {
+    let configs: Vec<_> = array::modules()
+        .into_iter()
+        .take(6)
+        .map(|m| config(m, 2.0, None))
+        .collect();
+    let mut a = PhysicsArray::new(
+        configs,
+        &[],
+        &Isometry3::identity(),
+        2,
+        whisker_sim::sensing::physics::DT,
+    );
+    let first = a.whisk(0, |_| Isometry3::identity());
+    let second = a.whisk(1, |_| Isometry3::identity());
+    assert_eq!((first.len(), second.len()), (1000, 1000));
+    assert_eq!(first.samples.len(), 6);
+    assert!((second.start_s - first.start_s - 0.5).abs() < 1e-12);
+    assert!((first.time(999) - 0.5).abs() < 1e-12);
+    for w in &second.samples {
+        let deg = |i: usize| w[i].angle_rad.to_degrees();
+        assert!(
+            (deg(499) - 140.0).abs() < 0.5 && (deg(999) - 40.0).abs() < 0.5,
+            "{} {}",
+            deg(499),
+            deg(999)
+        );
+    }
+}

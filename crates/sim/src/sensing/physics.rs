@@ -23,7 +23,7 @@ use nalgebra::Isometry3;
 use rapier3d_f64::prelude::*;
 use rayon::prelude::*;
 use whisker_slam::rng::{self, StreamRng};
-use whisker_slam::sensor::Sample;
+use whisker_slam::sensor::{SAMPLE_RATE_HZ, Sample, WhiskCycle};
 
 /// Interaction group of whisker shafts.
 pub const WHISKER_GROUP: Group = Group::GROUP_3;
@@ -244,4 +244,29 @@ impl PhysicsArray {
             .map(|u| u.step(array_pose))
             .collect()
     }
+
+    /// Simulates one whisk cycle of the first whisker's pattern (1/f seconds; the
+    /// array's whiskers share a frequency by default) with the array frame at
+    /// `array_pose(t)` at time t, and returns it as a [`WhiskCycle`] numbered `index`.
+    pub fn whisk(&mut self, index: u64, array_pose: impl Fn(f64) -> Isometry3<f64>) -> WhiskCycle {
+        let dt = self.units[0].world.integration_parameters.dt;
+        let start_s = self.units[0].time() + dt;
+        let n = (1.0 / (self.units[0].config.pattern.frequency * dt)).round() as usize;
+        let mut samples = vec![Vec::with_capacity(n); self.units.len()];
+        for i in 0..n {
+            let pose = array_pose(start_s + i as f64 * dt);
+            for (w, s) in self.step(&pose).into_iter().enumerate() {
+                samples[w].push(s);
+            }
+        }
+        WhiskCycle {
+            index,
+            start_s,
+            rate_hz: 1.0 / dt,
+            samples,
+        }
+    }
 }
+
+/// The sensors' step (s): one Rapier step per 2 kHz sample.
+pub const DT: f64 = 1.0 / SAMPLE_RATE_HZ;
