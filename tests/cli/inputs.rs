@@ -1,0 +1,174 @@
+//! Malformed scenarios and command lines.
+
+use super::*;
+
+#[test]
+fn malformed_scenarios_exit_2_naming_file_and_field_and_write_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cyclic = tmp.path().join("cyclic.urdf");
+    std::fs::write(
+        &cyclic,
+        r#"<robot name="c"><link name="a"/><link name="b"/>
+        <joint name="ab" type="fixed"><parent link="a"/><child link="b"/></joint>
+        <joint name="ba" type="fixed"><parent link="b"/><child link="a"/></joint></robot>"#,
+    )
+    .unwrap();
+    let cyclic_arm = format!(
+        "[arm]\nurdf = {:?}\ninitial_joints_deg = []\n",
+        cyclic.display().to_string()
+    );
+    let cases: Vec<(&str, String, &str)> = vec![
+        (
+            "unknown_field",
+            format!("{ARM}colour = \"red\"\n{WAYPOINT}{OUTPUT}"),
+            "colour",
+        ),
+        (
+            "wrong_type",
+            format!("seed = \"one\"\n{ARM}{WAYPOINT}{OUTPUT}"),
+            "seed",
+        ),
+        ("missing_section", format!("{ARM}{OUTPUT}"), "trajectory"),
+        (
+            "missing_urdf_file",
+            format!(
+                "[arm]\nurdf = \"nowhere.urdf\"\ninitial_joints_deg = [0,0,0,0,0,0]\n{WAYPOINT}{OUTPUT}"
+            ),
+            "arm.urdf",
+        ),
+        (
+            "negative_speed",
+            format!("{ARM}joint_speed_limit_rad_s = -0.1\n{WAYPOINT}{OUTPUT}"),
+            "arm.joint_speed_limit_rad_s",
+        ),
+        (
+            "joint_count",
+            format!("[arm]\nurdf = URDF\ninitial_joints_deg = [0, -90, 90]\n{WAYPOINT}{OUTPUT}"),
+            "arm.initial_joints_deg",
+        ),
+        (
+            "nan_joint",
+            format!(
+                "[arm]\nurdf = URDF\ninitial_joints_deg = [0, nan, 90, -90, -90, 0]\n{WAYPOINT}{OUTPUT}"
+            ),
+            "arm.initial_joints_deg[1]",
+        ),
+        (
+            "outside_limits",
+            format!(
+                "[arm]\nurdf = URDF\ninitial_joints_deg = [0, -90, 200, -90, -90, 0]\n{WAYPOINT}{OUTPUT}"
+            ),
+            "arm.initial_joints_deg[2]",
+        ),
+        (
+            "both_kinds",
+            format!(
+                "{ARM}[[trajectory.waypoints]]\nposition_m = [0.5, 0, 0.3]\nrpy_deg = [180, 0, 0]\njoints_deg = [0,0,0,0,0,0]\n{OUTPUT}"
+            ),
+            "trajectory.waypoints[0]",
+        ),
+        (
+            "half_pose",
+            format!("{ARM}[[trajectory.waypoints]]\nposition_m = [0.5, 0, 0.3]\n{OUTPUT}"),
+            "trajectory.waypoints[0]",
+        ),
+        (
+            "unreachable",
+            format!(
+                "{ARM}{WAYPOINT}[[trajectory.waypoints]]\nposition_m = [2.0, 0, 0.3]\nrpy_deg = [180, 0, 0]\n{OUTPUT}"
+            ),
+            "trajectory.waypoints[1]",
+        ),
+        (
+            "inf_position",
+            format!(
+                "{ARM}[[trajectory.waypoints]]\nposition_m = [inf, 0, 0.3]\nrpy_deg = [180, 0, 0]\n{OUTPUT}"
+            ),
+            "trajectory.waypoints[0].position_m[0]",
+        ),
+        (
+            "negative_hold",
+            format!(
+                "{ARM}[[trajectory.waypoints]]\njoints_deg = [0, -80, 80, -90, -90, 0]\nhold_s = -1\n{OUTPUT}"
+            ),
+            "trajectory.waypoints[0].hold_s",
+        ),
+        (
+            "no_waypoints",
+            format!("{ARM}[trajectory]\nwaypoints = []\n{OUTPUT}"),
+            "trajectory.waypoints",
+        ),
+        (
+            "unknown_link",
+            format!("{ARM}tip_link = \"flange\"\n{WAYPOINT}{OUTPUT}"),
+            "flange",
+        ),
+        (
+            "zero_period",
+            format!("{ARM}{WAYPOINT}{OUTPUT}sample_period_s = 0.0\n"),
+            "output.sample_period_s",
+        ),
+        (
+            "bad_version",
+            format!("version = 2\n{ARM}{WAYPOINT}{OUTPUT}"),
+            "version",
+        ),
+        (
+            "cyclic_urdf",
+            format!("{cyclic_arm}{WAYPOINT}{OUTPUT}"),
+            "cycle",
+        ),
+        ("not_toml", "[arm\nurdf = ".to_string(), "line 1"),
+    ];
+    for (name, body, field) in &cases {
+        let (o, path) = run_bad(tmp.path(), name, body);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+        assert!(
+            err.contains(path.file_name().unwrap().to_str().unwrap())
+                || err.contains("cyclic.urdf"),
+            "{name}: file not named: {err}"
+        );
+        assert!(err.contains(field), "{name}: {field:?} not named: {err}");
+        assert!(!err.contains("panicked"), "{name}: {err}");
+        assert!(
+            !tmp.path().join(format!("out-{name}")).exists(),
+            "{name}: wrote output"
+        );
+    }
+    let (o, _) = run_bad(tmp.path(), "missing", "");
+    assert_eq!(o.status.code(), Some(2));
+    let o = whisker(&["run", tmp.path().join("absent.toml").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("absent.toml"));
+}
+
+#[test]
+fn bad_command_lines_exit_2() {
+    let urdf = repo("assets/urdf/ur5_whisker_array.urdf");
+    let u = urdf.to_str().unwrap();
+    for (args, needle) in [
+        (
+            vec!["urdf", "fk", u, "--joints", "0,0,zero,0,0,0"],
+            "value 3",
+        ),
+        (
+            vec!["urdf", "fk", u, "--joints", "0,0,0"],
+            "expected 6 values",
+        ),
+        (
+            vec!["urdf", "fk", u, "--joints", "0,0,0,0,0,0", "--link", "nose"],
+            "nose",
+        ),
+        (
+            vec!["urdf", "fk", "/no/such.urdf", "--joints", "0"],
+            "/no/such.urdf",
+        ),
+        (vec!["urdf", "info", "/no/such.urdf"], "/no/such.urdf"),
+        (vec!["frobnicate"], "frobnicate"),
+    ] {
+        let o = whisker(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+    }
+}
