@@ -73,6 +73,9 @@ pub fn check(file: &Path) -> CliResult {
     let scenario = Scenario::load(file)?;
     let plan = Plan::new(&scenario, file)?;
     print!("{}", describe(file, &scenario, &plan));
+    if scenario.sensing == Sensing::Physics {
+        print!("{}", crate::whiskers::describe(&scenario, file)?);
+    }
     let dir = &scenario.output.dir;
     let rrd = if scenario.output.recording {
         ", run.rrd"

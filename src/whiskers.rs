@@ -13,6 +13,48 @@ use whisker_sim::kinematics::Chain;
 use whisker_sim::sensing::physics::{PhysicsArray, calibrate_rcp};
 use whisker_sim::whisker::control::RcpThreshold;
 
+/// A description of the array of `scenario` for `whisker check`: one line per whisker.
+pub fn describe(scenario: &Scenario, file: &Path) -> CliResult<String> {
+    let configs = scenario.array.whisker_configs(file)?;
+    let a = &scenario.array;
+    let rcp = match a.rcp_mode() {
+        None => "off".to_string(),
+        Some(RcpThreshold::Saturation) => "at saturation".to_string(),
+        Some(RcpThreshold::NoiseMultiple(k)) => {
+            format!("at {k} × the free-whisking σ (calibrated before the run)")
+        }
+    };
+    let first = &configs[0];
+    let mut s = format!(
+        "array      18 whiskers, {} segments, {:?} bending, {} substep(s), follicle {}, RCP {rcp}\n",
+        first.module.beam.segments,
+        first.module.beam.bending,
+        first.substeps,
+        first
+            .follicle
+            .map_or("rigid".to_string(), |f| format!("{} N·m/rad", f.stiffness)),
+    );
+    for c in &configs {
+        let b = &c.module.beam;
+        let p = &c.pattern;
+        let _ = writeln!(
+            s,
+            "  {}  L {:5.1} mm  Ø {:.2}→{:.2} mm  E {:.2} GPa  ρ {:.0}  ζ {:.3}  whisk {:.0}°–{:.0}° at {} Hz",
+            c.module.pixel(),
+            b.length * 1e3,
+            b.base_diameter * 1e3,
+            b.tip_diameter * 1e3,
+            b.youngs_modulus / 1e9,
+            b.density,
+            b.damping_ratio,
+            p.retracted.to_degrees(),
+            p.protracted.to_degrees(),
+            p.frequency
+        );
+    }
+    Ok(s)
+}
+
 /// The array being simulated along a run.
 pub struct ArraySimulation {
     array: PhysicsArray,

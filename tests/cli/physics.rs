@@ -124,3 +124,58 @@ fn physics_runs_write_reproducible_2_khz_whisker_streams() {
         assert!(stderr(&o).contains(field), "{name}: {}", stderr(&o));
     }
 }
+
+/// Overrides apply from the most general level to the most specific: `[array.shaft]`,
+/// then the ring, then the whisker; `check` lists the resulting design of every whisker.
+#[test]
+fn array_overrides_apply_by_precedence() {
+    let tmp = tempfile::tempdir().unwrap();
+    let body = PHYSICS
+        .replace("[array]\n", "[array]\nshaft = { youngs_modulus_pa = 2.0e9 }\n")
+        .replacen("[[array.rings]]\nfrequency_hz = 2.0\n[[array.rings]]\nfrequency_hz = 2.0\n", "[[array.rings]]\nfrequency_hz = 2.0\n[[array.rings]]\nfrequency_hz = 3.0\nlength_m = 0.09\n", 1)
+        .replace("[[trajectory", "[array.whiskers.C2]\nlength_m = 0.095\nyoungs_modulus_pa = 2.8e9\n[[trajectory");
+    let path = tmp.path().join("overrides.toml");
+    std::fs::write(
+        &path,
+        body.replace(
+            "URDF",
+            &format!(
+                "{:?}",
+                repo("assets/urdf/ur5_whisker_array.urdf")
+                    .display()
+                    .to_string()
+            ),
+        )
+        .replace("OUT", "\"out\""),
+    )
+    .unwrap();
+    let o = whisker(&["check", path.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    let line = |pixel: &str| {
+        text.lines()
+            .find(|l| l.trim_start().starts_with(pixel))
+            .unwrap_or_else(|| panic!("{pixel} missing: {text}"))
+            .to_string()
+    };
+    assert!(
+        line("A1").contains("L  60.0 mm")
+            && line("A1").contains("E 2.00 GPa")
+            && line("A1").contains("at 2 Hz"),
+        "{}",
+        line("A1")
+    );
+    assert!(
+        line("B2").contains("L  90.0 mm")
+            && line("B2").contains("E 2.00 GPa")
+            && line("B2").contains("at 3 Hz"),
+        "{}",
+        line("B2")
+    );
+    assert!(
+        line("C2").contains("L  95.0 mm") && line("C2").contains("E 2.80 GPa"),
+        "{}",
+        line("C2")
+    );
+    assert!(line("C3").contains("L 160.0 mm"), "{}", line("C3"));
+}
