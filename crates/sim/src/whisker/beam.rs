@@ -72,18 +72,16 @@ impl BeamDesign {
 
     /// Checks that every value is finite and physical; names the first bad field.
     pub fn validate(&self) -> Result<(), String> {
-        let checks = [
-            ("length", self.length),
-            ("base_diameter", self.base_diameter),
-            ("tip_diameter", self.tip_diameter),
-            ("youngs_modulus", self.youngs_modulus),
-            ("density", self.density),
-        ];
-        for (name, v) in checks {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(format!("{name} must be a positive number, got {v}"));
-            }
-        }
+        super::require_positive(
+            "",
+            &[
+                ("length", self.length),
+                ("base_diameter", self.base_diameter),
+                ("tip_diameter", self.tip_diameter),
+                ("youngs_modulus", self.youngs_modulus),
+                ("density", self.density),
+            ],
+        )?;
         if self.tip_diameter > self.base_diameter {
             return Err(format!(
                 "tip_diameter ({}) must not exceed base_diameter ({})",

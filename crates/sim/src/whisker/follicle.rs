@@ -38,19 +38,15 @@ impl Default for FollicleDesign {
 impl FollicleDesign {
     /// Checks that every value is finite and physical; names the first bad field.
     pub fn validate(&self) -> Result<(), String> {
-        for (name, v) in [
-            ("stiffness", self.stiffness),
-            ("pivot_depth", self.pivot_depth),
-            ("magnet_lever", self.magnet_lever),
-            ("bulb_mass", self.bulb_mass),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(format!(
-                    "follicle {name} must be a positive number, got {v}"
-                ));
-            }
-        }
-        Ok(())
+        super::require_positive(
+            "follicle ",
+            &[
+                ("stiffness", self.stiffness),
+                ("pivot_depth", self.pivot_depth),
+                ("magnet_lever", self.magnet_lever),
+                ("bulb_mass", self.bulb_mass),
+            ],
+        )
     }
 
     /// Principal moments of inertia of the bulb about its centre of mass (kg·m²): a

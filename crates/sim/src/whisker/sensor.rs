@@ -42,15 +42,14 @@ impl Default for SensorModel {
 impl SensorModel {
     /// Checks the parameters; names the first bad field.
     pub fn validate(&self) -> Result<(), String> {
-        for (name, v) in [
-            ("gain_counts_per_m", self.gain_counts_per_m),
-            ("saturation_counts", self.saturation_counts),
-            ("angle_resolution_rad", self.angle_resolution_rad),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(format!("{name} must be a positive number, got {v}"));
-            }
-        }
+        super::require_positive(
+            "",
+            &[
+                ("gain_counts_per_m", self.gain_counts_per_m),
+                ("saturation_counts", self.saturation_counts),
+                ("angle_resolution_rad", self.angle_resolution_rad),
+            ],
+        )?;
         for (name, v) in [
             ("noise_counts", self.noise_counts),
             ("angle_noise_rad", self.angle_noise_rad),
