@@ -137,25 +137,36 @@ fn settle(
     }
 }
 
-/// The static phase alone: settle the load, read deflections, moment and sensor. The
+/// A rig holding the settled static load, and what the static phase measured. The
 /// step is a twentieth of the first-mode period (≤ 0.5 ms): statics do not depend on it.
+fn loaded_rig(
+    beam: BeamDesign,
+    follicle: Option<FollicleDesign>,
+    force: f64,
+    at: f64,
+) -> Result<(PhysicsWorld, Whisker, StaticLoad), String> {
+    check(&beam, &follicle, force, at)?;
+    let dt = (TAU / beam.first_mode_estimate() / 20.0).min(5e-4);
+    let (mut world, mut whisker) = test_rig(beam, follicle, dt);
+    let settle_steps = settle(&mut world, &mut whisker, force, at)?;
+    let statics = StaticLoad {
+        load_deflection_m: deflection(&whisker, &world, at),
+        tip_deflection_m: deflection(&whisker, &world, beam.length),
+        base_moment_nm: -whisker.base_moment(&world).x,
+        follicle_deflection_m: whisker.magnet_displacement(&world).1,
+        settle_steps,
+    };
+    Ok((world, whisker, statics))
+}
+
+/// The static phase alone: settle the load, read deflections, moment and sensor.
 pub fn static_load(
     beam: BeamDesign,
     follicle: Option<FollicleDesign>,
     force: f64,
     at: f64,
 ) -> Result<StaticLoad, String> {
-    check(&beam, &follicle, force, at)?;
-    let dt = (TAU / beam.first_mode_estimate() / 20.0).min(5e-4);
-    let (mut world, mut whisker) = test_rig(beam, follicle, dt);
-    let settle_steps = settle(&mut world, &mut whisker, force, at)?;
-    Ok(StaticLoad {
-        load_deflection_m: deflection(&whisker, &world, at),
-        tip_deflection_m: deflection(&whisker, &world, beam.length),
-        base_moment_nm: -whisker.base_moment(&world).x,
-        follicle_deflection_m: whisker.magnet_displacement(&world).1,
-        settle_steps,
-    })
+    loaded_rig(beam, follicle, force, at).map(|(_, _, statics)| statics)
 }
 
 /// Steps per first-mode period in the ring-down.
@@ -164,20 +175,20 @@ const RING_DOWN_STEPS_PER_PERIOD: f64 = 200.0;
 const RING_DOWN_PERIODS: f64 = 12.0;
 
 /// Runs the whole characterisation of `beam` in `follicle` (None: rigidly clamped)
-/// under a static force `force` (N) at arc length `at` (m): [`static_load`], then the
-/// ring-down from that load at 200 steps per first-mode period (≤ 0.5 ms) over 12
-/// periods.
+/// under a static force `force` (N) at arc length `at` (m): [`static_load`], then, in
+/// the same world, the ring-down from that load at 200 steps per first-mode period
+/// (≤ 0.5 ms) over 12 periods.
 pub fn characterize(
     beam: BeamDesign,
     follicle: Option<FollicleDesign>,
     force: f64,
     at: f64,
 ) -> Result<Characterization, String> {
-    let statics = static_load(beam, follicle, force, at)?;
+    let (mut world, mut whisker, statics) = loaded_rig(beam, follicle, force, at)?;
+    // Released from the settled load, now at the ring-down's finer step.
     let period = TAU / beam.first_mode_estimate();
     let dt = (period / RING_DOWN_STEPS_PER_PERIOD).min(5e-4);
-    let (mut world, mut whisker) = test_rig(beam, follicle, dt);
-    settle(&mut world, &mut whisker, force, at)?;
+    world.integration_parameters.dt = dt;
     whisker.clear_forces(&mut world);
     whisker.set_damping_scale(&mut world, 1.0);
     let n = (RING_DOWN_PERIODS * period / dt) as usize;
