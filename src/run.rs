@@ -87,7 +87,7 @@ pub fn check(file: &Path) -> CliResult {
         dir.display(),
         scenario.output.sample_period_s
     );
-    let skipped = mesh_colliders_skipped(&plan);
+    let skipped = whisker_sim::arm::links_without_colliders(&plan.model);
     if !skipped.is_empty() {
         println!(
             "warning    links with mesh collision geometry get no collider yet: {}",
@@ -96,19 +96,6 @@ pub fn check(file: &Path) -> CliResult {
     }
     println!("ok");
     Ok(())
-}
-
-fn mesh_colliders_skipped(plan: &Plan) -> Vec<String> {
-    plan.model
-        .links
-        .iter()
-        .filter(|l| {
-            l.collisions
-                .iter()
-                .any(|c| matches!(c.geometry, whisker_sim::kinematics::Geometry::Mesh { .. }))
-        })
-        .map(|l| l.name.clone())
-        .collect()
 }
 
 /// `whisker run`: simulate and write the outputs.

@@ -62,6 +62,21 @@ fn collider_for(geometry: &Geometry, origin: &Isometry3<f64>) -> Option<Collider
     Some(builder.position(local.into()))
 }
 
+/// Names of the links of `model` with collision geometry that cannot be turned into
+/// colliders yet (mesh files): such geometry is left out of [`Arm::build`].
+pub fn links_without_colliders(model: &RobotModel) -> Vec<String> {
+    model
+        .links
+        .iter()
+        .filter(|l| {
+            l.collisions
+                .iter()
+                .any(|c| collider_for(&c.geometry, &c.origin).is_none())
+        })
+        .map(|l| l.name.clone())
+        .collect()
+}
+
 impl Arm {
     /// Adds the arm of `model` to `world`, its root at `root_pose`, posed at model joint
     /// positions `q` (one per model joint).
@@ -74,7 +89,7 @@ impl Arm {
         let poses = model.link_poses(q);
         let mut arm = Self {
             bodies: Vec::new(),
-            skipped: Vec::new(),
+            skipped: links_without_colliders(model),
             root_pose,
         };
         for (i, link) in model.links.iter().enumerate() {
@@ -83,9 +98,6 @@ impl Arm {
                 .iter()
                 .filter_map(|c| collider_for(&c.geometry, &c.origin))
                 .collect();
-            if shapes.len() < link.collisions.len() {
-                arm.skipped.push(link.name.clone());
-            }
             if shapes.is_empty() {
                 continue;
             }
