@@ -1,5 +1,6 @@
 //! `whisker`: the command line of the whisker-slam testbed (see README.md).
 
+mod assets_cmd;
 mod bench;
 mod characterize;
 mod error;
@@ -46,6 +47,11 @@ enum Command {
         #[command(subcommand)]
         command: BenchCommand,
     },
+    /// The generated object meshes of `assets/meshes`.
+    Assets {
+        #[command(subcommand)]
+        command: AssetsCommand,
+    },
     /// Inspect a URDF robot description.
     Urdf {
         #[command(subcommand)]
@@ -57,6 +63,16 @@ enum Command {
 enum BenchCommand {
     /// Real-time factor of the physics sensing mode (1 and 18 whiskers, free and in contact).
     Physics(bench::Options),
+}
+
+#[derive(Subcommand)]
+enum AssetsCommand {
+    /// Generate the object catalogue (deterministic) as OBJ files.
+    Generate {
+        /// Output directory.
+        #[arg(long, default_value = "assets/meshes")]
+        out: PathBuf,
+    },
 }
 
 #[derive(Subcommand)]
@@ -100,6 +116,9 @@ fn main() -> ExitCode {
         Command::Bench {
             command: BenchCommand::Physics(options),
         } => bench::physics(&options),
+        Command::Assets {
+            command: AssetsCommand::Generate { out },
+        } => assets_cmd::generate_all(&out),
         Command::Urdf { command } => match command {
             UrdfCommand::Info {
                 urdf,

@@ -6,6 +6,7 @@
 //! model of `whisker-slam`.
 
 pub mod arm;
+pub mod environment;
 pub mod kinematics;
 pub mod sensing;
 pub mod whisker;

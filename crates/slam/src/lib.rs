@@ -11,6 +11,7 @@
 //!   URDF convention (R = Rz(yaw)·Ry(pitch)·Rx(roll)).
 //! - [`rng`]: every random draw comes from a named sub-stream of a scenario seed.
 
+pub mod contact;
 pub mod pose;
 pub mod rng;
 pub mod sensor;

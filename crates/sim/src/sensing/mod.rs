@@ -1,5 +1,9 @@
 //! Sensing modes: how whisker readings are produced from a world.
 //!
 //! - [`physics`]: Rapier simulates every whisker's compliant beam, follicle and motor.
+//! - [`kinematic`]: rigid straight whiskers swept against the environment's meshes
+//!   (anticipated intersect, §4.1.2.3), with the contact noise of [`noise`].
 
+pub mod kinematic;
+pub mod noise;
 pub mod physics;

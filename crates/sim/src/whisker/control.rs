@@ -55,6 +55,15 @@ impl WhiskingPattern {
         mid - amp * (TAU * self.frequency * t + self.phase).cos()
     }
 
+    /// Time after a cycle's start at which open-loop protraction reaches `angle` (s),
+    /// the inverse of [`WhiskingPattern::angle`] on the protraction half-cycle (angles
+    /// outside the range are clamped to it).
+    pub fn protraction_time(&self, angle: f64) -> f64 {
+        let mid = (self.retracted + self.protracted) / 2.0;
+        let amp = (self.protracted - self.retracted) / 2.0;
+        ((mid - angle) / amp).clamp(-1.0, 1.0).acos() / (TAU * self.frequency)
+    }
+
     /// Index of the whisk cycle that time `t` lies in (cycles start fully retracted).
     pub fn cycle(&self, t: f64) -> i64 {
         ((self.frequency * t + self.phase / TAU) + 1e-9).floor() as i64

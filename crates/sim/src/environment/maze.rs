@@ -1,0 +1,261 @@
+//! The re-configurable maze (thesis §3.1, Fig 3.1): a 1.35 × 1 m board of plastic walls
+//! and posts on a floor, over which the array moves in a plane 77 mm above it.
+//!
+//! Maze frame: the board spans x ∈ [0, width], y ∈ [0, depth], its top surface at z = 0;
+//! the floor is a 20 mm slab below it. Walls are straight segments (end points on the
+//! board, height, thickness; extended by half their thickness at each end so that walls
+//! meeting at a corner close it); posts are upright cylinders or square boxes. Optional
+//! deformities are small boxes stuck to the walls' sides at seeded random places (the
+//! `maze/deformities` sub-stream of the scenario seed), to make places distinguishable.
+//! Every part becomes a fixed collider with a primitive shape (cuboid, cylinder).
+
+use super::shapes::{cuboid, lathe, rotation, transformed};
+use super::{Environment, Piece};
+use nalgebra::{Isometry3, Point3, Vector3};
+use parry3d_f64::shape::SharedShape;
+use rand::RngExt;
+use serde::Deserialize;
+use std::f64::consts::FRAC_PI_2;
+
+/// Floor slab thickness (m).
+pub const FLOOR_THICKNESS: f64 = 0.02;
+
+/// A wall: a straight segment on the board.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Wall {
+    /// Start point (x, y) on the board (m).
+    pub from: [f64; 2],
+    /// End point (x, y) on the board (m).
+    pub to: [f64; 2],
+    /// Height above the board (m).
+    pub height: f64,
+    /// Thickness (m).
+    pub thickness: f64,
+}
+
+/// Shape of a post.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum PostShape {
+    /// Upright cylinder of diameter `size`.
+    #[default]
+    Cylinder,
+    /// Square box of side `size`.
+    Box,
+}
+
+/// A post.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Post {
+    /// Centre (x, y) on the board (m).
+    pub at: [f64; 2],
+    /// Diameter (cylinder) or side (box) (m).
+    pub size: f64,
+    /// Height above the board (m).
+    pub height: f64,
+    /// Cylinder (default) or box.
+    #[serde(default)]
+    pub shape: PostShape,
+}
+
+/// Seeded random bumps on the walls' sides.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Deformities {
+    /// How many.
+    pub count: usize,
+    /// Smallest and largest edge length of a bump (m).
+    pub size: [f64; 2],
+}
+
+/// A maze layout (see the module documentation).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MazeLayout {
+    /// Board size (x, y) (m); the thesis' board is 1.35 × 1 m.
+    #[serde(default = "board")]
+    pub board: [f64; 2],
+    /// Pose of the maze frame in the world: x, y, z (m), roll, pitch, yaw (rad).
+    #[serde(default)]
+    pub pose: [f64; 6],
+    /// The walls.
+    #[serde(default)]
+    pub walls: Vec<Wall>,
+    /// The posts.
+    #[serde(default)]
+    pub posts: Vec<Post>,
+    /// Optional deformities.
+    #[serde(default)]
+    pub deformities: Option<Deformities>,
+}
+
+fn board() -> [f64; 2] {
+    [1.35, 1.0]
+}
+
+fn positive(v: f64, field: &str) -> Result<(), (String, String)> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err((
+            field.into(),
+            format!("{v}: expected a positive length in metres"),
+        ))
+    }
+}
+
+impl MazeLayout {
+    /// Checks sizes and that everything stands on the board; names the first bad field
+    /// as (field path, message).
+    pub fn validate(&self) -> Result<(), (String, String)> {
+        positive(self.board[0], "board")?;
+        positive(self.board[1], "board")?;
+        if self.pose.iter().any(|v| !v.is_finite()) {
+            return Err(("pose".into(), "expected six finite numbers".into()));
+        }
+        let on_board = |p: [f64; 2], field: String| {
+            if (0.0..=self.board[0]).contains(&p[0]) && (0.0..=self.board[1]).contains(&p[1]) {
+                Ok(())
+            } else {
+                Err((
+                    field,
+                    format!(
+                        "({}, {}) is off the {} × {} m board",
+                        p[0], p[1], self.board[0], self.board[1]
+                    ),
+                ))
+            }
+        };
+        for (i, w) in self.walls.iter().enumerate() {
+            positive(w.height, &format!("walls[{i}].height"))?;
+            positive(w.thickness, &format!("walls[{i}].thickness"))?;
+            on_board(w.from, format!("walls[{i}].from"))?;
+            on_board(w.to, format!("walls[{i}].to"))?;
+            if w.from == w.to {
+                return Err((
+                    format!("walls[{i}]"),
+                    "from and to are the same point".into(),
+                ));
+            }
+        }
+        for (i, p) in self.posts.iter().enumerate() {
+            positive(p.size, &format!("posts[{i}].size"))?;
+            positive(p.height, &format!("posts[{i}].height"))?;
+            on_board(p.at, format!("posts[{i}].at"))?;
+        }
+        if let Some(d) = &self.deformities {
+            positive(d.size[0], "deformities.size")?;
+            if d.size[1] < d.size[0] || !d.size[1].is_finite() {
+                return Err((
+                    "deformities.size".into(),
+                    "expected [smallest, largest]".into(),
+                ));
+            }
+            if d.count > 0 && self.walls.is_empty() {
+                return Err((
+                    "deformities".into(),
+                    "deformities need at least one wall".into(),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Builds the maze's pieces (call [`MazeLayout::validate`] first); deformities are
+    /// drawn from the `maze/deformities` sub-stream of `seed`.
+    pub fn build(&self, seed: u64) -> Environment {
+        let frame = whisker_slam::pose::from_xyz_rpy(
+            [self.pose[0], self.pose[1], self.pose[2]],
+            [self.pose[3], self.pose[4], self.pose[5]],
+        );
+        let mut pieces = Vec::new();
+        let slab = |name: String, lo: Point3<f64>, hi: Point3<f64>, pose: Isometry3<f64>| {
+            let half = (hi - lo) / 2.0;
+            let centre = Isometry3::translation(lo.x + half.x, lo.y + half.y, lo.z + half.z);
+            Piece {
+                name,
+                shape: SharedShape::cuboid(half.x, half.y, half.z),
+                mesh: cuboid(Point3::from(-half), Point3::from(half)),
+                pose: pose * centre,
+            }
+        };
+        let [w, d] = self.board;
+        pieces.push(slab(
+            "maze floor".into(),
+            Point3::new(0.0, 0.0, -FLOOR_THICKNESS),
+            Point3::new(w, d, 0.0),
+            frame,
+        ));
+        let wall_frames: Vec<(Isometry3<f64>, f64)> = self
+            .walls
+            .iter()
+            .map(|wall| {
+                let a = Vector3::new(wall.from[0], wall.from[1], 0.0);
+                let b = Vector3::new(wall.to[0], wall.to[1], 0.0);
+                let yaw = (b.y - a.y).atan2(b.x - a.x);
+                let along = Isometry3::new((a + b) / 2.0, Vector3::z() * yaw);
+                (frame * along, (b - a).norm() + wall.thickness)
+            })
+            .collect();
+        for (i, (wall, (pose, length))) in self.walls.iter().zip(&wall_frames).enumerate() {
+            let half = Vector3::new(length / 2.0, wall.thickness / 2.0, wall.height / 2.0);
+            pieces.push(slab(
+                format!("maze wall {i}"),
+                Point3::new(-half.x, -half.y, 0.0),
+                Point3::new(half.x, half.y, wall.height),
+                *pose,
+            ));
+        }
+        for (i, post) in self.posts.iter().enumerate() {
+            let at = frame * Isometry3::translation(post.at[0], post.at[1], 0.0);
+            let (h, r) = (post.height, post.size / 2.0);
+            match post.shape {
+                PostShape::Box => pieces.push(slab(
+                    format!("maze post {i}"),
+                    Point3::new(-r, -r, 0.0),
+                    Point3::new(r, r, h),
+                    at,
+                )),
+                PostShape::Cylinder => {
+                    // parry's cylinder stands along its y axis: mesh it the same way and
+                    // turn the piece frame so that y points up.
+                    let along_z = lathe(
+                        &[(0.0, -h / 2.0), (r, -h / 2.0), (r, h / 2.0), (0.0, h / 2.0)],
+                        64,
+                    );
+                    pieces.push(Piece {
+                        name: format!("maze post {i}"),
+                        shape: SharedShape::cylinder(h / 2.0, r),
+                        mesh: transformed(&along_z, &rotation(Vector3::x(), -FRAC_PI_2)),
+                        pose: at
+                            * Isometry3::translation(0.0, 0.0, h / 2.0)
+                            * rotation(Vector3::x(), FRAC_PI_2),
+                    });
+                }
+            }
+        }
+        if let Some(def) = &self.deformities {
+            let mut rng = whisker_slam::rng::substream(seed, "maze/deformities");
+            for k in 0..def.count {
+                let i = rng.random_range(0..self.walls.len());
+                let (pose, length) = wall_frames[i];
+                let wall = &self.walls[i];
+                let s = rng.random_range(def.size[0]..=def.size[1]);
+                let x = rng.random_range(-0.5..0.5) * (length - s).max(0.0);
+                let z = rng.random_range(0.0..(wall.height - s).max(0.0) + f64::EPSILON);
+                let side = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+                // Half a bump's depth is sunk into the wall so that the two overlap.
+                let y = side * (wall.thickness / 2.0);
+                pieces.push(slab(
+                    format!("maze deformity {k} (wall {i})"),
+                    Point3::new(x - s / 2.0, y - s / 2.0, z),
+                    Point3::new(x + s / 2.0, y + s / 2.0, z + s),
+                    pose,
+                ));
+            }
+        }
+        Environment { pieces }
+    }
+}

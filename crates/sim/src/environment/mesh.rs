@@ -1,0 +1,248 @@
+//! Object meshes: loading a file into a closed, outward-oriented triangle mesh in metres
+//! with z up, and turning it into a Rapier/parry collision shape.
+//!
+//! Pipeline: read ([`super::mesh_io`]) → scale to metres (`units` × `scale`) → turn to
+//! z up → fan-triangulate polygons → weld vertices closer than 1e-7 × the bounding-box
+//! diagonal → repair or refuse ([`super::topology`]). What was repaired is reported so
+//! that `whisker check` can show it.
+
+use super::mesh_io;
+pub use super::topology::Mesh;
+use super::topology::{close_and_orient, components, signed_volume, weld};
+use nalgebra::{Point3, Vector3};
+use parry3d_f64::shape::{SharedShape, TriMeshFlags};
+use std::path::{Path, PathBuf};
+
+/// A problem with a mesh file: which file, where in it, what is wrong.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{}: {at}: {message}", file.display())]
+pub struct MeshError {
+    /// The file.
+    pub file: PathBuf,
+    /// Where: a line, facet, element record, or "mesh".
+    pub at: String,
+    /// What is wrong and what was expected.
+    pub message: String,
+}
+
+impl MeshError {
+    /// A new error.
+    pub fn new(file: &Path, at: &str, message: String) -> Self {
+        Self {
+            file: file.to_path_buf(),
+            at: at.to_string(),
+            message,
+        }
+    }
+}
+
+/// Length unit of a mesh file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Units {
+    /// Metres.
+    #[default]
+    Metres,
+    /// Centimetres.
+    Centimetres,
+    /// Millimetres (common in CAD/STL exports).
+    Millimetres,
+    /// Inches.
+    Inches,
+}
+
+impl Units {
+    /// Metres per file unit.
+    pub fn metres(self) -> f64 {
+        match self {
+            Units::Metres => 1.0,
+            Units::Centimetres => 0.01,
+            Units::Millimetres => 0.001,
+            Units::Inches => 0.0254,
+        }
+    }
+
+    /// Parses "m", "cm", "mm" or "in".
+    pub fn parse(s: &str) -> Option<Units> {
+        Some(match s {
+            "m" => Units::Metres,
+            "cm" => Units::Centimetres,
+            "mm" => Units::Millimetres,
+            "in" => Units::Inches,
+            _ => return None,
+        })
+    }
+}
+
+/// Which file axis points up.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum UpAxis {
+    /// +z up (as in ROS and this project).
+    #[default]
+    Z,
+    /// +y up (common in OBJ exports): turned by +90° about x.
+    Y,
+}
+
+/// How to interpret a mesh file.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeshOptions {
+    /// The file's length unit.
+    pub units: Units,
+    /// An extra uniform scale factor (> 0).
+    pub scale: f64,
+    /// The file's up axis.
+    pub up: UpAxis,
+}
+
+impl Default for MeshOptions {
+    fn default() -> Self {
+        Self {
+            units: Units::Metres,
+            scale: 1.0,
+            up: UpAxis::Z,
+        }
+    }
+}
+
+/// A loaded mesh and what was done to it.
+#[derive(Debug, Clone)]
+pub struct LoadedMesh {
+    /// The closed, outward-oriented mesh (metres, z up, file origin).
+    pub mesh: Mesh,
+    /// Repairs made, in words (empty for a clean file).
+    pub repairs: Vec<String>,
+    /// Objects/groups the file declared.
+    pub objects: usize,
+}
+
+/// Loads a mesh file (see the module documentation).
+pub fn load(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, MeshError> {
+    if !(options.scale.is_finite() && options.scale > 0.0) {
+        return Err(MeshError::new(
+            path,
+            "scale",
+            format!("{}: expected a positive number", options.scale),
+        ));
+    }
+    let soup = mesh_io::read(path)?;
+    let factor = options.units.metres() * options.scale;
+    let positions: Vec<Point3<f64>> = soup
+        .positions
+        .iter()
+        .map(|&[x, y, z]| {
+            let p = match options.up {
+                UpAxis::Z => Point3::new(x, y, z),
+                UpAxis::Y => Point3::new(x, -z, y),
+            };
+            p * factor
+        })
+        .collect();
+    let mut triangles = Vec::new();
+    let mut origins = Vec::new();
+    for (poly, origin) in soup.polygons.iter().zip(&soup.origins) {
+        for k in 1..poly.len() - 1 {
+            triangles.push([poly[0], poly[k], poly[k + 1]]);
+            origins.push(origin.clone());
+        }
+    }
+    let used: Vec<Point3<f64>> = triangles
+        .iter()
+        .flatten()
+        .map(|&i| positions[i as usize])
+        .collect();
+    let (lo, hi) = bounds(&used);
+    let diagonal = (hi - lo).norm();
+    if diagonal == 0.0 {
+        return Err(MeshError::new(
+            path,
+            "mesh",
+            "every vertex is at the same point: expected a solid".into(),
+        ));
+    }
+    let (vertices, map) = weld(&positions, 1e-7 * diagonal);
+    let welded = positions.len() - vertices.len();
+    let triangles: Vec<[u32; 3]> = triangles
+        .iter()
+        .map(|t| t.map(|i| map[i as usize]))
+        .collect();
+    let (mesh, mut repairs) = close_and_orient(vertices, triangles, origins)
+        .map_err(|e| MeshError::new(path, &e.at, e.message))?;
+    if welded > 0 && !matches!(mesh_io::Format::from_path(path), Some(mesh_io::Format::Stl)) {
+        repairs.insert(0, format!("welded {welded} duplicate vertices"));
+    }
+    Ok(LoadedMesh {
+        mesh,
+        repairs,
+        objects: soup.objects,
+    })
+}
+
+/// Axis-aligned bounds of points.
+pub fn bounds(points: &[Point3<f64>]) -> (Point3<f64>, Point3<f64>) {
+    let mut lo = Point3::from(Vector3::repeat(f64::INFINITY));
+    let mut hi = Point3::from(Vector3::repeat(f64::NEG_INFINITY));
+    for p in points {
+        lo = lo.inf(p);
+        hi = hi.sup(p);
+    }
+    (lo, hi)
+}
+
+impl Mesh {
+    /// Bounding-box size (m).
+    pub fn size(&self) -> Vector3<f64> {
+        let (lo, hi) = bounds(&self.vertices);
+        hi - lo
+    }
+
+    /// Enclosed volume (m³); components counted separately.
+    pub fn volume(&self) -> f64 {
+        signed_volume(&self.vertices, &self.triangles)
+    }
+
+    /// Each connected component's signed volume (all positive for a valid mesh).
+    pub fn component_volumes(&self) -> Vec<f64> {
+        components(&self.triangles)
+            .iter()
+            .map(|c| {
+                let sub: Vec<[u32; 3]> = c.iter().map(|&t| self.triangles[t]).collect();
+                signed_volume(&self.vertices, &sub)
+            })
+            .collect()
+    }
+
+    /// Whether every edge is shared by exactly two triangles in opposite directions.
+    pub fn is_closed_and_consistent(&self) -> bool {
+        let mut directed = std::collections::HashMap::new();
+        for t in &self.triangles {
+            for k in 0..3 {
+                *directed.entry((t[k], t[(k + 1) % 3])).or_insert(0) += 1;
+            }
+        }
+        directed
+            .iter()
+            .all(|(&(a, b), &n)| n == 1 && directed.get(&(b, a)) == Some(&1))
+    }
+
+    /// Outward unit normal of triangle `t`.
+    pub fn normal(&self, t: usize) -> Vector3<f64> {
+        let [a, b, c] = self.triangles[t].map(|i| self.vertices[i as usize]);
+        (b - a).cross(&(c - a)).normalize()
+    }
+
+    /// The mesh as a parry shape for fixed colliders, with the flags that make a closed
+    /// mesh act as a solid (`shared/notes/physics.md`).
+    pub fn shape(&self) -> Result<SharedShape, String> {
+        let vertices = self
+            .vertices
+            .iter()
+            .map(|p| parry3d_f64::math::Vector::new(p.x, p.y, p.z))
+            .collect();
+        SharedShape::trimesh_with_flags(
+            vertices,
+            self.triangles.clone(),
+            TriMeshFlags::ORIENTED | TriMeshFlags::FIX_INTERNAL_EDGES,
+        )
+        .map_err(|e| format!("cannot build a collision mesh: {e}"))
+    }
+}

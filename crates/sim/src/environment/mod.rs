@@ -1,0 +1,81 @@
+//! Environments the whiskers touch: object meshes (thesis §5.2.1, Fig 5.13; §6.1.3,
+//! Fig 6.5) and the maze (§3.1, Fig 3.1).
+//!
+//! - [`mesh_io`] reads OBJ, STL and PLY files; [`topology`] welds, orients and closes
+//!   them; [`mesh`] ties the two together with units and up axis, and builds the
+//!   collision shape.
+//! - [`shapes`] builds closed meshes from primitives (boxes, lathes, swept tubes, star
+//!   surfaces); [`assets`] uses it to generate the object catalogue of `assets/meshes`.
+//! - [`maze`] builds the re-configurable maze board.
+//!
+//! An [`Environment`] is a list of fixed [`Piece`]s in the world frame: each has the
+//! collision shape the physics uses and a triangle mesh for the kinematic sweep.
+
+pub mod assets;
+pub mod maze;
+pub mod mesh;
+pub mod mesh_io;
+pub mod shapes;
+pub mod topology;
+
+use crate::sensing::physics::EnvironmentPiece;
+use nalgebra::Isometry3;
+use parry3d_f64::shape::SharedShape;
+pub use topology::Mesh;
+
+/// One fixed piece of the environment.
+#[derive(Clone)]
+pub struct Piece {
+    /// A name for messages and recordings (e.g. "object mug", "maze wall 3").
+    pub name: String,
+    /// Collision shape for the physics (in the piece frame).
+    pub shape: SharedShape,
+    /// Closed triangle mesh of the same solid (piece frame), for the kinematic sweep;
+    /// exact for meshes and boxes, a 64-sided prism for cylinders.
+    pub mesh: Mesh,
+    /// Pose of the piece frame in the world.
+    pub pose: Isometry3<f64>,
+}
+
+impl std::fmt::Debug for Piece {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Piece")
+            .field("name", &self.name)
+            .field("triangles", &self.mesh.triangles.len())
+            .field("pose", &self.pose)
+            .finish()
+    }
+}
+
+/// The fixed environment of a scenario.
+#[derive(Debug, Clone, Default)]
+pub struct Environment {
+    /// Its pieces.
+    pub pieces: Vec<Piece>,
+}
+
+impl Environment {
+    /// The pieces as (shape, pose) pairs for the physics worlds.
+    pub fn physics_pieces(&self) -> Vec<EnvironmentPiece> {
+        self.pieces
+            .iter()
+            .map(|p| (p.shape.clone(), p.pose))
+            .collect()
+    }
+
+    /// All pieces' triangles in the world frame, one mesh (for the kinematic sweep).
+    pub fn world_mesh(&self) -> Mesh {
+        let mut out = Mesh {
+            vertices: Vec::new(),
+            triangles: Vec::new(),
+        };
+        for p in &self.pieces {
+            let base = out.vertices.len() as u32;
+            out.vertices
+                .extend(p.mesh.vertices.iter().map(|v| p.pose * v));
+            out.triangles
+                .extend(p.mesh.triangles.iter().map(|t| t.map(|i| i + base)));
+        }
+        out
+    }
+}
