@@ -153,9 +153,8 @@ impl SweepTarget {
         let pivot = Point3::from(start.translation.vector);
         let axis = start.rotation * Vector3::x();
         let e0 = start.rotation * Vector3::z();
-        let e1 = axis.cross(&e0);
-        // The sweep turns the shaft from e0 towards e1 (checked against the module).
-        debug_assert!((frame(whisker.retracted + 0.5).rotation * Vector3::z()).dot(&e1) > 0.0);
+        // F = M·Rx(π/2 − θ): as θ grows the shaft z_F turns towards y_F = z_F × x_F.
+        let e1 = e0.cross(&axis);
         let reach = whisker.base_offset + whisker.module.beam.length;
         let abs_axis = axis.abs();
         let candidates = self.bvh.leaves(|node| {
