@@ -3,6 +3,7 @@
 mod assets_cmd;
 mod bench;
 mod characterize;
+mod contacts;
 mod error;
 mod output;
 mod plan;

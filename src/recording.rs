@@ -5,7 +5,11 @@
 //! - `world/arm/skeleton`: a line strip through the origins of the chain's link frames,
 //! - `world/arm/tip`: the tip link's frame (a transform with axes),
 //! - `world/arm/tip_path`: the path of the tip so far (static, written at the end),
-//! - `world/waypoints`: the tip positions at the waypoints (static).
+//! - `world/waypoints`: the tip positions at the waypoints (static),
+//! - `world/environment/<piece>`: each fixed piece of `[[objects]]` and `[maze]` as a
+//!   triangle mesh (static),
+//! - `world/contacts` (kinematic sensing) or `world/anticipated` (the ground truth of a
+//!   physics run): the contact points of each whisk cycle, at the cycle's start time.
 //!
 //! The file is written to a temporary sibling and renamed into place when complete. The
 //! wall-clock `log_time` timeline is turned off so that a recording holds only what the
@@ -76,6 +80,47 @@ impl Recording {
         self.stream
             .log("world/arm/skeleton", &rerun::LineStrips3D::new([strip]))
             .and_then(|_| self.stream.log("world/arm/tip", &transform))
+            .map_err(|e| fail(&self.path, e))
+    }
+
+    /// Logs the environment's pieces as static meshes (world frame).
+    pub fn environment(&self, environment: &whisker_sim::environment::Environment) -> CliResult {
+        for piece in &environment.pieces {
+            let entity: String = piece
+                .name
+                .chars()
+                .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+                .collect();
+            let positions: Vec<[f32; 3]> = piece
+                .mesh
+                .vertices
+                .iter()
+                .map(|v| {
+                    let w = piece.pose * v;
+                    [w.x as f32, w.y as f32, w.z as f32]
+                })
+                .collect();
+            let mesh = rerun::Mesh3D::new(positions)
+                .with_triangle_indices(piece.mesh.triangles.iter().copied());
+            self.stream
+                .log_static(format!("world/environment/{entity}"), &mesh)
+                .map_err(|e| fail(&self.path, e))?;
+        }
+        Ok(())
+    }
+
+    /// Logs one whisk cycle's contact points (world) under `world/<entity>` at time `t`.
+    pub fn contacts(&self, entity: &str, t: f64, points: &[[f64; 3]]) -> CliResult {
+        self.stream.set_duration_secs("sim_time", t);
+        let points: Vec<[f32; 3]> = points
+            .iter()
+            .map(|p| [p[0] as f32, p[1] as f32, p[2] as f32])
+            .collect();
+        self.stream
+            .log(
+                format!("world/{entity}"),
+                &rerun::Points3D::new(points).with_radii([0.004]),
+            )
             .map_err(|e| fail(&self.path, e))
     }
 

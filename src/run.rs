@@ -4,11 +4,14 @@
 //! in a Rapier world at the output sample period, and writes to the output directory:
 //! - `path.csv`: one row per sample (columns documented in `scenarios/README.md`),
 //! - `summary.json`: the run's figures,
-//! - `run.rrd`: the Rerun recording (unless `output.recording = false`).
+//! - `run.rrd`: the Rerun recording (unless `output.recording = false`),
+//! - `whiskers.csv` (physics sensing), `contacts.csv` (kinematic sensing) or
+//!   `anticipated.csv` (the anticipated contacts of a physics run with an environment).
 //!
 //! `check` does everything up to the simulation (parsing, URDF, IK of every waypoint)
 //! and prints what would run, writing nothing.
 
+use crate::contacts::ContactSensing;
 use crate::error::CliResult;
 use crate::output;
 use crate::plan::Plan;
@@ -16,9 +19,11 @@ use crate::recording::Recording;
 use crate::scenario::{Scenario, Sensing};
 use crate::whiskers::ArraySimulation;
 use nalgebra::Isometry3;
+use rapier3d_f64::prelude::ColliderBuilder;
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::world::World;
 use whisker_slam::pose;
 
@@ -73,8 +78,19 @@ pub fn check(file: &Path) -> CliResult {
     let scenario = Scenario::load(file)?;
     let plan = Plan::new(&scenario, file)?;
     print!("{}", describe(file, &scenario, &plan));
-    if scenario.sensing == Sensing::Physics {
+    if scenario.sensing != Sensing::None {
         print!("{}", crate::whiskers::describe(&scenario, file)?);
+        crate::whiskers::array_chain(&scenario, file, &plan)?;
+    }
+    if scenario.sensing == Sensing::Kinematic {
+        let n = scenario.kinematic.noise(file)?;
+        println!(
+            "kinematic  1° sweeps once per whisk cycle; noise: point σ {} × length, slope σ {}, detection {}",
+            n.point_fraction, n.slope_sigma, n.detection_probability
+        );
+    }
+    for line in scenario.environment(file)?.report {
+        println!("{line}");
     }
     let dir = &scenario.output.dir;
     let rrd = if scenario.output.recording {
@@ -103,6 +119,11 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
     let scenario = Scenario::load(file)?;
     let plan = Plan::new(&scenario, file)?;
     print!("{}", describe(file, &scenario, &plan));
+    let loaded = scenario.environment(file)?;
+    for line in &loaded.report {
+        println!("{line}");
+    }
+    let environment = loaded.environment;
     let dir = out.unwrap_or_else(|| scenario.output.dir.clone());
     output::create_dir(&dir)?;
 
@@ -129,16 +150,39 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
         let rec = Recording::create(&dir.join("run.rrd"), &id)?;
         let tips: Vec<Isometry3<f64>> = plan.waypoints.iter().map(|q| chain.fk(q)).collect();
         rec.waypoints(&tips)?;
+        rec.environment(&environment)?;
         Some(rec)
     } else {
         None
     };
 
     let mut whiskers = match scenario.sensing {
-        Sensing::Physics => Some(ArraySimulation::new(&scenario, file, &plan)?),
-        Sensing::None => None,
+        Sensing::Physics => Some(ArraySimulation::new(&scenario, file, &plan, &environment)?),
+        _ => None,
+    };
+    let mut contacts = match scenario.sensing {
+        Sensing::Kinematic => Some(ContactSensing::new(
+            &scenario,
+            file,
+            &plan,
+            &environment,
+            scenario.kinematic.noise(file)?,
+            "contacts.csv",
+        )?),
+        Sensing::Physics if !environment.pieces.is_empty() => Some(ContactSensing::new(
+            &scenario,
+            file,
+            &plan,
+            &environment,
+            ContactNoise::NONE,
+            "anticipated.csv",
+        )?),
+        _ => None,
     };
     let mut world = World::new(model.clone(), plan.model_joints(&plan.waypoints[0]), dt);
+    for piece in &environment.pieces {
+        world.add_fixed(ColliderBuilder::new(piece.shape.clone()).position(piece.pose.into()));
+    }
     let mut csv = String::from("t_s");
     for (name, &angular) in chain.joint_names.iter().zip(&chain.angular) {
         let _ = write!(csv, ",{name}_{}", if angular { "rad" } else { "m" });
@@ -158,6 +202,9 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
         }
         if let Some(w) = &mut whiskers {
             w.advance_to(&plan, t);
+        }
+        if let Some(c) = &mut contacts {
+            c.advance_to(&plan, t, recording.as_ref())?;
         }
         let tip = chain.fk(&q);
         let hits = world.arm_collisions();
@@ -227,8 +274,11 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
         "waypoints": waypoints,
         "arm_collision_samples": collision_samples,
         "arm_collision_links": collided_links,
-        "sensing": if scenario.sensing == Sensing::Physics { "physics" } else { "none" },
+        "sensing": scenario.sensing.name(),
         "whisker_samples": whisker_samples,
+        "environment_pieces": environment.pieces.iter().map(|p| p.name.clone()).collect::<Vec<_>>(),
+        "whisk_cycles_swept": contacts.as_ref().map_or(0, |c| c.counts().0),
+        "contacts": contacts.as_ref().map_or(0, |c| c.counts().1),
     });
 
     output::write_atomic(&dir.join("path.csv"), csv.as_bytes())?;
@@ -236,6 +286,10 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
     output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
     if let Some(w) = whiskers {
         w.finish(&dir)?;
+    }
+    let contacts_file = contacts.as_ref().map(|c| c.counts());
+    if let Some(c) = contacts {
+        c.finish(&dir)?;
     }
     if let Some(rec) = recording {
         rec.finish(&tip_path)?;
@@ -257,11 +311,15 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
     } else {
         ""
     };
-    let csv = if scenario.sensing == Sensing::Physics {
-        ", whiskers.csv"
-    } else {
-        ""
+    let csv = match (scenario.sensing, contacts_file.is_some()) {
+        (Sensing::Physics, true) => ", whiskers.csv, anticipated.csv",
+        (Sensing::Physics, false) => ", whiskers.csv",
+        (Sensing::Kinematic, _) => ", contacts.csv",
+        (Sensing::None, _) => "",
     };
+    if let (Some((cycles, n)), Sensing::Kinematic) = (contacts_file, scenario.sensing) {
+        println!("sensed     {n} contacts in {cycles} whisk cycles");
+    }
     println!(
         "wrote      {}/{{path.csv, summary.json{csv}{rrd}}}",
         dir.display()

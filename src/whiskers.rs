@@ -9,6 +9,7 @@ use crate::scenario::Scenario;
 use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
+use whisker_sim::environment::Environment;
 use whisker_sim::kinematics::Chain;
 use whisker_sim::sensing::physics::{PhysicsArray, calibrate_rcp};
 use whisker_sim::whisker::control::RcpThreshold;
@@ -55,6 +56,29 @@ pub fn describe(scenario: &Scenario, file: &Path) -> CliResult<String> {
     Ok(s)
 }
 
+/// The chain from the arm's base to the `whisker_array` link, which must be moved by the
+/// same joints as the scenario's tip link.
+pub fn array_chain(scenario: &Scenario, file: &Path, plan: &Plan) -> CliResult<Chain> {
+    let chain = Chain::new(&plan.model, &plan.chain.base, "whisker_array").map_err(|e| {
+        CliError::field(
+            file,
+            "sensing",
+            format!(
+                "{:?} needs a whisker_array link in the URDF: {e}",
+                scenario.sensing.name()
+            ),
+        )
+    })?;
+    if chain.joint_names != plan.chain.joint_names {
+        return Err(CliError::field(
+            file,
+            "arm.tip_link",
+            "the whisker_array link must be moved by the same joints as the tip link",
+        ));
+    }
+    Ok(chain)
+}
+
 /// The array being simulated along a run.
 pub struct ArraySimulation {
     array: PhysicsArray,
@@ -67,22 +91,14 @@ pub struct ArraySimulation {
 
 impl ArraySimulation {
     /// Builds the array of `scenario` at the plan's start, calibrating RCP thresholds.
-    pub fn new(scenario: &Scenario, file: &Path, plan: &Plan) -> CliResult<Self> {
+    pub fn new(
+        scenario: &Scenario,
+        file: &Path,
+        plan: &Plan,
+        environment: &Environment,
+    ) -> CliResult<Self> {
         let mut configs = scenario.array.whisker_configs(file)?;
-        let chain = Chain::new(&plan.model, &plan.chain.base, "whisker_array").map_err(|e| {
-            CliError::field(
-                file,
-                "sensing",
-                format!("\"physics\" needs a whisker_array link in the URDF: {e}"),
-            )
-        })?;
-        if chain.joint_names != plan.chain.joint_names {
-            return Err(CliError::field(
-                file,
-                "arm.tip_link",
-                "the whisker_array link must be moved by the same joints as the tip link",
-            ));
-        }
+        let chain = array_chain(scenario, file, plan)?;
         let dt = whisker_sim::sensing::physics::DT;
         if let Some(mode) = scenario.array.rcp_mode() {
             let thresholds: Vec<f64> = configs
@@ -107,7 +123,13 @@ impl ArraySimulation {
         }
         csv.push('\n');
         let start = chain.fk(&plan.waypoints[0]);
-        let array = PhysicsArray::new(configs, &[], &start, scenario.seed, dt);
+        let array = PhysicsArray::new(
+            configs,
+            &environment.physics_pieces(),
+            &start,
+            scenario.seed,
+            dt,
+        );
         Ok(Self {
             array,
             chain,

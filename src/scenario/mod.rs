@@ -7,6 +7,7 @@
 //! directory is relative to the working directory.
 
 pub mod array;
+pub mod environment;
 
 use crate::error::{CliError, CliResult};
 use serde::Deserialize;
@@ -27,9 +28,18 @@ pub struct Scenario {
     pub seed: u64,
     /// The arm.
     pub arm: ArmConfig,
-    /// How whisker readings are produced: `"none"` (the arm only) or `"physics"`.
+    /// How whisker readings are produced: `"none"` (the arm only), `"physics"` or
+    /// `"kinematic"`.
     #[serde(default)]
     pub sensing: Sensing,
+    /// `[kinematic]`: options of `sensing = "kinematic"`.
+    #[serde(default)]
+    pub kinematic: environment::KinematicConfig,
+    /// `[[objects]]`: meshes placed in the world.
+    #[serde(default)]
+    pub objects: Vec<environment::ObjectConfig>,
+    /// `[maze]`: the maze board.
+    pub maze: Option<environment::MazeConfig>,
     /// The whisker array (used with `sensing = "physics"`).
     #[serde(default)]
     pub array: array::ArrayConfig,
@@ -47,8 +57,23 @@ pub enum Sensing {
     /// No whisker simulation: the arm moves, nothing senses.
     #[default]
     None,
-    /// Rapier simulates every whisker at 2 kHz (`whiskers.csv`).
+    /// Rapier simulates every whisker at 2 kHz (`whiskers.csv`, and the anticipated
+    /// contacts as ground truth in `anticipated.csv`).
     Physics,
+    /// Rigid whiskers swept once per whisk cycle, anticipated intersect with noise
+    /// (§4.1.2.3, §6.1.3.1.2; `contacts.csv`).
+    Kinematic,
+}
+
+impl Sensing {
+    /// The name used in scenarios.
+    pub fn name(self) -> &'static str {
+        match self {
+            Sensing::None => "none",
+            Sensing::Physics => "physics",
+            Sensing::Kinematic => "kinematic",
+        }
+    }
 }
 
 /// `[arm]`: the robot description and its initial state.
@@ -191,6 +216,10 @@ impl Scenario {
             }
             self.array.whisker_configs(file)?;
         }
+        if self.sensing == Sensing::Kinematic {
+            self.kinematic.noise(file)?;
+            self.array.whisker_configs(file)?;
+        }
         if self.trajectory.waypoints.is_empty() {
             return bad(
                 "trajectory.waypoints",
@@ -213,6 +242,12 @@ impl Scenario {
     /// The URDF path, resolved against the scenario file's directory.
     pub fn urdf_path(&self, file: &Path) -> PathBuf {
         relative_to(file, &self.arm.urdf)
+    }
+
+    /// The environment of `[[objects]]` and `[maze]`, loaded (mesh files read, checked
+    /// and repaired; the maze built).
+    pub fn environment(&self, file: &Path) -> CliResult<environment::LoadedEnvironment> {
+        environment::load(file, &self.objects, self.maze.as_ref(), self.seed)
     }
 
     /// The package search directories, resolved against the scenario file's directory.
@@ -250,7 +285,8 @@ impl Waypoint {
     }
 }
 
-fn relative_to(file: &Path, p: &Path) -> PathBuf {
+/// `p`, resolved against the directory of the scenario `file` unless absolute.
+pub(crate) fn relative_to(file: &Path, p: &Path) -> PathBuf {
     if p.is_absolute() {
         p.to_path_buf()
     } else {

@@ -20,17 +20,22 @@ use std::f64::consts::FRAC_PI_2;
 /// Floor slab thickness (m).
 pub const FLOOR_THICKNESS: f64 = 0.02;
 
-/// A wall: a straight segment on the board.
+/// A wall: a straight segment on the board (scenario fields `from_m`, `to_m`,
+/// `height_m`, `thickness_m`).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Wall {
     /// Start point (x, y) on the board (m).
+    #[serde(rename = "from_m")]
     pub from: [f64; 2],
     /// End point (x, y) on the board (m).
+    #[serde(rename = "to_m")]
     pub to: [f64; 2],
     /// Height above the board (m).
+    #[serde(rename = "height_m")]
     pub height: f64,
     /// Thickness (m).
+    #[serde(rename = "thickness_m")]
     pub thickness: f64,
 }
 
@@ -45,54 +50,46 @@ pub enum PostShape {
     Box,
 }
 
-/// A post.
+/// A post (scenario fields `at_m`, `size_m`, `height_m`, `shape`).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Post {
     /// Centre (x, y) on the board (m).
+    #[serde(rename = "at_m")]
     pub at: [f64; 2],
     /// Diameter (cylinder) or side (box) (m).
+    #[serde(rename = "size_m")]
     pub size: f64,
     /// Height above the board (m).
+    #[serde(rename = "height_m")]
     pub height: f64,
     /// Cylinder (default) or box.
     #[serde(default)]
     pub shape: PostShape,
 }
 
-/// Seeded random bumps on the walls' sides.
+/// Seeded random bumps on the walls' sides (scenario fields `count`, `size_m`).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Deformities {
     /// How many.
     pub count: usize,
     /// Smallest and largest edge length of a bump (m).
+    #[serde(rename = "size_m")]
     pub size: [f64; 2],
 }
 
 /// A maze layout (see the module documentation).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct MazeLayout {
     /// Board size (x, y) (m); the thesis' board is 1.35 × 1 m.
-    #[serde(default = "board")]
     pub board: [f64; 2],
-    /// Pose of the maze frame in the world: x, y, z (m), roll, pitch, yaw (rad).
-    #[serde(default)]
-    pub pose: [f64; 6],
     /// The walls.
-    #[serde(default)]
     pub walls: Vec<Wall>,
     /// The posts.
-    #[serde(default)]
     pub posts: Vec<Post>,
     /// Optional deformities.
-    #[serde(default)]
     pub deformities: Option<Deformities>,
-}
-
-fn board() -> [f64; 2] {
-    [1.35, 1.0]
 }
 
 fn positive(v: f64, field: &str) -> Result<(), (String, String)> {
@@ -110,11 +107,8 @@ impl MazeLayout {
     /// Checks sizes and that everything stands on the board; names the first bad field
     /// as (field path, message).
     pub fn validate(&self) -> Result<(), (String, String)> {
-        positive(self.board[0], "board")?;
-        positive(self.board[1], "board")?;
-        if self.pose.iter().any(|v| !v.is_finite()) {
-            return Err(("pose".into(), "expected six finite numbers".into()));
-        }
+        positive(self.board[0], "board_m")?;
+        positive(self.board[1], "board_m")?;
         let on_board = |p: [f64; 2], field: String| {
             if (0.0..=self.board[0]).contains(&p[0]) && (0.0..=self.board[1]).contains(&p[1]) {
                 Ok(())
@@ -129,10 +123,10 @@ impl MazeLayout {
             }
         };
         for (i, w) in self.walls.iter().enumerate() {
-            positive(w.height, &format!("walls[{i}].height"))?;
-            positive(w.thickness, &format!("walls[{i}].thickness"))?;
-            on_board(w.from, format!("walls[{i}].from"))?;
-            on_board(w.to, format!("walls[{i}].to"))?;
+            positive(w.height, &format!("walls[{i}].height_m"))?;
+            positive(w.thickness, &format!("walls[{i}].thickness_m"))?;
+            on_board(w.from, format!("walls[{i}].from_m"))?;
+            on_board(w.to, format!("walls[{i}].to_m"))?;
             if w.from == w.to {
                 return Err((
                     format!("walls[{i}]"),
@@ -141,15 +135,15 @@ impl MazeLayout {
             }
         }
         for (i, p) in self.posts.iter().enumerate() {
-            positive(p.size, &format!("posts[{i}].size"))?;
-            positive(p.height, &format!("posts[{i}].height"))?;
-            on_board(p.at, format!("posts[{i}].at"))?;
+            positive(p.size, &format!("posts[{i}].size_m"))?;
+            positive(p.height, &format!("posts[{i}].height_m"))?;
+            on_board(p.at, format!("posts[{i}].at_m"))?;
         }
         if let Some(d) = &self.deformities {
-            positive(d.size[0], "deformities.size")?;
+            positive(d.size[0], "deformities.size_m")?;
             if d.size[1] < d.size[0] || !d.size[1].is_finite() {
                 return Err((
-                    "deformities.size".into(),
+                    "deformities.size_m".into(),
                     "expected [smallest, largest]".into(),
                 ));
             }
@@ -163,13 +157,11 @@ impl MazeLayout {
         Ok(())
     }
 
-    /// Builds the maze's pieces (call [`MazeLayout::validate`] first); deformities are
-    /// drawn from the `maze/deformities` sub-stream of `seed`.
-    pub fn build(&self, seed: u64) -> Environment {
-        let frame = whisker_slam::pose::from_xyz_rpy(
-            [self.pose[0], self.pose[1], self.pose[2]],
-            [self.pose[3], self.pose[4], self.pose[5]],
-        );
+    /// Builds the maze's pieces with the maze frame at `frame` in the world (call
+    /// [`MazeLayout::validate`] first); deformities are drawn from the
+    /// `maze/deformities` sub-stream of `seed`.
+    pub fn build(&self, frame: &Isometry3<f64>, seed: u64) -> Environment {
+        let frame = *frame;
         let mut pieces = Vec::new();
         let slab = |name: String, lo: Point3<f64>, hi: Point3<f64>, pose: Isometry3<f64>| {
             let half = (hi - lo) / 2.0;

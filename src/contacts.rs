@@ -1,0 +1,137 @@
+//! Contacts during `whisker run` from the anticipated intersect (thesis §4.1.2.3):
+//! with `sensing = "kinematic"` they are the sensing itself (with the contact noise of
+//! §6.1.3.1.2, `contacts.csv`); with `sensing = "physics"` they are the noise-free ground
+//! truth beside the simulated signals (`anticipated.csv`). Columns are documented in
+//! `scenarios/README.md`.
+//!
+//! One sweep per whisk cycle of whisker A1's pattern, at the array pose of the cycle's
+//! start (the thesis' simulation moved the array between whisks, §6.1.3).
+
+use crate::error::CliResult;
+use crate::output;
+use crate::plan::Plan;
+use crate::recording::Recording;
+use crate::scenario::Scenario;
+use std::fmt::Write as _;
+use std::path::Path;
+use whisker_sim::environment::Environment;
+use whisker_sim::kinematics::Chain;
+use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
+use whisker_sim::sensing::noise::ContactNoise;
+use whisker_sim::whisker::control::WhiskingPattern;
+
+/// Header of `contacts.csv` / `anticipated.csv`.
+pub const HEADER: &str = "cycle,t_cycle_s,whisker,pixel,t_contact_s,angle_deg,radial_distance_m,\
+                          x_m,y_m,z_m,world_x_m,world_y_m,world_z_m,slope\n";
+
+/// Anticipated-intersect sensing along a run.
+pub struct ContactSensing {
+    array: KinematicArray,
+    target: SweepTarget,
+    chain: Chain,
+    pattern: WhiskingPattern,
+    next_cycle: i64,
+    csv: String,
+    /// Output file name (`contacts.csv` or `anticipated.csv`) and recording entity.
+    name: &'static str,
+    cycles: u64,
+    contacts: u64,
+}
+
+impl ContactSensing {
+    /// Sets up the sweep of the scenario's array against `environment`, with `noise`,
+    /// written to `name`.csv.
+    pub fn new(
+        scenario: &Scenario,
+        file: &Path,
+        plan: &Plan,
+        environment: &Environment,
+        noise: ContactNoise,
+        name: &'static str,
+    ) -> CliResult<Self> {
+        let configs = scenario.array.whisker_configs(file)?;
+        let chain = crate::whiskers::array_chain(scenario, file, plan)?;
+        let whiskers = configs
+            .iter()
+            .map(|c| {
+                let mut w =
+                    RigidWhisker::new(c.module.clone(), c.follicle.map_or(0.0, |f| f.pivot_depth));
+                w.retracted = c.pattern.retracted;
+                w.protracted = c.pattern.protracted;
+                w
+            })
+            .collect();
+        let patterns: Vec<WhiskingPattern> = configs.iter().map(|c| c.pattern).collect();
+        let pattern = patterns[0];
+        Ok(Self {
+            array: KinematicArray::new(whiskers, patterns, noise, scenario.seed),
+            target: SweepTarget::new(environment.world_mesh()),
+            chain,
+            pattern,
+            next_cycle: pattern.cycle(0.0) + i64::from(pattern.phase != 0.0),
+            csv: HEADER.to_string(),
+            name,
+            cycles: 0,
+            contacts: 0,
+        })
+    }
+
+    /// Start time of whisk cycle k (s).
+    fn cycle_start(&self, k: i64) -> f64 {
+        (k as f64 - self.pattern.phase / std::f64::consts::TAU) / self.pattern.frequency
+    }
+
+    /// Sweeps every whisk cycle that starts by time `t`.
+    pub fn advance_to(&mut self, plan: &Plan, t: f64, recording: Option<&Recording>) -> CliResult {
+        while self.cycle_start(self.next_cycle) <= t + 1e-9 {
+            let start = self.cycle_start(self.next_cycle);
+            let pose = self.chain.fk(&plan.trajectory.sample(start.max(0.0)));
+            let cycle = self
+                .array
+                .sense(&self.target, self.next_cycle as u64, start, &pose);
+            let mut world = Vec::with_capacity(cycle.contacts.len());
+            for c in &cycle.contacts {
+                let w = pose * c.point;
+                world.push([w.x, w.y, w.z]);
+                let pixel = self.array.whiskers[c.whisker].module.pixel();
+                let _ = writeln!(
+                    self.csv,
+                    "{},{start},{},{pixel},{},{},{},{},{},{},{},{},{},{}",
+                    cycle.index,
+                    c.whisker,
+                    c.time_s,
+                    c.angle_rad.to_degrees(),
+                    c.radial_distance,
+                    c.point.x,
+                    c.point.y,
+                    c.point.z,
+                    w.x,
+                    w.y,
+                    w.z,
+                    c.slope
+                );
+            }
+            if let Some(rec) = recording {
+                rec.contacts(self.entity(), start, &world)?;
+            }
+            self.cycles += 1;
+            self.contacts += cycle.contacts.len() as u64;
+            self.next_cycle += 1;
+        }
+        Ok(())
+    }
+
+    fn entity(&self) -> &'static str {
+        self.name.trim_end_matches(".csv")
+    }
+
+    /// Whisk cycles swept and contacts found so far.
+    pub fn counts(&self) -> (u64, u64) {
+        (self.cycles, self.contacts)
+    }
+
+    /// Writes the CSV into `dir`.
+    pub fn finish(self, dir: &Path) -> CliResult {
+        output::write_atomic(&dir.join(self.name), self.csv.as_bytes())
+    }
+}

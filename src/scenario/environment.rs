@@ -1,0 +1,281 @@
+//! `[[objects]]`, `[maze]` and `[kinematic]` of a scenario (documented in
+//! `scenarios/README.md`): the fixed environment and the kinematic sensing options.
+//!
+//! Poses are in the arm's base link frame (the world of a run). Mesh paths are relative
+//! to the scenario file. Every problem names the scenario field and, for mesh files, the
+//! mesh file and the line or record in it.
+
+use super::relative_to;
+use crate::error::{CliError, CliResult};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+use whisker_sim::environment::maze::{Deformities, MazeLayout, Post, Wall};
+use whisker_sim::environment::mesh::{self, MeshOptions, Units, UpAxis};
+use whisker_sim::environment::{Environment, Piece};
+use whisker_sim::sensing::noise::ContactNoise;
+use whisker_slam::pose;
+
+/// One `[[objects]]` entry: a mesh placed in the world.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectConfig {
+    /// Mesh file (.obj, .stl, .ply), relative to the scenario file.
+    pub mesh: PathBuf,
+    /// A name for messages and the recording [default: the file stem].
+    pub name: Option<String>,
+    /// Position of the mesh origin (m).
+    #[serde(default)]
+    pub position_m: [f64; 3],
+    /// Orientation as roll, pitch, yaw (deg).
+    #[serde(default)]
+    pub rpy_deg: [f64; 3],
+    /// The file's length unit: "m", "cm", "mm" or "in".
+    #[serde(default = "metres")]
+    pub units: String,
+    /// Extra uniform scale factor.
+    #[serde(default = "unit_scale")]
+    pub scale: f64,
+    /// The file's up axis: "z" or "y".
+    #[serde(default = "z_up")]
+    pub up: String,
+}
+
+/// `[maze]`: the maze board placed in the world.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MazeConfig {
+    /// Position of the board's corner (x = y = 0, top surface) (m).
+    #[serde(default)]
+    pub position_m: [f64; 3],
+    /// Orientation of the board as roll, pitch, yaw (deg).
+    #[serde(default)]
+    pub rpy_deg: [f64; 3],
+    /// Board size x, y (m) [1.35 × 1].
+    #[serde(default = "board")]
+    pub board_m: [f64; 2],
+    /// `[[maze.walls]]`.
+    #[serde(default)]
+    pub walls: Vec<Wall>,
+    /// `[[maze.posts]]`.
+    #[serde(default)]
+    pub posts: Vec<Post>,
+    /// `[maze.deformities]`.
+    pub deformities: Option<Deformities>,
+}
+
+/// `[kinematic]`: options of `sensing = "kinematic"` (contact noise, §6.1.3.1.2).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KinematicConfig {
+    /// Whether contact features get noise.
+    #[serde(default = "yes")]
+    pub noise: bool,
+    /// σ of each contact-point coordinate as a fraction of the whisker length [0.25].
+    #[serde(default = "point_fraction")]
+    pub point_noise_fraction: f64,
+    /// σ of the slope [0.33].
+    #[serde(default = "slope_sigma")]
+    pub slope_noise: f64,
+    /// Probability that a contact is registered [0.98].
+    #[serde(default = "detection")]
+    pub detection_probability: f64,
+}
+
+impl Default for KinematicConfig {
+    fn default() -> Self {
+        Self {
+            noise: true,
+            point_noise_fraction: point_fraction(),
+            slope_noise: slope_sigma(),
+            detection_probability: detection(),
+        }
+    }
+}
+
+fn metres() -> String {
+    "m".into()
+}
+fn unit_scale() -> f64 {
+    1.0
+}
+fn z_up() -> String {
+    "z".into()
+}
+fn board() -> [f64; 2] {
+    [1.35, 1.0]
+}
+fn yes() -> bool {
+    true
+}
+fn point_fraction() -> f64 {
+    ContactNoise::default().point_fraction
+}
+fn slope_sigma() -> f64 {
+    ContactNoise::default().slope_sigma
+}
+fn detection() -> f64 {
+    ContactNoise::default().detection_probability
+}
+
+fn pose_of(
+    file: &Path,
+    field: &str,
+    p: [f64; 3],
+    rpy: [f64; 3],
+) -> CliResult<nalgebra::Isometry3<f64>> {
+    if let Some(i) = p.iter().chain(&rpy).position(|v| !v.is_finite()) {
+        let (name, k) = if i < 3 {
+            ("position_m", i)
+        } else {
+            ("rpy_deg", i - 3)
+        };
+        return Err(CliError::field(
+            file,
+            &format!("{field}.{name}[{k}]"),
+            "expected a finite number",
+        ));
+    }
+    Ok(pose::from_xyz_rpy(p, rpy.map(f64::to_radians)))
+}
+
+impl KinematicConfig {
+    /// The noise model (none if `noise = false`), validated.
+    pub fn noise(&self, file: &Path) -> CliResult<ContactNoise> {
+        let model = ContactNoise {
+            point_fraction: self.point_noise_fraction,
+            slope_sigma: self.slope_noise,
+            detection_probability: self.detection_probability,
+        };
+        model.validate().map_err(|(f, m)| {
+            let name = match f.as_str() {
+                "point_fraction" => "point_noise_fraction",
+                "slope_sigma" => "slope_noise",
+                other => other,
+            };
+            CliError::field(file, &format!("kinematic.{name}"), m)
+        })?;
+        Ok(if self.noise {
+            model
+        } else {
+            ContactNoise::NONE
+        })
+    }
+}
+
+/// A loaded environment and what `whisker check` should say about it.
+pub struct LoadedEnvironment {
+    /// The pieces.
+    pub environment: Environment,
+    /// One line per object or maze: what it is and any repairs made to its mesh.
+    pub report: Vec<String>,
+}
+
+/// Loads `[[objects]]` and `[maze]` (the maze's deformities from `seed`).
+pub fn load(
+    file: &Path,
+    objects: &[ObjectConfig],
+    maze: Option<&MazeConfig>,
+    seed: u64,
+) -> CliResult<LoadedEnvironment> {
+    let mut environment = Environment::default();
+    let mut report = Vec::new();
+    for (i, o) in objects.iter().enumerate() {
+        let field = format!("objects[{i}]");
+        let units = Units::parse(&o.units).ok_or_else(|| {
+            CliError::field(
+                file,
+                &format!("{field}.units"),
+                format!("{:?}: expected \"m\", \"cm\", \"mm\" or \"in\"", o.units),
+            )
+        })?;
+        let up = match o.up.as_str() {
+            "z" => UpAxis::Z,
+            "y" => UpAxis::Y,
+            other => {
+                return Err(CliError::field(
+                    file,
+                    &format!("{field}.up"),
+                    format!("{other:?}: expected \"z\" or \"y\""),
+                ));
+            }
+        };
+        if !(o.scale.is_finite() && o.scale > 0.0) {
+            return Err(CliError::field(
+                file,
+                &format!("{field}.scale"),
+                format!("expected a positive number, got {}", o.scale),
+            ));
+        }
+        let pose = pose_of(file, &field, o.position_m, o.rpy_deg)?;
+        let path = relative_to(file, &o.mesh);
+        let options = MeshOptions {
+            units,
+            scale: o.scale,
+            up,
+        };
+        let loaded = mesh::load(&path, &options)
+            .map_err(|e| CliError::field(file, &format!("{field}.mesh"), e))?;
+        let shape = loaded
+            .mesh
+            .shape()
+            .map_err(|e| CliError::field(file, &format!("{field}.mesh"), e))?;
+        let name = o.name.clone().unwrap_or_else(|| {
+            o.mesh
+                .file_stem()
+                .map_or_else(|| format!("object {i}"), |s| s.to_string_lossy().into())
+        });
+        let size = loaded.mesh.size();
+        report.push(format!(
+            "object     {name}: {} ({} triangles, {} component(s), {:.3} x {:.3} x {:.3} m) at ({:.3}, {:.3}, {:.3}) m{}",
+            path.display(),
+            loaded.mesh.triangles.len(),
+            loaded.mesh.component_volumes().len(),
+            size.x,
+            size.y,
+            size.z,
+            o.position_m[0],
+            o.position_m[1],
+            o.position_m[2],
+            if loaded.repairs.is_empty() {
+                String::new()
+            } else {
+                format!("\nwarning    {name}: mesh repaired: {}", loaded.repairs.join("; "))
+            }
+        ));
+        environment.pieces.push(Piece {
+            name: format!("object {name}"),
+            shape,
+            mesh: loaded.mesh,
+            pose,
+        });
+    }
+    if let Some(m) = maze {
+        let layout = MazeLayout {
+            board: m.board_m,
+            walls: m.walls.clone(),
+            posts: m.posts.clone(),
+            deformities: m.deformities.clone(),
+        };
+        layout
+            .validate()
+            .map_err(|(f, msg)| CliError::field(file, &format!("maze.{f}"), msg))?;
+        let pose = pose_of(file, "maze", m.position_m, m.rpy_deg)?;
+        let built = layout.build(&pose, seed);
+        report.push(format!(
+            "maze       {} x {} m board, {} walls, {} posts, {} deformities at ({:.3}, {:.3}, {:.3}) m",
+            m.board_m[0],
+            m.board_m[1],
+            m.walls.len(),
+            m.posts.len(),
+            m.deformities.as_ref().map_or(0, |d| d.count),
+            m.position_m[0],
+            m.position_m[1],
+            m.position_m[2]
+        ));
+        environment.pieces.extend(built.pieces);
+    }
+    Ok(LoadedEnvironment {
+        environment,
+        report,
+    })
+}
