@@ -232,8 +232,10 @@ fn sweep_matches_brute_force_ray_casts_on_catalogue_objects() {
             let at = centre
                 + dir * (0.5 * asset.size[0].max(asset.size[1]) + rng.random_range(0.02..0.12));
             let facing = UnitQuaternion::rotation_between(&Vector3::z(), &-dir).unwrap();
-            let roll =
-                UnitQuaternion::from_axis_angle(&Vector3::z_axis(), rng.random_range(0.0..6.28));
+            let roll = UnitQuaternion::from_axis_angle(
+                &Vector3::z_axis(),
+                rng.random_range(0.0..std::f64::consts::TAU),
+            );
             let pose = Isometry3::from_parts(Translation3::from(at), facing * roll);
             for m in modules() {
                 let w = RigidWhisker::new(m, BASE_OFFSET);

@@ -56,14 +56,13 @@ pub fn weld(positions: &[Point3<f64>], tolerance: f64) -> (Vec<Point3<f64>>, Vec
         'search: for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
-                    if let Some(list) = cells.get(&[k[0] + dx, k[1] + dy, k[2] + dz]) {
-                        if let Some(&i) = list
+                    if let Some(list) = cells.get(&[k[0] + dx, k[1] + dy, k[2] + dz])
+                        && let Some(&i) = list
                             .iter()
                             .find(|&&i| (out[i as usize] - p).norm() <= tolerance)
-                        {
-                            found = Some(i);
-                            break 'search;
-                        }
+                    {
+                        found = Some(i);
+                        break 'search;
                     }
                 }
             }

@@ -168,7 +168,7 @@ impl SweepTarget {
             to_plane && (nearest - pivot.coords).norm_squared() <= reach * reach
         });
         let last = whisker.steps();
-        let mut best: Option<(usize, f64, usize)> = None; // (step, r, triangle)
+        let mut best: Option<usize> = None; // the first step reached
         let mut hits: Vec<(Vector2<f64>, Vector2<f64>, usize)> = Vec::new();
         for t in candidates {
             let t = t as usize;
@@ -178,17 +178,17 @@ impl SweepTarget {
             let Some((a, b)) = clip_to_disc(a, b, reach) else {
                 continue;
             };
-            if let Some(k) = first_step(a, b, whisker.step, last) {
-                if best.is_none_or(|(bk, _, _)| k <= bk) {
-                    if best.is_some_and(|(bk, _, _)| k < bk) {
-                        hits.clear();
-                    }
-                    best = Some((k, f64::INFINITY, t));
-                    hits.push((a, b, t));
+            if let Some(k) = first_step(a, b, whisker.step, last)
+                && best.is_none_or(|bk| k <= bk)
+            {
+                if best.is_some_and(|bk| k < bk) {
+                    hits.clear();
                 }
+                best = Some(k);
+                hits.push((a, b, t));
             }
         }
-        let (k, _, _) = best?;
+        let k = best?;
         let psi = k as f64 * whisker.step;
         let u = Vector2::new(psi.cos(), psi.sin());
         let (r, t) = hits
