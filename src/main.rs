@@ -2,6 +2,7 @@
 
 mod assets_cmd;
 mod bench;
+mod bench_sensing;
 mod characterize;
 mod contacts;
 mod error;
@@ -64,6 +65,8 @@ enum Command {
 enum BenchCommand {
     /// Real-time factor of the physics sensing mode (1 and 18 whiskers, free and in contact).
     Physics(bench::Options),
+    /// Whisk cycles per second of kinematic sensing (the full array near an object).
+    Sensing(bench_sensing::Options),
 }
 
 #[derive(Subcommand)]
@@ -117,6 +120,9 @@ fn main() -> ExitCode {
         Command::Bench {
             command: BenchCommand::Physics(options),
         } => bench::physics(&options),
+        Command::Bench {
+            command: BenchCommand::Sensing(options),
+        } => bench_sensing::sensing(&options),
         Command::Assets {
             command: AssetsCommand::Generate { out },
         } => assets_cmd::generate_all(&out),

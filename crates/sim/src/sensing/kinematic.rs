@@ -223,21 +223,24 @@ impl SweepTarget {
         if s.iter().all(|&x| x > 0.0) || s.iter().all(|&x| x < 0.0) || s.iter().all(|&x| x == 0.0) {
             return None;
         }
-        let mut points: Vec<Vector3<f64>> = Vec::with_capacity(3);
+        let mut points = [Vector3::zeros(); 3];
+        let mut n = 0;
         for i in 0..3 {
             let j = (i + 1) % 3;
             if s[i] == 0.0 {
-                points.push(v[i]);
+                points[n] = v[i];
+                n += 1;
             } else if s[i] * s[j] < 0.0 {
                 let w = s[i] / (s[i] - s[j]);
-                points.push(v[i] + (v[j] - v[i]) * w);
+                points[n] = v[i] + (v[j] - v[i]) * w;
+                n += 1;
             }
         }
         let to2 = |p: &Vector3<f64>| Vector2::new(e0.dot(p), e1.dot(p));
-        match points.as_slice() {
-            [a, b, ..] => Some((to2(a), to2(b))),
-            [a] => Some((to2(a), to2(a))),
-            [] => None,
+        match n {
+            0 => None,
+            1 => Some((to2(&points[0]), to2(&points[0]))),
+            _ => Some((to2(&points[0]), to2(&points[1]))),
         }
     }
 }
