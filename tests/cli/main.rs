@@ -2,6 +2,7 @@
 //! any standard UR5 description, `characterize`, physics runs, and bad input (exit code
 //! 2, file and field named, nothing written).
 
+mod environment;
 mod inputs;
 mod physics;
 mod quickstart;
