@@ -41,13 +41,23 @@ pub struct Options {
 
 /// The first `count` modules' configurations with the benchmark's settings.
 fn configs(count: usize, o: &Options) -> Vec<WhiskerConfig> {
-    let bending: Bending = o.bending.into();
+    array_configs(count, o.bending.into(), o.segments, o.substeps)
+}
+
+/// The first `count` modules' configurations: default whiskers, follicle, 1 Hz open-loop
+/// whisking and sensors, with the given bending model, segments and substeps.
+pub fn array_configs(
+    count: usize,
+    bending: Bending,
+    segments: Option<usize>,
+    substeps: usize,
+) -> Vec<WhiskerConfig> {
     array::modules()
         .into_iter()
         .take(count)
         .map(|mut module| {
             module.beam.bending = bending;
-            if let Some(n) = o.segments {
+            if let Some(n) = segments {
                 module.beam.segments = n;
             }
             module
@@ -58,7 +68,7 @@ fn configs(count: usize, o: &Options) -> Vec<WhiskerConfig> {
             pattern: WhiskingPattern::default(),
             rcp_threshold: None,
             sensor: SensorModel::default(),
-            substeps: o.substeps,
+            substeps,
         })
         .collect()
 }

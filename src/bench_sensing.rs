@@ -37,7 +37,7 @@ pub struct Options {
 
 /// Array poses facing an object of bounding box `size` standing on z = 0, 2–8 cm out
 /// from its surface along the line of sight to its centre.
-fn poses(shape: &SharedShape, size: [f64; 3], count: usize) -> Vec<Isometry3<f64>> {
+pub fn poses(shape: &SharedShape, size: [f64; 3], count: usize) -> Vec<Isometry3<f64>> {
     let mut rng = whisker_slam::rng::substream(0, "bench/sensing");
     let centre = Vector3::new(0.0, 0.0, 0.5 * size[2]);
     (0..count)

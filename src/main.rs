@@ -11,6 +11,7 @@ mod plan;
 mod recording;
 mod run;
 mod scenario;
+mod soak;
 mod urdf_cmd;
 mod whiskers;
 
@@ -49,6 +50,8 @@ enum Command {
         #[command(subcommand)]
         command: BenchCommand,
     },
+    /// Long physics runs against every object and the maze: no tunnelling, no NaN.
+    Soak(soak::Options),
     /// The generated object meshes of `assets/meshes`.
     Assets {
         #[command(subcommand)]
@@ -123,6 +126,7 @@ fn main() -> ExitCode {
         Command::Bench {
             command: BenchCommand::Sensing(options),
         } => bench_sensing::sensing(&options),
+        Command::Soak(options) => soak::soak(&options),
         Command::Assets {
             command: AssetsCommand::Generate { out },
         } => assets_cmd::generate_all(&out),

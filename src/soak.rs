@@ -1,0 +1,117 @@
+//! `whisker soak`: long physics runs of the whole array whisking against every catalogue
+//! object and the maze, checking that no whisker tunnels through a surface and nothing
+//! turns NaN. A long experiment, not a test (the test suite runs a short version).
+//!
+//! Each case holds the array still at the pose (of the `bench sensing` candidates, or a
+//! grid over the maze board 100 mm up, facing down) where the most whiskers touch the
+//! environment by the kinematic sweep, and whisks open-loop at 1 Hz for `--duration`
+//! simulated seconds. Every 10 ms it measures how deep any shaft's centre line lies
+//! inside a solid ([`whisker_sim::sensing::physics::WhiskerUnit::shaft_depth`]) and
+//! whether any body went non-finite. Exit code 1 if a case tunnels (centre line deeper
+//! than the shaft's base radius, 1 mm) or breaks.
+
+use crate::error::{CliError, CliResult};
+use crate::scenario::Scenario;
+use nalgebra::{Isometry3, Vector3};
+use rayon::prelude::*;
+use serde_json::json;
+use std::path::PathBuf;
+use std::time::Instant;
+use whisker_sim::environment::Environment;
+use whisker_sim::environment::assets::{CATALOGUE, generate};
+use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
+use whisker_sim::sensing::physics::{DT, PhysicsArray};
+use whisker_sim::whisker::array;
+
+/// Depth of a shaft's centre line inside a solid that counts as tunnelling (m).
+const TUNNEL_DEPTH: f64 = 1.0e-3;
+
+/// Options of `whisker soak`.
+#[derive(clap::Args, Debug)]
+pub struct Options {
+    /// Simulated time per case (s).
+    #[arg(long, default_value_t = 60.0)]
+    pub duration: f64,
+    /// Catalogue objects to run (comma-separated) [default: all].
+    #[arg(long, value_delimiter = ',')]
+    pub objects: Vec<String>,
+    /// A scenario whose `[maze]` is run as one more case (e.g. scenarios/maze.toml).
+    #[arg(long)]
+    pub maze: Option<PathBuf>,
+    /// Shaft joint model.
+    #[arg(long, value_enum, default_value_t = crate::characterize::BendingArg::Spatial)]
+    pub bending: crate::characterize::BendingArg,
+    /// Rapier substeps per 0.5 ms step.
+    #[arg(long, default_value_t = whisker_sim::sensing::physics::DEFAULT_SUBSTEPS)]
+    pub substeps: usize,
+    /// Print one JSON list.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Of `candidates`, the array pose where the most whiskers touch `environment` by the
+/// kinematic sweep, with that count; poses where a whisker would start (fully retracted)
+/// within 3° of a contact are skipped, since the physics starts there.
+fn best_pose(environment: &Environment, candidates: &[Isometry3<f64>]) -> (Isometry3<f64>, usize) {
+    let target = SweepTarget::new(environment.world_mesh());
+    let whiskers: Vec<RigidWhisker> = array::modules()
+        .into_iter()
+        .map(|m| RigidWhisker::new(m, 3.0e-3))
+        .collect();
+    candidates
+        .iter()
+        .filter_map(|p| {
+            let hits: Vec<usize> = whiskers
+                .iter()
+                .filter_map(|w| target.sweep(w, p).map(|h| h.step))
+                .collect();
+            hits.iter().all(|&k| k >= 3).then_some((*p, hits.len()))
+        })
+        .max_by_key(|&(_, n)| n)
+        .unwrap_or((candidates[0], 0))
+}
+
+/// Runs one case; returns its JSON record and whether it passed.
+fn run_case(name: &str, environment: &Environment, pose: Isometry3<f64>, touching: usize, o: &Options) -> (serde_json::Value, bool) {
+    let configs = crate::bench::array_configs(array::modules().len(), o.bending.into(), None, o.substeps);
+    let mut array = PhysicsArray::new(configs, &environment.physics_pieces(), &pose, 0, DT);
+    let steps = (o.duration / DT).round() as usize;
+    let start = Instant::now();
+    let mut deepest: f64 = 0.0;
+    let mut broken = false;
+    let mut first_tunnel: Option<(f64, String, f64)> = None;
+    for k in 1..=steps {
+        array.step(&pose);
+        if k % 20 == 0 || k == steps {
+            let per: Vec<(f64, bool)> = array
+                .units
+                .par_iter()
+                .map(|u| (u.shaft_depth(), u.is_broken()))
+                .collect();
+            let (depth, bad) = per
+                .iter()
+                .fold((0.0f64, false), |a, b| (a.0.max(b.0), a.1 || b.1));
+            if first_tunnel.is_none() && depth > TUNNEL_DEPTH {
+                let w = per.iter().position(|p| p.0 == depth).unwrap_or(0);
+                first_tunnel = Some((k as f64 * DT, array.units[w].config.module.pixel(), depth));
+            }
+        }
+        let (pose, n) = best_pose(&environment, &grid);
+        cases.push(("maze".into(), environment, pose, n));
+    }
+    let mut records = Vec::new();
+    let mut all = true;
+    for (name, environment, pose, n) in &cases {
+        let (r, ok) = run_case(name, environment, *pose, *n, o);
+        records.push(r);
+        all &= ok;
+    }
+    if o.json {
+        println!("{}", serde_json::Value::Array(records));
+    }
+    if all {
+        Ok(())
+    } else {
+        Err(CliError::Failure("soak: a whisker tunnelled or went non-finite (see above)".into()))
+    }
+}
