@@ -72,8 +72,15 @@ fn best_pose(environment: &Environment, candidates: &[Isometry3<f64>]) -> (Isome
 }
 
 /// Runs one case; returns its JSON record and whether it passed.
-fn run_case(name: &str, environment: &Environment, pose: Isometry3<f64>, touching: usize, o: &Options) -> (serde_json::Value, bool) {
-    let configs = crate::bench::array_configs(array::modules().len(), o.bending.into(), None, o.substeps);
+fn run_case(
+    name: &str,
+    environment: &Environment,
+    pose: Isometry3<f64>,
+    touching: usize,
+    o: &Options,
+) -> (serde_json::Value, bool) {
+    let configs =
+        crate::bench::array_configs(array::modules().len(), o.bending.into(), None, o.substeps);
     let mut array = PhysicsArray::new(configs, &environment.physics_pieces(), &pose, 0, DT);
     let steps = (o.duration / DT).round() as usize;
     let start = Instant::now();
@@ -95,6 +102,110 @@ fn run_case(name: &str, environment: &Environment, pose: Isometry3<f64>, touchin
                 let w = per.iter().position(|p| p.0 == depth).unwrap_or(0);
                 first_tunnel = Some((k as f64 * DT, array.units[w].config.module.pixel(), depth));
             }
+            deepest = deepest.max(depth);
+            broken |= bad;
+            if broken {
+                break;
+            }
+        }
+        if !o.json && k % 2000 == 0 {
+            eprint!(
+                "\r{name}: {:.0} of {} s simulated",
+                k as f64 * DT,
+                o.duration
+            );
+        }
+    }
+    if !o.json {
+        eprint!("\r");
+    }
+    let wall = start.elapsed().as_secs_f64();
+    let passed = !broken && deepest <= TUNNEL_DEPTH;
+    let record = json!({
+        "case": name,
+        "pieces": environment.pieces.len(),
+        "triangles": environment.pieces.iter().map(|p| p.mesh.triangles.len()).sum::<usize>(),
+        "simulated_s": o.duration,
+        "whiskers_touching_by_sweep": touching,
+        "max_shaft_depth_m": deepest,
+        "non_finite_or_quarantined": broken,
+        "tunnelled": deepest > TUNNEL_DEPTH,
+        "first_tunnelling": first_tunnel.as_ref().map(|(t, w, d)| json!({"t_s": t, "whisker": w, "depth_m": d})),
+        "wall_s": wall,
+        "passed": passed,
+    });
+    if !o.json {
+        println!(
+            "{name:<10} {touching:>2} whiskers touching  max centre-line depth {:>7.4} mm  {}  {:>6.0} s wall  {}",
+            deepest * 1e3,
+            if broken { "NON-FINITE" } else { "finite" },
+            wall,
+            if passed { "ok" } else { "FAILED" }
+        );
+        if let Some((t, w, d)) = &first_tunnel {
+            println!(
+                "           first tunnelling: whisker {w} at {t:.4} s, {:.3} mm deep",
+                d * 1e3
+            );
+        }
+    }
+    (record, passed)
+}
+
+/// `whisker soak`.
+pub fn soak(o: &Options) -> CliResult {
+    if !(o.duration.is_finite() && o.duration > 0.0) {
+        return Err(CliError::Input(format!(
+            "--duration {}: expected a positive number of seconds",
+            o.duration
+        )));
+    }
+    let mut cases: Vec<(String, Environment, Isometry3<f64>, usize)> = Vec::new();
+    for asset in &CATALOGUE {
+        if !o.objects.is_empty() && !o.objects.iter().any(|n| n == asset.name) {
+            continue;
+        }
+        let mesh = generate(asset);
+        let shape = mesh.shape().map_err(CliError::Failure)?;
+        let environment = Environment {
+            pieces: vec![whisker_sim::environment::Piece {
+                name: asset.name.to_string(),
+                shape: shape.clone(),
+                mesh,
+                pose: Isometry3::identity(),
+            }],
+        };
+        let (pose, n) = best_pose(
+            &environment,
+            &crate::bench_sensing::poses(&shape, asset.size, 64),
+        );
+        cases.push((asset.name.to_string(), environment, pose, n));
+    }
+    for name in &o.objects {
+        if !CATALOGUE.iter().any(|a| &a.name == name) {
+            return Err(CliError::Input(format!(
+                "--objects: no catalogue object {name:?}"
+            )));
+        }
+    }
+    if let Some(file) = &o.maze {
+        let scenario = Scenario::load(file)?;
+        let maze = scenario
+            .maze
+            .as_ref()
+            .ok_or_else(|| CliError::field(file, "maze", "expected a [maze] section"))?;
+        let environment = scenario.environment(file)?.environment;
+        let frame =
+            whisker_slam::pose::from_xyz_rpy(maze.position_m, maze.rpy_deg.map(f64::to_radians));
+        let down = Isometry3::rotation(Vector3::x() * std::f64::consts::PI);
+        let mut grid = Vec::new();
+        for i in 0..28 {
+            for j in 0..20 {
+                let (x, y) = (0.025 + 0.05 * i as f64, 0.025 + 0.05 * j as f64);
+                if x < maze.board_m[0] && y < maze.board_m[1] {
+                    grid.push(frame * Isometry3::translation(x, y, 0.10) * down);
+                }
+            }
         }
         let (pose, n) = best_pose(&environment, &grid);
         cases.push(("maze".into(), environment, pose, n));
@@ -112,6 +223,8 @@ fn run_case(name: &str, environment: &Environment, pose: Isometry3<f64>, touchin
     if all {
         Ok(())
     } else {
-        Err(CliError::Failure("soak: a whisker tunnelled or went non-finite (see above)".into()))
+        Err(CliError::Failure(
+            "soak: a whisker tunnelled or went non-finite (see above)".into(),
+        ))
     }
 }

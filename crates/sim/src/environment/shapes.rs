@@ -307,15 +307,23 @@ pub fn rotation(axis: Vector3<f64>, angle: f64) -> Isometry3<f64> {
 pub fn subdivided(mesh: &Mesh, max_edge: f64) -> Mesh {
     let mut out = mesh.clone();
     loop {
-        let long = |a: u32, b: u32, m: &Mesh| (m.vertices[a as usize] - m.vertices[b as usize]).norm() > max_edge;
-        if !out.triangles.iter().any(|t| (0..3).any(|k| long(t[k], t[(k + 1) % 3], &out))) {
+        let long = |a: u32, b: u32, m: &Mesh| {
+            (m.vertices[a as usize] - m.vertices[b as usize]).norm() > max_edge
+        };
+        if !out
+            .triangles
+            .iter()
+            .any(|t| (0..3).any(|k| long(t[k], t[(k + 1) % 3], &out)))
+        {
             return out;
         }
         let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
         let mut vertices = out.vertices.clone();
         let mut midpoint = |a: u32, b: u32| -> u32 {
             *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                vertices.push(Point3::from((vertices[a as usize].coords + vertices[b as usize].coords) / 2.0));
+                vertices.push(Point3::from(
+                    (vertices[a as usize].coords + vertices[b as usize].coords) / 2.0,
+                ));
                 (vertices.len() - 1) as u32
             })
         };
@@ -324,6 +332,9 @@ pub fn subdivided(mesh: &Mesh, max_edge: f64) -> Mesh {
             let (ab, bc, ca) = (midpoint(a, b), midpoint(b, c), midpoint(c, a));
             triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
         }
-        out = Mesh { vertices, triangles };
+        out = Mesh {
+            vertices,
+            triangles,
+        };
     }
 }

@@ -179,7 +179,9 @@ impl WhiskerUnit {
         let half = beam.segment_length() / 2.0;
         let points: Vec<Vector> = (0..=2 * beam.segments)
             .map(|k| {
-                let p = self.whisker.point_at(&self.world, (k as f64 * half).min(beam.length));
+                let p = self
+                    .whisker
+                    .point_at(&self.world, (k as f64 * half).min(beam.length));
                 Vector::new(p.x, p.y, p.z)
             })
             .collect();
