@@ -9,15 +9,14 @@
 //! in the same run as the baseline. Timing is a benchmark, never a test.
 
 use crate::error::{CliError, CliResult};
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Vector3};
 use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::query::Ray;
-use parry3d_f64::shape::SharedShape;
-use rand::RngExt;
 use rayon::prelude::*;
 use serde_json::json;
 use std::time::Instant;
 use whisker_sim::environment::assets::{CATALOGUE, generate};
+use whisker_sim::environment::viewpoints;
 use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
 use whisker_sim::whisker::array;
 
@@ -33,37 +32,6 @@ pub struct Options {
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,
-}
-
-/// Array poses facing an object of bounding box `size` standing on z = 0, 2–8 cm out
-/// from its surface along the line of sight to its centre.
-pub fn poses(shape: &SharedShape, size: [f64; 3], count: usize) -> Vec<Isometry3<f64>> {
-    let mut rng = whisker_slam::rng::substream(0, "bench/sensing");
-    let centre = Vector3::new(0.0, 0.0, 0.5 * size[2]);
-    (0..count)
-        .map(|_| {
-            let dir = Vector3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-0.5..1.0),
-            )
-            .normalize();
-            let outside = centre + dir * 2.0;
-            let ray = Ray::new(
-                PVector::new(outside.x, outside.y, outside.z),
-                PVector::new(-dir.x, -dir.y, -dir.z),
-            );
-            let surface = shape.cast_local_ray(&ray, 2.0, true).unwrap_or(2.0);
-            let at = outside - dir * surface + dir * rng.random_range(0.02..0.08);
-            let facing = UnitQuaternion::rotation_between(&Vector3::z(), &-dir)
-                .unwrap_or_else(UnitQuaternion::identity);
-            let roll = UnitQuaternion::from_axis_angle(
-                &Vector3::z_axis(),
-                rng.random_range(0.0..std::f64::consts::TAU),
-            );
-            Isometry3::from_parts(Translation3::from(at), facing * roll)
-        })
-        .collect()
 }
 
 /// Times `cycles` whisk cycles of `sweep` over the poses on `threads` threads; returns
@@ -116,7 +84,7 @@ pub fn sensing(o: &Options) -> CliResult {
         .into_iter()
         .map(|m| RigidWhisker::new(m, 3.0e-3))
         .collect();
-    let poses = poses(&shape, asset.size, 256);
+    let poses = viewpoints::facing(&shape, asset.size, 256, "bench/sensing");
     let exact = |pose: &Isometry3<f64>| {
         whiskers
             .iter()

@@ -19,7 +19,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 use whisker_sim::environment::Environment;
 use whisker_sim::environment::assets::{CATALOGUE, generate};
-use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
+use whisker_sim::environment::viewpoints;
 use whisker_sim::sensing::physics::{DT, PhysicsArray};
 use whisker_sim::whisker::array;
 
@@ -47,28 +47,6 @@ pub struct Options {
     /// Print one JSON list.
     #[arg(long)]
     pub json: bool,
-}
-
-/// Of `candidates`, the array pose where the most whiskers touch `environment` by the
-/// kinematic sweep, with that count; poses where a whisker would start (fully retracted)
-/// within 3° of a contact are skipped, since the physics starts there.
-fn best_pose(environment: &Environment, candidates: &[Isometry3<f64>]) -> (Isometry3<f64>, usize) {
-    let target = SweepTarget::new(environment.world_mesh());
-    let whiskers: Vec<RigidWhisker> = array::modules()
-        .into_iter()
-        .map(|m| RigidWhisker::new(m, 3.0e-3))
-        .collect();
-    candidates
-        .iter()
-        .filter_map(|p| {
-            let hits: Vec<usize> = whiskers
-                .iter()
-                .filter_map(|w| target.sweep(w, p).map(|h| h.step))
-                .collect();
-            hits.iter().all(|&k| k >= 3).then_some((*p, hits.len()))
-        })
-        .max_by_key(|&(_, n)| n)
-        .unwrap_or((candidates[0], 0))
 }
 
 /// Runs one case; returns its JSON record and whether it passed.
@@ -175,10 +153,9 @@ pub fn soak(o: &Options) -> CliResult {
                 pose: Isometry3::identity(),
             }],
         };
-        let (pose, n) = best_pose(
-            &environment,
-            &crate::bench_sensing::poses(&shape, asset.size, 64),
-        );
+        let candidates = viewpoints::facing(&shape, asset.size, 64, "bench/sensing");
+        let (pose, n) =
+            viewpoints::most_touching(&environment, &candidates).unwrap_or((candidates[0], 0));
         cases.push((asset.name.to_string(), environment, pose, n));
     }
     for name in &o.objects {
@@ -207,7 +184,7 @@ pub fn soak(o: &Options) -> CliResult {
                 }
             }
         }
-        let (pose, n) = best_pose(&environment, &grid);
+        let (pose, n) = viewpoints::most_touching(&environment, &grid).unwrap_or((grid[0], 0));
         cases.push(("maze".into(), environment, pose, n));
     }
     let mut records = Vec::new();

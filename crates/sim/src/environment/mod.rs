@@ -7,6 +7,7 @@
 //! - [`shapes`] builds closed meshes from primitives (boxes, lathes, swept tubes, star
 //!   surfaces); [`assets`] uses it to generate the object catalogue of `assets/meshes`.
 //! - [`maze`] builds the re-configurable maze board.
+//! - [`viewpoints`] picks array poses near an object (benchmarks, soak runs, tests).
 //!
 //! An [`Environment`] is a list of fixed [`Piece`]s in the world frame: each has the
 //! collision shape the physics uses and a triangle mesh for the kinematic sweep.
@@ -17,6 +18,7 @@ pub mod mesh;
 pub mod mesh_io;
 pub mod shapes;
 pub mod topology;
+pub mod viewpoints;
 
 use crate::sensing::physics::EnvironmentPiece;
 use nalgebra::Isometry3;
