@@ -159,7 +159,7 @@ pub fn soak(o: &Options) -> CliResult {
         cases.push((asset.name.to_string(), environment, pose, n));
     }
     for name in &o.objects {
-        if !CATALOGUE.iter().any(|a| &a.name == name) {
+        if !CATALOGUE.iter().any(|a| a.name == name) {
             return Err(CliError::Input(format!(
                 "--objects: no catalogue object {name:?}"
             )));
