@@ -49,13 +49,13 @@ pub fn facing(
 }
 
 /// Of `candidates`, the array pose where the most whiskers (rigid, 3 mm base offset)
-/// touch `environment` by the kinematic sweep, and that count. Poses where a whisker
+/// touch `environment` by the kinematic sweep, and the indices of those whiskers. Poses where a whisker
 /// would touch within 3° of full retraction are skipped: physics starts retracted, and
 /// a whisker built inside a solid is not a test of anything.
 pub fn most_touching(
     environment: &Environment,
     candidates: &[Isometry3<f64>],
-) -> Option<(Isometry3<f64>, usize)> {
+) -> Option<(Isometry3<f64>, Vec<usize>)> {
     let target = SweepTarget::new(environment.world_mesh());
     let whiskers: Vec<RigidWhisker> = array::modules()
         .into_iter()
@@ -64,11 +64,13 @@ pub fn most_touching(
     candidates
         .iter()
         .filter_map(|p| {
-            let hits: Vec<usize> = whiskers
+            let hits: Vec<(usize, usize)> = whiskers
                 .iter()
-                .filter_map(|w| target.sweep(w, p).map(|h| h.step))
+                .filter_map(|w| target.sweep(w, p).map(|h| (w.module.index, h.step)))
                 .collect();
-            hits.iter().all(|&k| k >= 3).then_some((*p, hits.len()))
+            hits.iter()
+                .all(|&(_, k)| k >= 3)
+                .then(|| (*p, hits.iter().map(|&(i, _)| i).collect::<Vec<usize>>()))
         })
-        .max_by_key(|&(_, n)| n)
+        .max_by_key(|(_, touching)| touching.len())
 }
