@@ -15,9 +15,6 @@ use std::time::Instant;
 use whisker_sim::sensing::physics::{EnvironmentPiece, PhysicsArray, WhiskerConfig};
 use whisker_sim::whisker::array;
 use whisker_sim::whisker::beam::Bending;
-use whisker_sim::whisker::control::WhiskingPattern;
-use whisker_sim::whisker::follicle::FollicleDesign;
-use whisker_sim::whisker::sensor::SensorModel;
 
 /// Options of `whisker bench physics`.
 #[derive(clap::Args, Debug)]
@@ -63,12 +60,8 @@ pub fn array_configs(
             module
         })
         .map(|module| WhiskerConfig {
-            module,
-            follicle: Some(FollicleDesign::default()),
-            pattern: WhiskingPattern::default(),
-            rcp_threshold: None,
-            sensor: SensorModel::default(),
             substeps,
+            ..WhiskerConfig::with_defaults(module)
         })
         .collect()
 }

@@ -1,17 +1,14 @@
 //! Physics whiskers against catalogue meshes: the shaft's centre line never goes more
 //! than 1 mm (about its base radius) inside a solid and nothing turns non-finite, at the
 //! concave creases of the Barrel's hoops and around the Mug's handle. A short version of
-//! `whisker soak`, which runs every object and the maze for 60 s.
+//! `whisker soak`, which runs every object and the maze for 60 s (default substeps).
 
 use nalgebra::{Isometry3, Vector3};
 use whisker_sim::environment::assets::{CATALOGUE, generate};
 use whisker_sim::environment::{Environment, Piece, viewpoints};
 use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
-use whisker_sim::sensing::physics::{DEFAULT_SUBSTEPS, DT, PhysicsArray, WhiskerConfig};
+use whisker_sim::sensing::physics::{DT, PhysicsArray, WhiskerConfig};
 use whisker_sim::whisker::array;
-use whisker_sim::whisker::control::WhiskingPattern;
-use whisker_sim::whisker::follicle::FollicleDesign;
-use whisker_sim::whisker::sensor::SensorModel;
 
 /// Whisks (1 Hz) the whiskers that reach the object (by the kinematic sweep, not already
 /// touching when retracted) for `seconds` with the array at `pose` (None: the pose of
@@ -43,14 +40,7 @@ fn whisk_against(name: &str, pose: Option<Isometry3<f64>>, seconds: f64) -> (f64
                 .sweep(&RigidWhisker::new(m.clone(), 3.0e-3), &pose)
                 .is_some_and(|h| h.step >= 3)
         })
-        .map(|module| WhiskerConfig {
-            module,
-            follicle: Some(FollicleDesign::default()),
-            pattern: WhiskingPattern::default(),
-            rcp_threshold: None,
-            sensor: SensorModel::default(),
-            substeps: DEFAULT_SUBSTEPS,
-        })
+        .map(WhiskerConfig::with_defaults)
         .collect();
     let n = configs.len();
     let mut array = PhysicsArray::new(configs, &[(shape, Isometry3::identity())], &pose, 0, DT);

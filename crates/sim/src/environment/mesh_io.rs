@@ -29,6 +29,21 @@ pub struct PolygonSoup {
     pub objects: usize,
 }
 
+impl PolygonSoup {
+    /// Adds a polygon read at `at`, refusing one with fewer than three corners.
+    fn push_polygon(&mut self, polygon: Vec<u32>, at: String) -> Result<(), ParseError> {
+        if polygon.len() < 3 {
+            return Err((
+                at,
+                format!("face has {} corners: expected 3 or more", polygon.len()),
+            ));
+        }
+        self.polygons.push(polygon);
+        self.origins.push(at);
+        Ok(())
+    }
+}
+
 /// Mesh file formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Format {
@@ -145,14 +160,7 @@ pub fn parse_obj(bytes: &[u8]) -> Result<PolygonSoup, ParseError> {
                     }
                     polygon.push(resolved as u32);
                 }
-                if polygon.len() < 3 {
-                    return Err((
-                        at,
-                        format!("face has {} corners: expected 3 or more", polygon.len()),
-                    ));
-                }
-                soup.polygons.push(polygon);
-                soup.origins.push(at);
+                soup.push_polygon(polygon, at)?;
             }
             Some("o") | Some("g") => groups += 1,
             _ => {}
@@ -492,14 +500,7 @@ pub fn parse_ply(bytes: &[u8]) -> Result<PolygonSoup, ParseError> {
                     }
                     corners.push(i as u32);
                 }
-                if corners.len() < 3 {
-                    return Err((
-                        at,
-                        format!("face has {} corners: expected 3 or more", corners.len()),
-                    ));
-                }
-                soup.polygons.push(corners);
-                soup.origins.push(at);
+                soup.push_polygon(corners, at)?;
             }
         }
     }

@@ -94,8 +94,8 @@ pub fn signed_volume(vertices: &[Point3<f64>], triangles: &[[u32; 3]]) -> f64 {
         .sum()
 }
 
-/// Connected components (triangle indices) over shared edges.
-pub fn components(triangles: &[[u32; 3]]) -> Vec<Vec<usize>> {
+/// The triangles around each undirected edge.
+fn triangles_by_edge(triangles: &[[u32; 3]]) -> HashMap<(u32, u32), Vec<usize>> {
     let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
     for (t, tri) in triangles.iter().enumerate() {
         for k in 0..3 {
@@ -105,6 +105,12 @@ pub fn components(triangles: &[[u32; 3]]) -> Vec<Vec<usize>> {
                 .push(t);
         }
     }
+    by_edge
+}
+
+/// Connected components (triangle indices) over shared edges.
+pub fn components(triangles: &[[u32; 3]]) -> Vec<Vec<usize>> {
+    let by_edge = triangles_by_edge(triangles);
     let mut seen = vec![false; triangles.len()];
     let mut out = Vec::new();
     for start in 0..triangles.len() {
@@ -164,15 +170,7 @@ pub fn close_and_orient(
         });
     }
     // Non-manifold edges.
-    let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
-    for (t, tri) in tris.iter().enumerate() {
-        for k in 0..3 {
-            by_edge
-                .entry(edge(tri[k], tri[(k + 1) % 3]))
-                .or_default()
-                .push(t);
-        }
-    }
+    let by_edge = triangles_by_edge(&tris);
     let mut keys: Vec<_> = by_edge.keys().copied().collect();
     keys.sort_unstable();
     for k in &keys {

@@ -48,6 +48,21 @@ pub struct WhiskerConfig {
     pub substeps: usize,
 }
 
+impl WhiskerConfig {
+    /// `module` with the thesis' defaults: the default follicle, 40°–140° open-loop
+    /// whisking at 1 Hz, no RCP, the default sensors and [`DEFAULT_SUBSTEPS`].
+    pub fn with_defaults(module: Module) -> Self {
+        Self {
+            module,
+            follicle: Some(FollicleDesign::default()),
+            pattern: WhiskingPattern::default(),
+            rcp_threshold: None,
+            sensor: SensorModel::default(),
+            substeps: DEFAULT_SUBSTEPS,
+        }
+    }
+}
+
 /// Default substeps per step: 2. Against a pole (100 mm whisker, contact peak 772
 /// counts including the snap-off) 1, 2 and 4 substeps give the same onset sample and
 /// peak, and streams within 3.7 counts RMS of each other, and each substep costs as much
