@@ -219,3 +219,28 @@ fn bad_environments_exit_2_naming_the_field_and_write_nothing() {
         );
     }
 }
+
+#[test]
+fn physics_runs_with_an_object_write_the_anticipated_contacts() {
+    let tmp = tempfile::tempdir().unwrap();
+    // Down over the kettle (as in scenarios/objects.toml), in physics mode with light whiskers.
+    let kettle = repo("assets/meshes/kettle.obj");
+    let body = format!(
+        "sensing = \"physics\"\n{ARM}[array]\nsegments = 8\nbending = \"sweep-plane\"\n\
+         [[objects]]\nmesh = {:?}\nposition_m = [0.5, 0.0, 0.0]\nrpy_deg = [0, 0, 90]\n\
+         [[trajectory.waypoints]]\nposition_m = [0.50, -0.12, 0.25]\nrpy_deg = [180.0, 0.0, -90.0]\n\
+         hold_s = 0.05\n{OUTPUT}",
+        kettle.display().to_string()
+    );
+    let (o, _) = run_bad(tmp.path(), "physics_kettle", &body);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = tmp.path().join("out-physics_kettle");
+    assert!(out.join("whiskers.csv").exists());
+    let anticipated = rows(&out.join("anticipated.csv"));
+    assert!(!anticipated.is_empty(), "no anticipated contacts");
+    // Noise-free anticipated intersects: every contact angle is a whole sweep step.
+    for c in &anticipated {
+        let angle: f64 = c[5].parse().unwrap();
+        assert!((angle - angle.round()).abs() < 1e-9);
+    }
+}
