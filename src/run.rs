@@ -106,7 +106,7 @@ pub fn check(file: &Path) -> CliResult {
     let skipped = whisker_sim::arm::links_without_colliders(&plan.model);
     if !skipped.is_empty() {
         println!(
-            "warning    links with mesh collision geometry get no collider yet: {}",
+            "warning    links whose collision meshes are missing or not OBJ/STL/PLY get no collider: {}",
             skipped.join(", ")
         );
     }

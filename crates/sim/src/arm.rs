@@ -9,8 +9,10 @@
 //! environment bodies fixed, the kinematic–fixed collision type is switched on so that
 //! arm–object contacts are detected.
 //!
-//! Links whose collision geometry is a mesh file are given no collider yet (mesh loading
-//! comes with the environments); [`Arm::skipped`] lists them so callers can warn.
+//! Collision meshes (OBJ, STL or PLY files, scaled as the URDF says) become the convex
+//! hull of their vertices: arm links are nearly convex, a hull needs no closed mesh, and
+//! hull–environment contacts are robust. Mesh files that are missing or in another format
+//! (e.g. Collada) give no collider; [`Arm::skipped`] lists those links so callers can warn.
 
 use crate::kinematics::urdf::{Geometry, RobotModel};
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
@@ -36,7 +38,20 @@ pub struct Arm {
     pub root_pose: Isometry3<f64>,
 }
 
-/// Rapier's shape and its pose in the link frame for a URDF primitive (None for meshes).
+/// The convex hull of a collision mesh file's vertices, scaled per axis (None if the file
+/// is missing, unreadable or not OBJ, STL or PLY).
+fn mesh_hull(resolved: Option<&std::path::Path>, scale: &Vector3<f64>) -> Option<SharedShape> {
+    let soup = crate::environment::mesh_io::read(resolved?).ok()?;
+    let points: Vec<Vector> = soup
+        .positions
+        .iter()
+        .map(|p| Vector::new(p[0] * scale.x, p[1] * scale.y, p[2] * scale.z))
+        .collect();
+    SharedShape::convex_hull(&points)
+}
+
+/// Rapier's shape and its pose in the link frame for a URDF collision element (None for
+/// a mesh file that cannot be read).
 fn collider_for(geometry: &Geometry, origin: &Isometry3<f64>) -> Option<ColliderBuilder> {
     // URDF cylinders and capsules run along z; Rapier's along y.
     let z_to_y = Isometry3::from_parts(
@@ -57,13 +72,19 @@ fn collider_for(geometry: &Geometry, origin: &Isometry3<f64>) -> Option<Collider
             ColliderBuilder::capsule_y(length / 2.0, *radius),
             origin * z_to_y,
         ),
-        Geometry::Mesh { .. } => return None,
+        Geometry::Mesh {
+            resolved, scale, ..
+        } => (
+            ColliderBuilder::new(mesh_hull(resolved.as_deref(), scale)?),
+            *origin,
+        ),
     };
     Some(builder.position(local.into()))
 }
 
 /// Names of the links of `model` with collision geometry that cannot be turned into
-/// colliders yet (mesh files): such geometry is left out of [`Arm::build`].
+/// colliders (mesh files missing or in an unsupported format): such geometry is left out
+/// of [`Arm::build`].
 pub fn links_without_colliders(model: &RobotModel) -> Vec<String> {
     model
         .links

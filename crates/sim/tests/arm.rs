@@ -93,3 +93,59 @@ fn contacts_with_the_environment_are_detected_and_only_those() {
     assert!(hits.contains(&"whisker_array".to_string()), "{hits:?}");
     assert!(!hits.contains(&"base_link".to_string()));
 }
+
+#[test]
+fn collision_meshes_become_scaled_convex_hulls() {
+    use whisker_sim::kinematics::{PackagePaths, RobotModel};
+    let dir = tempfile::tempdir().unwrap();
+    // A 100 mm cube in millimetres (ASCII OBJ), scaled to metres by the URDF.
+    let mut obj = String::new();
+    for i in 0..8 {
+        obj += &format!(
+            "v {} {} {}\n",
+            100 * (i & 1),
+            100 * ((i >> 1) & 1),
+            100 * ((i >> 2) & 1)
+        );
+    }
+    for q in [
+        [1, 3, 4, 2],
+        [5, 6, 8, 7],
+        [1, 2, 6, 5],
+        [3, 7, 8, 4],
+        [1, 5, 7, 3],
+        [2, 4, 8, 6],
+    ] {
+        obj += &format!("f {} {} {} {}\n", q[0], q[1], q[2], q[3]);
+    }
+    std::fs::write(dir.path().join("cube.obj"), obj).unwrap();
+    std::fs::write(dir.path().join("other.dae"), "<COLLADA/>").unwrap();
+    let urdf = r#"<robot name="r">
+      <link name="base"/>
+      <link name="block"><collision><geometry><mesh filename="cube.obj" scale="0.001 0.001 0.001"/></geometry></collision></link>
+      <link name="fancy"><collision><geometry><mesh filename="other.dae"/></geometry></collision></link>
+      <joint name="j" type="revolute"><parent link="base"/><child link="block"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+      <joint name="k" type="fixed"><parent link="base"/><child link="fancy"/></joint>
+    </robot>"#;
+    let path = dir.path().join("r.urdf");
+    std::fs::write(&path, urdf).unwrap();
+    let model = RobotModel::load(&path, &PackagePaths::new([])).unwrap();
+    assert_eq!(
+        whisker_sim::arm::links_without_colliders(&model),
+        vec!["fancy".to_string()]
+    );
+    let mut world = World::new(model.clone(), vec![0.0; model.joints.len()], 0.01);
+    // A ball just outside the cube's +x face (at 0.1 m): no contact; then inside: contact.
+    world
+        .add_fixed(ColliderBuilder::ball(0.01).translation(Vector3::new(0.115, 0.05, 0.05).into()));
+    world.step(&vec![0.0; model.joints.len()]);
+    assert!(
+        world.arm_collisions().is_empty(),
+        "{:?}",
+        world.arm_collisions()
+    );
+    world
+        .add_fixed(ColliderBuilder::ball(0.01).translation(Vector3::new(0.105, 0.05, 0.05).into()));
+    world.step(&vec![0.0; model.joints.len()]);
+    assert_eq!(world.arm_collisions(), vec!["block".to_string()]);
+}
