@@ -45,6 +45,10 @@ pub struct Options {
     /// freely and cannot tunnel; by default they are left out to save time).
     #[arg(long)]
     pub all_whiskers: bool,
+    /// Simulate only these whiskers (pixel labels, comma-separated, e.g. D1,C2): each
+    /// whisker has a world of its own, so one alone follows exactly its course in the array.
+    #[arg(long, value_delimiter = ',')]
+    pub whiskers: Vec<String>,
     /// Rapier substeps per 0.5 ms step.
     #[arg(long, default_value_t = whisker_sim::sensing::physics::DEFAULT_SUBSTEPS)]
     pub substeps: usize,
@@ -65,6 +69,7 @@ fn run_case(
         crate::bench::array_configs(array::modules().len(), o.bending.into(), None, o.substeps)
             .into_iter()
             .filter(|c| o.all_whiskers || touching.contains(&c.module.index))
+            .filter(|c| o.whiskers.is_empty() || o.whiskers.contains(&c.module.pixel()))
             .collect();
     let mut array = PhysicsArray::new(configs, &environment.physics_pieces(), &pose, 0, DT);
     let steps = (o.duration / DT).round() as usize;
