@@ -110,15 +110,20 @@ impl Arm {
         let poses = model.link_poses(q);
         let mut arm = Self {
             bodies: Vec::new(),
-            skipped: links_without_colliders(model),
+            skipped: Vec::new(),
             root_pose,
         };
         for (i, link) in model.links.iter().enumerate() {
-            let shapes: Vec<_> = link
+            // Each mesh file is read once here (`links_without_colliders` would read it again).
+            let built: Vec<_> = link
                 .collisions
                 .iter()
-                .filter_map(|c| collider_for(&c.geometry, &c.origin))
+                .map(|c| collider_for(&c.geometry, &c.origin))
                 .collect();
+            if built.iter().any(Option::is_none) {
+                arm.skipped.push(link.name.clone());
+            }
+            let shapes: Vec<_> = built.into_iter().flatten().collect();
             if shapes.is_empty() {
                 continue;
             }
