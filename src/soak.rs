@@ -19,6 +19,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 use whisker_sim::environment::Environment;
 use whisker_sim::environment::assets::{CATALOGUE, generate};
+use whisker_sim::environment::solids::Solids;
 use whisker_sim::environment::viewpoints;
 use whisker_sim::sensing::physics::{DT, PhysicsArray};
 use whisker_sim::whisker::array;
@@ -61,6 +62,7 @@ pub struct Options {
 fn run_case(
     name: &str,
     environment: &Environment,
+    solids: &Solids,
     pose: Isometry3<f64>,
     touching: &[usize],
     o: &Options,
@@ -83,7 +85,7 @@ fn run_case(
             let per: Vec<(f64, bool)> = array
                 .units
                 .par_iter()
-                .map(|u| (u.shaft_depth(), u.is_broken()))
+                .map(|u| (u.shaft_depth(solids), u.is_broken()))
                 .collect();
             let (depth, bad) = per
                 .iter()
@@ -205,7 +207,9 @@ pub fn soak(o: &Options) -> CliResult {
     let mut records = Vec::new();
     let mut all = true;
     for (name, environment, pose, n) in &cases {
-        let (r, ok) = run_case(name, environment, *pose, n, o);
+        let solids = Solids::new(environment)
+            .map_err(|e| CliError::Failure(format!("soak: {name}: {e}")))?;
+        let (r, ok) = run_case(name, environment, &solids, *pose, n, o);
         records.push(r);
         all &= ok;
     }

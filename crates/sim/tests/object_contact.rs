@@ -5,6 +5,7 @@
 
 use nalgebra::{Isometry3, Vector3};
 use whisker_sim::environment::assets::{CATALOGUE, generate};
+use whisker_sim::environment::solids::Solids;
 use whisker_sim::environment::{Environment, Piece, viewpoints};
 use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
 use whisker_sim::sensing::physics::{DT, PhysicsArray, WhiskerConfig};
@@ -18,15 +19,16 @@ fn whisk_against(name: &str, pose: Option<Isometry3<f64>>, seconds: f64) -> (f64
     let asset = CATALOGUE.iter().find(|a| a.name == name).unwrap();
     let mesh = generate(asset);
     let shape = mesh.shape().unwrap();
+    let environment = Environment {
+        pieces: vec![Piece {
+            name: name.into(),
+            shape: shape.clone(),
+            mesh: mesh.clone(),
+            pose: Isometry3::identity(),
+        }],
+    };
+    let solids = Solids::new(&environment).unwrap();
     let pose = pose.unwrap_or_else(|| {
-        let environment = Environment {
-            pieces: vec![Piece {
-                name: name.into(),
-                shape: shape.clone(),
-                mesh: mesh.clone(),
-                pose: Isometry3::identity(),
-            }],
-        };
         let candidates = viewpoints::facing(&shape, asset.size, 64, "bench/sensing");
         viewpoints::most_touching(&environment, &candidates)
             .unwrap()
@@ -50,7 +52,7 @@ fn whisk_against(name: &str, pose: Option<Isometry3<f64>>, seconds: f64) -> (f64
         array.step(&pose);
         if k % 10 == 0 {
             for u in &array.units {
-                deepest = deepest.max(u.shaft_depth());
+                deepest = deepest.max(u.shaft_depth(&solids));
                 broken |= u.is_broken();
             }
         }
@@ -75,11 +77,11 @@ fn whiskers_stay_outside_the_barrel_hoops_and_the_mug_handle() {
     assert!(n >= 4, "only {n} whiskers reach the barrel");
     assert!(!broken);
     assert!(depth <= 1.0e-3, "barrel: centre line {depth} m inside");
-    // Mug: its handle spans x ≈ 0.05–0.13 m in the plane y = 0 (the body is centred at
-    // x ≈ −0.04 m); the array 2 cm beyond it, rolled 30° so that the sweep planes of two
-    // whiskers contain the handle.
+    // Mug: its handle spans x ≈ 0.045–0.13 m in the plane y = 0 (the body is centred at
+    // x = −0.04 m); the array's face level with the handle's outermost point, rolled 30°
+    // so that the sweep planes of two 60 mm whiskers (C1, F1) cut the handle.
     let rolled =
-        facing_minus_x(0.15, 0.12) * Isometry3::rotation(Vector3::z() * 30f64.to_radians());
+        facing_minus_x(0.13, 0.12) * Isometry3::rotation(Vector3::z() * 30f64.to_radians());
     let (depth, broken, n) = whisk_against("mug", Some(rolled), 2.0);
     assert!(n >= 1, "no whisker reaches the mug");
     assert!(!broken);

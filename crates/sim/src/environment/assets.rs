@@ -159,9 +159,12 @@ fn mug() -> Mesh {
         ],
         AROUND,
     );
-    // The handle: a C from the lower to the upper body, its ends sunk into the wall.
+    // The handle: a C from the lower to the upper body, its ends (at ±0.42π on an arc
+    // reaching x = 0.161) sunk to the middle of the wall, x = r − 0.0045.
+    let (reach, end) = (0.161, r - 0.0045);
+    let rx = (reach - end) / (1.0 - (0.42 * PI).cos());
     let handle = tube(
-        &arc(r - 0.004, 0.125, 0.075, 0.075, -0.42 * PI, 0.42 * PI, 32),
+        &arc(reach - rx, 0.125, rx, 0.075, -0.42 * PI, 0.42 * PI, 32),
         |_| 0.011,
         24,
     );

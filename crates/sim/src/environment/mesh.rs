@@ -10,7 +10,7 @@ use super::mesh_io;
 pub use super::topology::Mesh;
 use super::topology::{close_and_orient, components, signed_volume, weld};
 use nalgebra::{Point3, Vector3};
-use parry3d_f64::shape::{SharedShape, TriMeshFlags};
+use parry3d_f64::shape::SharedShape;
 use std::path::{Path, PathBuf};
 
 /// A problem with a mesh file: which file, where in it, what is wrong.
@@ -230,19 +230,16 @@ impl Mesh {
         (b - a).cross(&(c - a)).normalize()
     }
 
-    /// The mesh as a parry shape for fixed colliders: `ORIENTED`, so that a closed mesh has
-    /// an inside (point queries, contacts). Not `FIX_INTERNAL_EDGES`: with it, a whisker
-    /// tip pressed into a concave crease (the Barrel's hoops) wedges ~2 mm into the solid
-    /// within half a minute of whisking (`whisker soak --objects barrel --whiskers D1`:
-    /// 1.9 mm at 27 s with 2 substeps); without it, and with 2 substeps per step, the
-    /// centre line stays within 0.12 mm over 60 s.
+    /// The mesh as a parry shape for fixed colliders: the surface of the union of its
+    /// components ([`super::solids::outer_surface`]: triangles buried inside another
+    /// component dropped), `ORIENTED` so that contacts are one-sided. Not
+    /// `FIX_INTERNAL_EDGES`: with it, a whisker tip pressed into a concave crease (the
+    /// Barrel's hoops) wedges ~2 mm into the solid within half a minute of whisking
+    /// (`whisker soak --objects barrel --whiskers D1`: 1.9 mm at 27 s with 2 substeps);
+    /// without it, and with 2 substeps per step, the centre line stays within 0.12 mm
+    /// over 60 s. Point queries on this shape are not inside tests for meshes of several
+    /// components; use [`super::solids::Solids`].
     pub fn shape(&self) -> Result<SharedShape, String> {
-        let vertices = self
-            .vertices
-            .iter()
-            .map(|p| parry3d_f64::math::Vector::new(p.x, p.y, p.z))
-            .collect();
-        SharedShape::trimesh_with_flags(vertices, self.triangles.clone(), TriMeshFlags::ORIENTED)
-            .map_err(|e| format!("cannot build a collision mesh: {e}"))
+        super::solids::oriented_trimesh(&super::solids::outer_surface(self)?)
     }
 }

@@ -17,6 +17,7 @@ pub mod maze;
 pub mod mesh;
 pub mod mesh_io;
 pub mod shapes;
+pub mod solids;
 pub mod topology;
 pub mod viewpoints;
 

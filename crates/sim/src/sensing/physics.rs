@@ -14,6 +14,7 @@
 //! 10 µm, penetration corrected at up to 1 m/s, and contacts predicted 2 mm ahead so
 //! that fast whisks do not pass through thin objects between two steps.
 
+use crate::environment::solids::Solids;
 use crate::whisker::array::Module;
 use crate::whisker::body::Whisker;
 use crate::whisker::control::{Controller, RcpThreshold, WhiskingPattern};
@@ -186,34 +187,21 @@ impl WhiskerUnit {
             })
     }
 
-    /// How deep the shaft's centre line lies inside the environment's solids (m, ≥ 0),
+    /// How deep the shaft's centre line lies inside the environment's `solids` (m, ≥ 0),
     /// checked at every half segment from base to tip: the shaft surface may touch and
     /// overlap by the contact tolerance, but a centre line inside a solid by more than the
     /// shaft's radius means the whisker has gone through the surface (tunnelled).
-    pub fn shaft_depth(&self) -> f64 {
+    pub fn shaft_depth(&self, solids: &Solids) -> f64 {
         let beam = &self.whisker.beam;
         let half = beam.segment_length() / 2.0;
-        let points: Vec<Vector> = (0..=2 * beam.segments)
+        (0..=2 * beam.segments)
             .map(|k| {
                 let p = self
                     .whisker
                     .point_at(&self.world, (k as f64 * half).min(beam.length));
-                Vector::new(p.x, p.y, p.z)
+                solids.depth(&p)
             })
-            .collect();
-        let mut deepest: f64 = 0.0;
-        for (_, c) in self.world.colliders.iter() {
-            if c.parent().is_some() {
-                continue;
-            }
-            for p in &points {
-                let proj = c.shape().project_point(c.position(), *p, false);
-                if proj.is_inside {
-                    deepest = deepest.max((proj.point - *p).length());
-                }
-            }
-        }
-        deepest
+            .fold(0.0, f64::max)
     }
 
     /// Deepest penetration of the shaft into the environment after the last step (m, ≥ 0).
