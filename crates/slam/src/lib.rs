@@ -12,6 +12,9 @@
 //! - [`rng`]: every random draw comes from a named sub-stream of a scenario seed.
 
 pub mod contact;
+pub mod features;
 pub mod pose;
+pub mod pose_grid;
 pub mod rng;
 pub mod sensor;
+pub mod whisker_ratslam;

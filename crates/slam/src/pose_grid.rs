@@ -1,0 +1,325 @@
+//! A periodic N-dimensional grid of pose cells and the operations RatSLAM (3-D, §2.1.2)
+//! and WhiskerRatSLAM (6-D, §5.1.2.3) share: separable local excitation and inhibition
+//! (Alg 3–4, Eq 5.10), global inhibition (Alg 5), normalisation, weighted periodic shifts
+//! (path integration, Fig 5.6–5.11) and the population-vector decode of the best pose
+//! (§5.1.2.3.4, Fig 5.12).
+//!
+//! Every axis wraps (the grid is a torus). Cells are stored with the first axis fastest.
+//! Coordinates of cell i on an axis of n cells stand for the angle 2π·i/n, so the
+//! population vector of an axis is a weighted sum of unit vectors at those angles.
+
+use std::f64::consts::TAU;
+
+/// A periodic grid of activities.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PoseGrid {
+    dims: Vec<usize>,
+    strides: Vec<usize>,
+    /// Activities, first axis fastest.
+    pub cells: Vec<f64>,
+    scratch: Vec<f64>,
+}
+
+/// A normalised 1-D Gaussian kernel of odd `width` and `variance` (in cells²): the
+/// separable factor of Eq 5.10, scaled so that its weights sum to 1.
+pub fn gaussian_kernel(width: usize, variance: f64) -> Vec<f64> {
+    let h = (width / 2) as f64;
+    let w: Vec<f64> = (0..width)
+        .map(|k| (-(k as f64 - h).powi(2) / (2.0 * variance)).exp())
+        .collect();
+    let s: f64 = w.iter().sum();
+    w.into_iter().map(|x| x / s).collect()
+}
+
+/// Splits a shift of `amount` cells into (floor shift, its weight, ceil shift, its weight)
+/// (Fig 5.11: 1 − frac and frac).
+pub fn split_shift(amount: f64) -> (i64, f64, i64, f64) {
+    let lo = amount.floor();
+    let frac = amount - lo;
+    (lo as i64, 1.0 - frac, lo as i64 + 1, frac)
+}
+
+/// The population-vector decode of one axis' activities (Fig 5.12): the angle of
+/// Σ aᵢ·(cos 2πi/n, sin 2πi/n), wrapped to [0, 2π), as a fractional cell index in [0, n).
+pub fn population_index(activity: &[f64]) -> f64 {
+    let n = activity.len() as f64;
+    let (c, s) = activity
+        .iter()
+        .enumerate()
+        .fold((0.0, 0.0), |(c, s), (i, a)| {
+            let t = TAU * i as f64 / n;
+            (c + a * t.cos(), s + a * t.sin())
+        });
+    let angle = s.atan2(c).rem_euclid(TAU);
+    (angle * n / TAU) % n
+}
+
+impl PoseGrid {
+    /// An all-zero grid of the given axis lengths.
+    pub fn new(dims: &[usize]) -> Self {
+        assert!(dims.iter().all(|&n| n > 0), "every axis needs a cell");
+        let mut strides = Vec::with_capacity(dims.len());
+        let mut s = 1;
+        for &n in dims {
+            strides.push(s);
+            s *= n;
+        }
+        Self {
+            dims: dims.to_vec(),
+            strides,
+            cells: vec![0.0; s],
+            scratch: vec![0.0; s],
+        }
+    }
+
+    /// Axis lengths.
+    pub fn dims(&self) -> &[usize] {
+        &self.dims
+    }
+
+    /// Flat index of integer coordinates (wrapped onto the grid).
+    pub fn index(&self, coords: &[i64]) -> usize {
+        coords
+            .iter()
+            .zip(&self.dims)
+            .zip(&self.strides)
+            .map(|((&c, &n), &s)| c.rem_euclid(n as i64) as usize * s)
+            .sum()
+    }
+
+    /// Integer coordinates of a flat index.
+    pub fn coords(&self, index: usize) -> Vec<usize> {
+        self.dims
+            .iter()
+            .zip(&self.strides)
+            .map(|(&n, &s)| (index / s) % n)
+            .collect()
+    }
+
+    /// Total activity.
+    pub fn sum(&self) -> f64 {
+        self.cells.iter().sum()
+    }
+
+    /// Scales the activities to sum 1 (left alone when the sum is not positive).
+    pub fn normalise(&mut self) {
+        let s = self.sum();
+        if s > 0.0 {
+            for c in &mut self.cells {
+                *c /= s;
+            }
+        }
+    }
+
+    /// Periodic convolution of every line along `axis` with an odd-width `kernel`: each
+    /// cell spreads its activity to its neighbours with the kernel's weights (Alg 3).
+    pub fn convolve_axis(&mut self, axis: usize, kernel: &[f64]) {
+        let (n, stride) = (self.dims[axis], self.strides[axis]);
+        let h = (kernel.len() / 2) as i64;
+        self.scratch.iter_mut().for_each(|x| *x = 0.0);
+        for (i, &a) in self.cells.iter().enumerate() {
+            if a == 0.0 {
+                continue;
+            }
+            let pos = (i / stride) % n;
+            let base = i - pos * stride;
+            for (k, &w) in kernel.iter().enumerate() {
+                let j = (pos as i64 + k as i64 - h).rem_euclid(n as i64) as usize;
+                self.scratch[base + j * stride] += a * w;
+            }
+        }
+        std::mem::swap(&mut self.cells, &mut self.scratch);
+    }
+
+    /// Periodic convolution along every axis with the same kernel (a separable N-D kernel).
+    pub fn convolve(&mut self, kernel: &[f64]) {
+        for axis in 0..self.dims.len() {
+            self.convolve_axis(axis, kernel);
+        }
+    }
+
+    /// Local excitation then local inhibition (Alg 3–4): p ← E − I with E = p ∗ excite
+    /// and I = E ∗ inhibit; then global inhibition (Alg 5): cells at or above
+    /// `global` lose `global`, the others go to 0; then normalisation to sum 1.
+    pub fn excite_inhibit(&mut self, excite: &[f64], inhibit: &[f64], global: f64) {
+        self.convolve(excite);
+        let excited = self.cells.clone();
+        self.convolve(inhibit);
+        for (c, e) in self.cells.iter_mut().zip(excited) {
+            let p = e - *c;
+            *c = if p >= global { p - global } else { 0.0 };
+        }
+        self.normalise();
+    }
+
+    /// Shifts every line along `axis` by `amount` cells (fractional: floor and ceil
+    /// shifts weighted 1 − frac and frac, Fig 5.11), wrapping; mass is conserved.
+    pub fn shift_axis(&mut self, axis: usize, amount: f64) {
+        let (n, stride) = (self.dims[axis], self.strides[axis]);
+        shift_lines(&mut self.cells, &mut self.scratch, n, stride, amount);
+    }
+
+    /// Shifts the lines along `axis` inside one block of `len` cells starting at `start`
+    /// (a sub-grid whose axes are the first axes of the grid), by `amount` cells.
+    pub fn shift_block_axis(&mut self, start: usize, len: usize, axis: usize, amount: f64) {
+        let (n, stride) = (self.dims[axis], self.strides[axis]);
+        let (cells, scratch) = (
+            &mut self.cells[start..start + len],
+            &mut self.scratch[start..start + len],
+        );
+        shift_lines(cells, scratch, n, stride, amount);
+    }
+
+    /// Index of the most active cell (the first on ties).
+    pub fn argmax(&self) -> usize {
+        self.cells
+            .iter()
+            .enumerate()
+            .fold((0, f64::NEG_INFINITY), |best, (i, &a)| {
+                if a > best.1 { (i, a) } else { best }
+            })
+            .0
+    }
+
+    /// The best pose (§5.1.2.3.4): around the most active cell, a window of `window`
+    /// cells per axis (at most the axis length); the window's activities summed onto each
+    /// axis (Eq 5.11–5.12) and decoded by population vector, as fractional coordinates.
+    pub fn best(&self, window: usize) -> Vec<f64> {
+        let peak = self.coords(self.argmax());
+        let d = self.dims.len();
+        let spans: Vec<usize> = self.dims.iter().map(|&n| window.min(n)).collect();
+        let mut marginals: Vec<Vec<f64>> = self.dims.iter().map(|&n| vec![0.0; n]).collect();
+        let total: usize = spans.iter().product();
+        let mut offset = vec![0usize; d];
+        let mut coords = vec![0i64; d];
+        for _ in 0..total {
+            for a in 0..d {
+                coords[a] = peak[a] as i64 + offset[a] as i64 - (spans[a] / 2) as i64;
+            }
+            let v = self.cells[self.index(&coords)];
+            for a in 0..d {
+                marginals[a][coords[a].rem_euclid(self.dims[a] as i64) as usize] += v;
+            }
+            for a in 0..d {
+                offset[a] += 1;
+                if offset[a] < spans[a] {
+                    break;
+                }
+                offset[a] = 0;
+            }
+        }
+        marginals.iter().map(|m| population_index(m)).collect()
+    }
+}
+
+/// Shifts, in `cells` (lines of `n` cells `stride` apart), every line by `amount` cells,
+/// using `scratch` (same length) as the output buffer.
+fn shift_lines(cells: &mut [f64], scratch: &mut [f64], n: usize, stride: usize, amount: f64) {
+    let (lo, w_lo, hi, w_hi) = split_shift(amount);
+    scratch.iter_mut().for_each(|x| *x = 0.0);
+    for (i, &a) in cells.iter().enumerate() {
+        if a == 0.0 {
+            continue;
+        }
+        let pos = (i / stride) % n;
+        let base = i - pos * stride;
+        let to = |s: i64| base + (pos as i64 + s).rem_euclid(n as i64) as usize * stride;
+        scratch[to(lo)] += a * w_lo;
+        if w_hi != 0.0 {
+            scratch[to(hi)] += a * w_hi;
+        }
+    }
+    cells.copy_from_slice(scratch);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn population_vector_worked_example() {
+        // Fig 5.12: 1, 3.1 and 0.8 at 360°, 288° and 216° of a 5-cell ring decode to
+        // 290.978°: cells 0, 4 and 3 stand for 0° (= 360°), 288° and 216°.
+        let index = population_index(&[1.0, 0.0, 0.0, 0.8, 3.1]);
+        let degrees = index * 72.0;
+        assert!((degrees - 290.978).abs() < 1e-3, "{degrees}");
+    }
+
+    #[test]
+    fn excitation_of_one_active_cell_reproduces_fig_5_3_with_the_wrap() {
+        // A ring of 12 head-direction cells (30° apart), one active cell; excitation
+        // spreads it over 5 cells with the normalised Gaussian of variance 1.
+        let z = 1.0 + 2.0 * (-0.5f64).exp() + 2.0 * (-2.0f64).exp();
+        let expect = [(-2.0f64).exp() / z, (-0.5f64).exp() / z, 1.0 / z];
+        for (active, spread) in [(4, [2, 3, 4, 5, 6]), (0, [10, 11, 0, 1, 2])] {
+            let mut ring = PoseGrid::new(&[12]);
+            ring.cells[active] = 1.0;
+            ring.convolve(&gaussian_kernel(5, 1.0));
+            for (k, &cell) in spread.iter().enumerate() {
+                let want = expect[2 - (k as i64 - 2).unsigned_abs() as usize];
+                assert!((ring.cells[cell] - want).abs() < 1e-15);
+            }
+            let others: f64 = (0..12)
+                .filter(|c| !spread.contains(c))
+                .map(|c| ring.cells[c])
+                .sum();
+            assert_eq!(others, 0.0);
+            assert!((ring.sum() - 1.0).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn yaw_rate_of_158_degrees_shifts_2_and_3_cells_weighted_0_8_and_0_2() {
+        // Fig 5.11: 5 yaw cells of 72°, a whole yaw layer active, 158°/s for 1 s.
+        let (lo, w_lo, hi, w_hi) = split_shift(158.0 / 72.0);
+        assert_eq!((lo, hi), (2, 3));
+        assert!((w_lo - 0.8).abs() < 0.01 && (w_hi - 0.2).abs() < 0.01);
+        assert!((w_hi - (158.0 / 72.0 - 2.0)).abs() < 1e-15);
+        let mut grid = PoseGrid::new(&[3, 5]);
+        grid.cells[..3].fill(1.0 / 3.0);
+        grid.shift_axis(1, 158.0 / 72.0);
+        for x in 0..3 {
+            assert!((grid.cells[grid.index(&[x, 2])] - w_lo / 3.0).abs() < 1e-15);
+            assert!((grid.cells[grid.index(&[x, 3])] - w_hi / 3.0).abs() < 1e-15);
+        }
+        assert!((grid.sum() - 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn shifts_move_the_centre_of_mass_v_t_cells_across_the_wrap_and_keep_the_mass() {
+        // A packet at cell 90 of a 100-cell ring driven 0.13 cell per update for 100
+        // updates crosses the wrap; its mean, taken over the 100 cells centred on cell
+        // 103 ≡ 3 (the binomial spread has σ ≈ 3.4 cells), is exactly 13 cells further on.
+        let mut ring = PoseGrid::new(&[100]);
+        for (c, a) in [(89, 0.25), (90, 0.5), (91, 0.25)] {
+            ring.cells[c] = a;
+        }
+        for _ in 0..100 {
+            ring.shift_axis(0, 0.13);
+            assert!((ring.sum() - 1.0).abs() < 1e-12);
+        }
+        let mean: f64 = ring
+            .cells
+            .iter()
+            .enumerate()
+            .map(|(i, a)| a * ((i as f64 - 3.0 + 50.0).rem_euclid(100.0) - 50.0 + 13.0))
+            .sum::<f64>();
+        assert!((mean - 13.0).abs() < 1e-9, "moved {mean} cells");
+    }
+
+    #[test]
+    fn a_stable_packet_stays_put() {
+        let mut grid = PoseGrid::new(&[5, 5, 5]);
+        let centre = grid.index(&[2, 2, 2]);
+        grid.cells[centre] = 1.0;
+        let (exc, inh) = (gaussian_kernel(5, 1.0), gaussian_kernel(5, 2.0));
+        for _ in 0..1000 {
+            grid.excite_inhibit(&exc, &inh, 2e-5);
+            assert!((grid.sum() - 1.0).abs() < 1e-12);
+        }
+        for c in grid.best(5) {
+            assert!((c - 2.0).abs() < 1e-9);
+        }
+        assert_eq!(grid.argmax(), centre);
+    }
+}

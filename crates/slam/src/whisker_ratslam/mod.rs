@@ -1,0 +1,6 @@
+//! WhiskerRatSLAM (thesis Chapter 5): RatSLAM in six dimensions for tactile object
+//! exploration — 6-D pose cells ([`posecells6d`]), relative pose accumulation
+//! ([`relative_pose`]), the object map of complex experiences ([`object_map`]) and the
+//! main loop of Alg 2 ([`slam`]).
+
+pub mod posecells6d;
