@@ -3,6 +3,7 @@
 mod assets_cmd;
 mod bench;
 mod bench_sensing;
+mod bench_slam;
 mod characterize;
 mod contacts;
 mod error;
@@ -70,6 +71,8 @@ enum BenchCommand {
     Physics(bench::Options),
     /// Whisk cycles per second of kinematic sensing (the full array near an object).
     Sensing(bench_sensing::Options),
+    /// WhiskerRatSLAM's core: one 6-D pose-cell update against a naive dense convolution.
+    Slam(bench_slam::Options),
 }
 
 #[derive(Subcommand)]
@@ -126,6 +129,9 @@ fn main() -> ExitCode {
         Command::Bench {
             command: BenchCommand::Sensing(options),
         } => bench_sensing::sensing(&options),
+        Command::Bench {
+            command: BenchCommand::Slam(options),
+        } => bench_slam::slam(&options),
         Command::Soak(options) => soak::soak(&options),
         Command::Assets {
             command: AssetsCommand::Generate { out },

@@ -15,6 +15,7 @@ pub mod contact;
 pub mod features;
 pub mod pose;
 pub mod pose_grid;
+pub mod recognition;
 pub mod rng;
 pub mod sensor;
 pub mod whisker_ratslam;

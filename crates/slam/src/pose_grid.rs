@@ -115,19 +115,25 @@ impl PoseGrid {
     /// cell spreads its activity to its neighbours with the kernel's weights (Alg 3).
     pub fn convolve_axis(&mut self, axis: usize, kernel: &[f64]) {
         let (n, stride) = (self.dims[axis], self.strides[axis]);
-        let h = (kernel.len() / 2) as i64;
-        self.scratch.iter_mut().for_each(|x| *x = 0.0);
-        for (i, &a) in self.cells.iter().enumerate() {
-            if a == 0.0 {
-                continue;
+        let h = kernel.len() / 2;
+        // For output cell j of a line: Σ_k kernel[k]·in[(j − k + h) mod n].
+        let taps: Vec<Vec<(usize, f64)>> = (0..n)
+            .map(|j| {
+                kernel
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &w)| ((j + n * kernel.len() + h - k) % n, w))
+                    .collect()
+            })
+            .collect();
+        for_each_line(self.cells.len(), n, stride, |base| {
+            for (j, t) in taps.iter().enumerate() {
+                self.scratch[base + j * stride] = t
+                    .iter()
+                    .map(|&(i, w)| w * self.cells[base + i * stride])
+                    .sum();
             }
-            let pos = (i / stride) % n;
-            let base = i - pos * stride;
-            for (k, &w) in kernel.iter().enumerate() {
-                let j = (pos as i64 + k as i64 - h).rem_euclid(n as i64) as usize;
-                self.scratch[base + j * stride] += a * w;
-            }
-        }
+        });
         std::mem::swap(&mut self.cells, &mut self.scratch);
     }
 
@@ -212,23 +218,28 @@ impl PoseGrid {
     }
 }
 
+/// Calls `f` with the first index of every line of `n` cells `stride` apart in a grid of
+/// `len` cells.
+fn for_each_line(len: usize, n: usize, stride: usize, mut f: impl FnMut(usize)) {
+    for outer in (0..len).step_by(n * stride) {
+        for inner in 0..stride {
+            f(outer + inner);
+        }
+    }
+}
+
 /// Shifts, in `cells` (lines of `n` cells `stride` apart), every line by `amount` cells,
 /// using `scratch` (same length) as the output buffer.
 fn shift_lines(cells: &mut [f64], scratch: &mut [f64], n: usize, stride: usize, amount: f64) {
-    let (lo, w_lo, hi, w_hi) = split_shift(amount);
-    scratch.iter_mut().for_each(|x| *x = 0.0);
-    for (i, &a) in cells.iter().enumerate() {
-        if a == 0.0 {
-            continue;
+    let (lo, w_lo, _, w_hi) = split_shift(amount);
+    // Output cell j takes w_lo of cell j − lo and w_hi of cell j − lo − 1.
+    let from = |j: usize, s: i64| (j as i64 - s).rem_euclid(n as i64) as usize;
+    for_each_line(cells.len(), n, stride, |base| {
+        for j in 0..n {
+            scratch[base + j * stride] = w_lo * cells[base + from(j, lo) * stride]
+                + w_hi * cells[base + from(j, lo + 1) * stride];
         }
-        let pos = (i / stride) % n;
-        let base = i - pos * stride;
-        let to = |s: i64| base + (pos as i64 + s).rem_euclid(n as i64) as usize * stride;
-        scratch[to(lo)] += a * w_lo;
-        if w_hi != 0.0 {
-            scratch[to(hi)] += a * w_hi;
-        }
-    }
+    });
     cells.copy_from_slice(scratch);
 }
 

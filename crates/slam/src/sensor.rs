@@ -57,3 +57,41 @@ impl WhiskCycle {
         self.start_s + i as f64 / self.rate_hz
     }
 }
+
+/// Self-motion over one interval (thesis Eq 5.7): o = [v, ω, Δt], with the translational
+/// velocity `v` (m/s) and the angular velocity `ω` as a rotation vector (rad/s, axis ×
+/// rate), both in the body (array) frame at the interval's start.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+pub struct Odometry {
+    /// Translational velocity (m/s, body frame).
+    pub v: [f64; 3],
+    /// Angular velocity, a rotation vector (rad/s, body frame).
+    pub omega: [f64; 3],
+    /// Duration (s).
+    pub dt: f64,
+}
+
+impl Odometry {
+    /// The exact odometry of moving from pose `a` to pose `b` in `dt`: the motion
+    /// a⁻¹·b expressed as a velocity in a's frame and a constant body rotation rate.
+    pub fn between(a: &nalgebra::Isometry3<f64>, b: &nalgebra::Isometry3<f64>, dt: f64) -> Self {
+        let d = a.inverse() * b;
+        let v = d.translation.vector / dt;
+        let w = d.rotation.scaled_axis() / dt;
+        Self {
+            v: [v.x, v.y, v.z],
+            omega: [w.x, w.y, w.z],
+            dt,
+        }
+    }
+
+    /// The translation over the interval (m, body frame).
+    pub fn translation(&self) -> nalgebra::Vector3<f64> {
+        nalgebra::Vector3::from(self.v) * self.dt
+    }
+
+    /// The rotation vector over the interval (rad, body frame).
+    pub fn rotation(&self) -> nalgebra::Vector3<f64> {
+        nalgebra::Vector3::from(self.omega) * self.dt
+    }
+}

@@ -3,4 +3,7 @@
 //! ([`relative_pose`]), the object map of complex experiences ([`object_map`]) and the
 //! main loop of Alg 2 ([`slam`]).
 
+pub mod object_map;
 pub mod posecells6d;
+pub mod relative_pose;
+pub mod slam;

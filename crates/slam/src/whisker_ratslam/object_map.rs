@@ -1,0 +1,322 @@
+//! The object map (thesis §5.1.2.4): complex experience nodes — the features of a surface
+//! region, the best pose cell when it was recorded, and a 6-D pose (position and unit
+//! quaternion) relative to the first experience — joined by links holding the odometric
+//! relative pose between them; the experience history; graph relaxation; and the file
+//! format maps are saved in.
+//!
+//! # File format
+//! JSON (one object), written atomically (temporary file, then rename):
+//! ```text
+//! { "format": "whisker-slam object map", "version": 1,
+//!   "experiences": [ { "id": 0, "object": "kettle" | null,
+//!                      "features": { "pfh": [..d⁴ numbers..], "sda": [slope | null, ..18..] },
+//!                      "cells": [x, y, z, roll, pitch, yaw],        // pose cells
+//!                      "position_m": [x, y, z], "orientation_wxyz": [w, x, y, z],
+//!                      "decay": 0.0 }, .. ],
+//!   "links": [ { "from": 0, "to": 1, "translation_m": [..], "rotation_wxyz": [..] }, .. ],
+//!   "history": [ { "sample": 0, "experience": 0, "relocalised": false }, .. ] }
+//! ```
+//! Experience ids are their positions in the list. A link's relative pose T satisfies
+//! pose(to) ≈ pose(from)·T.
+
+use super::posecells6d::Cell6;
+use crate::features::similarity::Features;
+use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The `format` tag of object map files.
+pub const FORMAT: &str = "whisker-slam object map";
+/// The file format version written.
+pub const VERSION: u32 = 1;
+
+/// A complex experience node (§5.1.2.4.1).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Experience {
+    /// Its index in the map.
+    pub id: usize,
+    /// The object it was recorded on, when known (appended maps, §5.2.2.2).
+    pub object: Option<String>,
+    /// The surface region's features.
+    pub features: Features,
+    /// The best pose cell when it was recorded.
+    pub cells: Cell6,
+    /// Position in the map frame (m).
+    pub position_m: [f64; 3],
+    /// Orientation in the map frame, unit quaternion (w, x, y, z).
+    pub orientation_wxyz: [f64; 4],
+    /// Feature-injection decay (Eq 5.8).
+    pub decay: f64,
+}
+
+/// A link between two experiences with the relative pose from one to the other.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Link {
+    /// Source experience.
+    pub from: usize,
+    /// Target experience.
+    pub to: usize,
+    /// Translation of the target in the source's frame (m).
+    pub translation_m: [f64; 3],
+    /// Rotation of the target relative to the source, (w, x, y, z).
+    pub rotation_wxyz: [f64; 4],
+}
+
+/// One entry of the experience history: which experience was current after a sample.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HistoryEntry {
+    /// Sample (whisk) number.
+    pub sample: u64,
+    /// The current experience after it.
+    pub experience: usize,
+    /// Whether the sample re-localised onto an existing experience.
+    pub relocalised: bool,
+}
+
+/// An object map.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectMap {
+    /// Always [`FORMAT`].
+    pub format: String,
+    /// File format version.
+    pub version: u32,
+    /// Experiences, by id.
+    pub experiences: Vec<Experience>,
+    /// Links.
+    pub links: Vec<Link>,
+    /// Experience history, in sample order.
+    pub history: Vec<HistoryEntry>,
+}
+
+impl Default for ObjectMap {
+    fn default() -> Self {
+        Self {
+            format: FORMAT.into(),
+            version: VERSION,
+            experiences: Vec::new(),
+            links: Vec::new(),
+            history: Vec::new(),
+        }
+    }
+}
+
+fn quaternion(wxyz: &[f64; 4]) -> UnitQuaternion<f64> {
+    UnitQuaternion::new_normalize(Quaternion::new(wxyz[0], wxyz[1], wxyz[2], wxyz[3]))
+}
+
+fn wxyz(q: &UnitQuaternion<f64>) -> [f64; 4] {
+    [q.w, q.i, q.j, q.k]
+}
+
+fn isometry(t: &[f64; 3], q: &[f64; 4]) -> Isometry3<f64> {
+    Isometry3::from_parts(Translation3::new(t[0], t[1], t[2]), quaternion(q))
+}
+
+impl Link {
+    /// A link from `from` to `to` with relative pose `relative`.
+    pub fn new(from: usize, to: usize, relative: &Isometry3<f64>) -> Self {
+        let t = relative.translation.vector;
+        Self {
+            from,
+            to,
+            translation_m: [t.x, t.y, t.z],
+            rotation_wxyz: wxyz(&relative.rotation),
+        }
+    }
+
+    /// The relative pose.
+    pub fn relative(&self) -> Isometry3<f64> {
+        isometry(&self.translation_m, &self.rotation_wxyz)
+    }
+}
+
+impl ObjectMap {
+    /// Pose of experience `id` in the map frame.
+    pub fn pose(&self, id: usize) -> Isometry3<f64> {
+        let e = &self.experiences[id];
+        isometry(&e.position_m, &e.orientation_wxyz)
+    }
+
+    /// Sets the pose of experience `id`.
+    pub fn set_pose(&mut self, id: usize, pose: &Isometry3<f64>) {
+        let t = pose.translation.vector;
+        let e = &mut self.experiences[id];
+        e.position_m = [t.x, t.y, t.z];
+        e.orientation_wxyz = wxyz(&pose.rotation);
+    }
+
+    /// Adds an experience at `pose`; returns its id.
+    pub fn add(
+        &mut self,
+        features: Features,
+        cells: Cell6,
+        pose: &Isometry3<f64>,
+        object: Option<String>,
+    ) -> usize {
+        let id = self.experiences.len();
+        self.experiences.push(Experience {
+            id,
+            object,
+            features,
+            cells,
+            position_m: [0.0; 3],
+            orientation_wxyz: [1.0, 0.0, 0.0, 0.0],
+            decay: 0.0,
+        });
+        self.set_pose(id, pose);
+        id
+    }
+
+    /// Graph relaxation in 6-D: `loops` passes; in each, every experience moves by
+    /// `correction` of the mean disagreement between its pose and the poses its links
+    /// predict from their other ends (position: the mean offset; orientation: the mean
+    /// rotation vector, applied in the map frame). All moves of a pass are computed from
+    /// the poses before it (a Jacobi sweep): on a loop the residual odometry error ends
+    /// up shared equally among its links. Experiences without links do not move.
+    pub fn relax(&mut self, loops: usize, correction: f64) {
+        let n = self.experiences.len();
+        for _ in 0..loops {
+            let poses: Vec<Isometry3<f64>> = (0..n).map(|i| self.pose(i)).collect();
+            let mut dp = vec![Vector3::zeros(); n];
+            let mut dr = vec![Vector3::zeros(); n];
+            let mut degree = vec![0usize; n];
+            for link in &self.links {
+                let (a, b) = (link.from, link.to);
+                if a == b {
+                    continue;
+                }
+                let t = link.relative();
+                let predicted_b = poses[a] * t;
+                let predicted_a = poses[b] * t.inverse();
+                dp[b] += predicted_b.translation.vector - poses[b].translation.vector;
+                dp[a] += predicted_a.translation.vector - poses[a].translation.vector;
+                dr[b] += (predicted_b.rotation * poses[b].rotation.inverse()).scaled_axis();
+                dr[a] += (predicted_a.rotation * poses[a].rotation.inverse()).scaled_axis();
+                degree[a] += 1;
+                degree[b] += 1;
+            }
+            for i in 0..n {
+                if degree[i] == 0 {
+                    continue;
+                }
+                let k = correction / degree[i] as f64;
+                let pose = Isometry3::from_parts(
+                    Translation3::from(poses[i].translation.vector + dp[i] * k),
+                    UnitQuaternion::from_scaled_axis(dr[i] * k) * poses[i].rotation,
+                );
+                self.set_pose(i, &pose);
+            }
+        }
+    }
+
+    /// Appends `other`'s experiences, links and history (ids shifted past this map's),
+    /// labelling its experiences `object` (§5.2.2.2: object maps appended with no
+    /// connection between them).
+    pub fn append(&mut self, other: &ObjectMap, object: &str) {
+        let offset = self.experiences.len();
+        for e in &other.experiences {
+            let mut e = e.clone();
+            e.id += offset;
+            e.object = Some(object.to_string());
+            self.experiences.push(e);
+        }
+        for l in &other.links {
+            let mut l = l.clone();
+            l.from += offset;
+            l.to += offset;
+            self.links.push(l);
+        }
+        for h in &other.history {
+            self.history.push(HistoryEntry {
+                experience: h.experience + offset,
+                ..*h
+            });
+        }
+    }
+
+    /// Checks the map's consistency; the message names the first problem.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.format != FORMAT {
+            return Err(format!("format {:?}: expected {FORMAT:?}", self.format));
+        }
+        if self.version != VERSION {
+            return Err(format!("version {}: expected {VERSION}", self.version));
+        }
+        let n = self.experiences.len();
+        for (i, e) in self.experiences.iter().enumerate() {
+            let at = format!("experiences[{i}]");
+            if e.id != i {
+                return Err(format!("{at}.id {}: expected {i} (its position)", e.id));
+            }
+            let numbers = e
+                .cells
+                .iter()
+                .chain(&e.position_m)
+                .chain(&e.orientation_wxyz);
+            if numbers.chain([&e.decay]).any(|x| !x.is_finite()) {
+                return Err(format!("{at}: non-finite number"));
+            }
+            let norm = e.orientation_wxyz.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if (norm - 1.0).abs() > 1e-6 {
+                return Err(format!(
+                    "{at}.orientation_wxyz: norm {norm}, expected a unit quaternion"
+                ));
+            }
+            if let Some(other) = self.experiences.first()
+                && e.features.pfh.len() != other.features.pfh.len()
+            {
+                return Err(format!(
+                    "{at}.features.pfh: length differs from experience 0"
+                ));
+            }
+        }
+        for (i, l) in self.links.iter().enumerate() {
+            if l.from >= n || l.to >= n {
+                return Err(format!(
+                    "links[{i}]: {} -> {} but there are {n} experiences",
+                    l.from, l.to
+                ));
+            }
+        }
+        for (i, h) in self.history.iter().enumerate() {
+            if h.experience >= n {
+                return Err(format!(
+                    "history[{i}].experience {}: there are {n} experiences",
+                    h.experience
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Writes the map to `path` (atomically: a temporary file beside it, then renamed).
+    pub fn save(&self, path: &Path) -> Result<(), String> {
+        let text = serde_json::to_string(self).map_err(|e| e.to_string())?;
+        let tmp = path.with_extension("json.part");
+        std::fs::write(&tmp, text)
+            .and_then(|_| std::fs::rename(&tmp, path))
+            .map_err(|e| format!("{}: cannot write: {e}", path.display()))
+    }
+
+    /// Reads a map written by [`ObjectMap::save`]; errors name the file, and the line and
+    /// column or the field at fault.
+    pub fn load(path: &Path) -> Result<Self, String> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        let map: Self = serde_json::from_str(&text).map_err(|e| {
+            format!(
+                "{}: line {} column {}: {e}",
+                path.display(),
+                e.line(),
+                e.column()
+            )
+        })?;
+        map.validate()
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(map)
+    }
+}

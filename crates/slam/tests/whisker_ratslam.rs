@@ -1,0 +1,262 @@
+//! WhiskerRatSLAM's object map and main loop (thesis §5.1.2.4, Alg 2, §5.2.2.2):
+//! relaxation against its closed form, re-localisation on a revisited loop, map files,
+//! and identification by appended maps.
+
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use rand::RngExt;
+use whisker_slam::features::sda::Sda;
+use whisker_slam::features::similarity::Features;
+use whisker_slam::recognition::Identification;
+use whisker_slam::rng::substream;
+use whisker_slam::sensor::Odometry;
+use whisker_slam::whisker_ratslam::object_map::{Link, ObjectMap};
+use whisker_slam::whisker_ratslam::slam::{Params, WhiskerRatSlam};
+
+fn features() -> Features {
+    Features::default()
+}
+
+fn pose(x: f64, y: f64, yaw: f64) -> Isometry3<f64> {
+    Isometry3::from_parts(
+        Translation3::new(x, y, 0.0),
+        UnitQuaternion::from_euler_angles(0.0, 0.0, yaw),
+    )
+}
+
+#[test]
+fn relaxation_shares_a_square_loops_translation_error_equally() {
+    // Links of a 1 m square whose closing link is ε short; poses by dead reckoning.
+    let eps = 0.08;
+    let steps = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0 + eps)];
+    let mut map = ObjectMap::default();
+    let mut at = Vector3::zeros();
+    for (k, (dx, dy)) in steps.iter().enumerate() {
+        map.add(features(), [0.0; 6], &pose(at.x, at.y, 0.0), None);
+        map.links
+            .push(Link::new(k, (k + 1) % 4, &pose(*dx, *dy, 0.0)));
+        at += Vector3::new(*dx, *dy, 0.0);
+    }
+    let centroid = |m: &ObjectMap| {
+        (0..4)
+            .map(|i| m.pose(i).translation.vector)
+            .sum::<Vector3<f64>>()
+            / 4.0
+    };
+    let before = centroid(&map);
+    map.relax(200, 0.5);
+    // Closed form: Σ residuals = −Σ links = (0, −ε); shared equally, each is (0, −ε/4).
+    for l in &map.links {
+        let r = map.pose(l.to).translation.vector
+            - (map.pose(l.from) * l.relative()).translation.vector;
+        assert!(
+            (r - Vector3::new(0.0, -eps / 4.0, 0.0)).norm() < 1e-9,
+            "{r}"
+        );
+    }
+    assert!((centroid(&map) - before).norm() < 1e-12);
+}
+
+#[test]
+fn relaxation_shares_a_loops_heading_error_equally() {
+    // Four quarter turns about z, the closing one ε too far.
+    let eps = 0.1;
+    let mut map = ObjectMap::default();
+    let mut at = Isometry3::identity();
+    for k in 0..4 {
+        let turn = std::f64::consts::FRAC_PI_2 + if k == 3 { eps } else { 0.0 };
+        let step = pose(1.0, 0.0, turn);
+        map.add(features(), [0.0; 6], &at, None);
+        map.links.push(Link::new(k, (k + 1) % 4, &step));
+        at *= step;
+    }
+    map.relax(400, 0.5);
+    for l in &map.links {
+        let predicted = map.pose(l.from) * l.relative();
+        let r = (map.pose(l.to).rotation * predicted.rotation.inverse()).scaled_axis();
+        assert!(
+            (r - Vector3::new(0.0, 0.0, -eps / 4.0)).norm() < 1e-6,
+            "{r}"
+        );
+    }
+}
+
+/// Random, distinct features for each of `n` places.
+fn place_features(n: usize) -> Vec<Features> {
+    let mut rng = substream(3, "test/whisker_ratslam/places");
+    (0..n)
+        .map(|_| {
+            let mut pfh: Vec<f64> = (0..81)
+                .map(|_| {
+                    if rng.random::<f64>() < 0.1 {
+                        rng.random::<f64>()
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            let s: f64 = pfh.iter().sum();
+            pfh.iter_mut().for_each(|x| *x /= s);
+            let sda = Sda((0..18).map(|_| Some(rng.random_range(-1.0..1.0))).collect());
+            Features { pfh, sda }
+        })
+        .collect()
+}
+
+#[test]
+fn a_revisited_loop_relocalises_onto_the_experiences_of_its_places() {
+    // 12 places on a circle of 0.15 m radius, the array turning 30° per step (0.078 m,
+    // 0.65 translation cell and 0.42 yaw cell); odometry turning 5 % too far, so that
+    // dead reckoning does not close the loop. (A scale error would: a uniformly scaled
+    // loop still closes, and no relaxation can see it.)
+    let n = 12;
+    let truth: Vec<Isometry3<f64>> = (0..n)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            pose(
+                0.15 * a.cos(),
+                0.15 * a.sin(),
+                a + std::f64::consts::FRAC_PI_2,
+            )
+        })
+        .collect();
+    let places = place_features(n);
+    let mut slam = WhiskerRatSlam::new(Params::default(), ObjectMap::default());
+    let mut first_lap = vec![usize::MAX; n];
+    let (mut right, mut wrong) = (0, 0);
+    for lap in 0..3 {
+        for k in 0..n {
+            let prev = truth[(k + n - 1) % n];
+            let mut odometry = Odometry::between(&prev, &truth[k], 1.0);
+            odometry.omega = odometry.omega.map(|w| w * 1.05);
+            if lap == 0 && k == 0 {
+                odometry = Odometry {
+                    dt: 1.0,
+                    ..Odometry::default()
+                };
+            }
+            let step = slam.step(&places[k], &odometry);
+            if lap == 0 {
+                first_lap[k] = step.experience;
+            } else if step.experience == first_lap[k] {
+                right += 1;
+            } else if first_lap.contains(&step.experience) {
+                wrong += 1;
+            }
+        }
+    }
+    assert_eq!(slam.map.experiences.len(), n, "one experience per place");
+    assert_eq!(wrong, 0);
+    assert!(
+        right >= 2 * n - 2,
+        "{right} of {} revisits on their place",
+        2 * n
+    );
+    // Relaxation halves the drift: the map's worst position error, both map and truth
+    // taken relative to the first place, is under half of dead reckoning's.
+    let origin = truth[0].inverse();
+    let error = |k: usize, at: &Isometry3<f64>| {
+        (at.translation.vector - (origin * truth[k]).translation.vector).norm()
+    };
+    let mut reckoned = Isometry3::identity();
+    let mut worst_reckoned: f64 = 0.0;
+    for k in 1..n {
+        let mut o = Odometry::between(&truth[k - 1], &truth[k], 1.0);
+        o.omega = o.omega.map(|w| w * 1.05);
+        let mut acc = whisker_slam::whisker_ratslam::relative_pose::Accumulator::default();
+        acc.add(&o);
+        reckoned *= acc.pose;
+        worst_reckoned = worst_reckoned.max(error(k, &reckoned));
+    }
+    let first = slam.map.pose(first_lap[0]).inverse();
+    let worst_map = (0..n)
+        .map(|k| error(k, &(first * slam.map.pose(first_lap[k]))))
+        .fold(0.0, f64::max);
+    assert!(
+        worst_map < 0.5 * worst_reckoned,
+        "map {worst_map} m vs dead reckoning {worst_reckoned} m"
+    );
+}
+
+#[test]
+fn object_maps_round_trip_through_their_file_and_bad_files_are_named() {
+    let mut map = ObjectMap::default();
+    let f = place_features(2);
+    map.add(
+        f[0].clone(),
+        [1.0, 2.0, 3.0, 0.0, 1.0, 4.5],
+        &pose(0.1, 0.2, 0.3),
+        None,
+    );
+    map.add(
+        f[1].clone(),
+        [0.0; 6],
+        &pose(-0.1, 0.0, 1.0),
+        Some("mug".into()),
+    );
+    map.links
+        .push(Link::new(0, 1, &(map.pose(0).inverse() * map.pose(1))));
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("mug.json");
+    map.save(&path).unwrap();
+    assert_eq!(ObjectMap::load(&path).unwrap(), map);
+    // Broken JSON: file, line and column.
+    let bad = dir.path().join("bad.json");
+    std::fs::write(
+        &bad,
+        "{\n \"format\": \"whisker-slam object map\",\n \"version\": 1,\n oops",
+    )
+    .unwrap();
+    let e = ObjectMap::load(&bad).unwrap_err();
+    assert!(e.contains("bad.json") && e.contains("line 4"), "{e}");
+    // A link to a missing experience: the field.
+    let mut broken = map.clone();
+    broken.links[0].to = 7;
+    broken.save(&bad).unwrap();
+    let e = ObjectMap::load(&bad).unwrap_err();
+    assert!(e.contains("links[0]"), "{e}");
+}
+
+#[test]
+fn appended_maps_identify_the_object_explored() {
+    // Two objects' maps, built from distinct features along the same loop; then the first
+    // object is explored again with the maps appended as prior knowledge.
+    let n = 12;
+    let truth: Vec<Isometry3<f64>> = (0..n)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            pose(
+                0.15 * a.cos(),
+                0.15 * a.sin(),
+                a + std::f64::consts::FRAC_PI_2,
+            )
+        })
+        .collect();
+    let all = place_features(2 * n);
+    let objects = [("box", &all[..n]), ("mug", &all[n..])];
+    let odometry = |k: usize| Odometry::between(&truth[(k + n - 1) % n], &truth[k], 1.0);
+    let mut appended = ObjectMap::default();
+    for (name, places) in objects {
+        let mut slam = WhiskerRatSlam::new(Params::default(), ObjectMap::default());
+        for (k, f) in places.iter().enumerate() {
+            slam.step(f, &odometry(k));
+        }
+        appended.append(&slam.map, name);
+    }
+    let mut slam = WhiskerRatSlam::new(Params::default(), appended);
+    let mut id = Identification::new(["box", "mug"], 0.9);
+    for _ in 0..2 {
+        for (k, f) in objects[1].1.iter().enumerate() {
+            let step = slam.step(f, &odometry(k));
+            let onto = step
+                .relocalised
+                .then(|| slam.map.experiences[step.experience].object.clone())
+                .flatten();
+            id.update(onto.as_deref());
+        }
+    }
+    assert_eq!(id.best().unwrap().0, "mug");
+    assert!(
+        id.confidence["mug"] > 0.3 && id.confidence["box"] == 0.0,
+        "{id:?}"
+    );
+}
