@@ -7,6 +7,7 @@ mod bench_slam;
 mod characterize;
 mod contacts;
 mod error;
+mod object_slam;
 mod output;
 mod plan;
 mod recording;
@@ -53,6 +54,8 @@ enum Command {
     },
     /// Long physics runs against every object and the maze: no tunnelling, no NaN.
     Soak(soak::Options),
+    /// WhiskerRatSLAM on the catalogue objects (thesis §5.2): localisation and identification.
+    ObjectSlam(object_slam::Options),
     /// The generated object meshes of `assets/meshes`.
     Assets {
         #[command(subcommand)]
@@ -133,6 +136,7 @@ fn main() -> ExitCode {
             command: BenchCommand::Slam(options),
         } => bench_slam::slam(&options),
         Command::Soak(options) => soak::soak(&options),
+        Command::ObjectSlam(options) => object_slam::run(&options),
         Command::Assets {
             command: AssetsCommand::Generate { out },
         } => assets_cmd::generate_all(&out),

@@ -102,14 +102,9 @@ fn place_features(n: usize) -> Vec<Features> {
         .collect()
 }
 
-#[test]
-fn a_revisited_loop_relocalises_onto_the_experiences_of_its_places() {
-    // 12 places on a circle of 0.15 m radius, the array turning 30° per step (0.078 m,
-    // 0.65 translation cell and 0.42 yaw cell); odometry turning 5 % too far, so that
-    // dead reckoning does not close the loop. (A scale error would: a uniformly scaled
-    // loop still closes, and no relaxation can see it.)
-    let n = 12;
-    let truth: Vec<Isometry3<f64>> = (0..n)
+/// `n` poses on a circle of 0.15 m radius, each facing along the circle.
+fn circle(n: usize) -> Vec<Isometry3<f64>> {
+    (0..n)
         .map(|k| {
             let a = std::f64::consts::TAU * k as f64 / n as f64;
             pose(
@@ -118,7 +113,17 @@ fn a_revisited_loop_relocalises_onto_the_experiences_of_its_places() {
                 a + std::f64::consts::FRAC_PI_2,
             )
         })
-        .collect();
+        .collect()
+}
+
+#[test]
+fn a_revisited_loop_relocalises_onto_the_experiences_of_its_places() {
+    // 12 places on a circle of 0.15 m radius, the array turning 30° per step (0.078 m,
+    // 0.65 translation cell and 0.42 yaw cell); odometry turning 5 % too far, so that
+    // dead reckoning does not close the loop. (A scale error would: a uniformly scaled
+    // loop still closes, and no relaxation can see it.)
+    let n = 12;
+    let truth = circle(n);
     let places = place_features(n);
     let mut slam = WhiskerRatSlam::new(Params::default(), ObjectMap::default());
     let mut first_lap = vec![usize::MAX; n];
@@ -218,19 +223,10 @@ fn object_maps_round_trip_through_their_file_and_bad_files_are_named() {
 
 #[test]
 fn appended_maps_identify_the_object_explored() {
-    // Two objects' maps, built from distinct features along the same loop; then the first
-    // object is explored again with the maps appended as prior knowledge.
+    // Two objects' maps, built from distinct features along the same loop; then the second
+    // object is explored again, twice round, with the maps appended as prior knowledge.
     let n = 12;
-    let truth: Vec<Isometry3<f64>> = (0..n)
-        .map(|k| {
-            let a = std::f64::consts::TAU * k as f64 / n as f64;
-            pose(
-                0.15 * a.cos(),
-                0.15 * a.sin(),
-                a + std::f64::consts::FRAC_PI_2,
-            )
-        })
-        .collect();
+    let truth = circle(n);
     let all = place_features(2 * n);
     let objects = [("box", &all[..n]), ("mug", &all[n..])];
     let odometry = |k: usize| Odometry::between(&truth[(k + n - 1) % n], &truth[k], 1.0);

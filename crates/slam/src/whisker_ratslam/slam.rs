@@ -120,10 +120,23 @@ pub struct WhiskerRatSlam {
 }
 
 impl WhiskerRatSlam {
-    /// A new run whose pose cells start at the grid's centre, with `map` as prior
-    /// knowledge (empty for a new object; appended object maps for identification).
+    /// A new run with `map` as prior knowledge (empty for a new object; appended object
+    /// maps for identification). The pose cells start at the middle of the translation
+    /// axes and at cell 0 (0°) of the rotation axes: the start orientation is the map
+    /// frame's, so that each voxel's orientation (which rotates the body velocity) is the
+    /// orientation relative to the start, and the body rotation rates drive the Euler axes
+    /// near where that is exact. (The thesis starts every axis mid-grid, Fig 5.4, which
+    /// turns the first velocities by 144° about every axis.)
     pub fn new(params: Params, map: ObjectMap) -> Self {
-        let centre = params.pose_cells.cells.map(|n| (n / 2) as f64);
+        let n = params.pose_cells.cells;
+        let centre = [
+            (n[0] / 2) as f64,
+            (n[1] / 2) as f64,
+            (n[2] / 2) as f64,
+            0.0,
+            0.0,
+            0.0,
+        ];
         Self {
             params,
             cells: PoseCells6::new(params.pose_cells, &centre),

@@ -1,0 +1,381 @@
+//! `whisker object-slam`: the WhiskerRatSLAM experiments of thesis §5.2 with kinematic
+//! sensing — localisation on each catalogue object (Table 5.1's twelve parameter sets,
+//! Fig 5.15) and object identification by appended object maps (Figs 5.16–5.17).
+//!
+//! For each object, the array whisks once per pose along trajectory A (two laps: the
+//! first builds the object map, the second re-localises in it) and along the novel
+//! trajectory B (one lap, the map of A as prior knowledge). Contacts come from the
+//! kinematic sweep with the noise of §6.1.3.1.2 (sub-streams `object-slam/<object>/<A|B>`
+//! of the seed); odometry is the true motion between poses with Gaussian errors —
+//! 5 % of the step per translation axis, 0.5° per rotation axis
+//! (`object-slam/<object>/<A|B>/odometry`). Features: the PFH of the contact points in
+//! the array frame, and the SDA of the slopes (clipped to ±10: Eq 6.14 is unbounded when
+//! the contacted normal lies in the sweep plane). Contact points by the tip assumption
+//! (each whisker's tip at its contact angle) or "svr": the noisy anticipated point, whose
+//! 25 %-of-length noise is §6.1.3.1.2's model of the SVR estimate.
+//!
+//! A localisation estimate is the map pose of the experience a whisk re-localises onto;
+//! its error is the distance (m) and the minimum rotation angle to the true pose, both
+//! relative to the first experience (A's first pose). Identification uses the maps of
+//! the best set (both features, no merging, svr) of every object but the Skull, appended;
+//! each object, Skull included, is explored for one lap of A and of B while a leaky
+//! integrator per mapped object (decay 0.9 per whisk) is fed by re-localisations.
+
+mod trajectory;
+
+use crate::error::{CliError, CliResult};
+use nalgebra::{Isometry3, Point3, Vector3};
+use rand_distr::{Distribution, Normal};
+use rayon::prelude::*;
+use serde_json::json;
+use std::path::PathBuf;
+use trajectory::Trajectory;
+use whisker_sim::environment::assets::{Asset, CATALOGUE, generate};
+use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
+use whisker_sim::sensing::noise::ContactNoise;
+use whisker_sim::whisker::array::{self, Module};
+use whisker_sim::whisker::control::WhiskingPattern;
+use whisker_slam::contact::ContactCycle;
+use whisker_slam::features::pfh::{PfhParams, histogram};
+use whisker_slam::features::sda::Sda;
+use whisker_slam::features::similarity::{FeatureSet, Features};
+use whisker_slam::recognition::Identification;
+use whisker_slam::rng::substream;
+use whisker_slam::sensor::{Odometry, WHISKERS};
+use whisker_slam::whisker_ratslam::object_map::ObjectMap;
+use whisker_slam::whisker_ratslam::slam::{Params, WhiskerRatSlam};
+
+/// The object left out of the appended maps (§5.2.2.2).
+const UNMAPPED: &str = "skull";
+/// |slope| beyond which SDA entries are clipped.
+const SLOPE_CLIP: f64 = 10.0;
+/// Identification decay per whisk.
+const DECAY: f64 = 0.9;
+
+/// Options of `whisker object-slam`.
+#[derive(clap::Args, Debug)]
+pub struct Options {
+    /// Catalogue objects (comma-separated) [default: all eight].
+    #[arg(long, value_delimiter = ',')]
+    pub objects: Vec<String>,
+    /// Seed of every random draw.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Directory for object maps and CSV results (created; files written atomically).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print one JSON object instead of tables.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// How contact points are placed (Table 5.1 "contact algorithm").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum ContactEstimate {
+    Tip,
+    Svr,
+}
+
+/// One of Table 5.1's parameter sets.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Combo {
+    features: FeatureSet,
+    merge: bool,
+    contact: ContactEstimate,
+}
+
+impl Combo {
+    fn name(&self) -> String {
+        let f = match self.features {
+            FeatureSet::Pfh => "pfh",
+            FeatureSet::Sda => "sda",
+            FeatureSet::Both => "both",
+        };
+        let c = match self.contact {
+            ContactEstimate::Tip => "tip",
+            ContactEstimate::Svr => "svr",
+        };
+        format!("{f}/{}/{c}", if self.merge { "merged" } else { "unmerged" })
+    }
+
+    fn all() -> Vec<Combo> {
+        let mut out = Vec::new();
+        for features in [FeatureSet::Pfh, FeatureSet::Sda, FeatureSet::Both] {
+            for merge in [true, false] {
+                for contact in [ContactEstimate::Tip, ContactEstimate::Svr] {
+                    out.push(Combo {
+                        features,
+                        merge,
+                        contact,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    const BEST: Combo = Combo {
+        features: FeatureSet::Both,
+        merge: false,
+        contact: ContactEstimate::Svr,
+    };
+}
+
+/// A re-localisation: (sample, position error m, rotation error deg, object landed on).
+type Event = (usize, f64, f64, Option<String>);
+/// One localisation run: (object index, parameter set, events on A's second lap,
+/// events on B, the object map A built).
+type LocalisationRun = (usize, Combo, Vec<Event>, Vec<Event>, ObjectMap);
+/// One identification run: (object index, trajectory, events, confidences per whisk).
+type IdentificationRun = (
+    usize,
+    Trajectory,
+    Vec<Event>,
+    Vec<std::collections::BTreeMap<String, f64>>,
+);
+/// One object's walks: (asset, A (two laps), B, mean step of A (m, rad)).
+type Sensed<'a> = (&'a Asset, Walk, Walk, (f64, f64));
+
+/// One object's sensed walks.
+struct Walk {
+    truth: Vec<Isometry3<f64>>,
+    cycles: Vec<ContactCycle>,
+    odometry: Vec<Odometry>,
+}
+
+/// Senses `laps` laps of a trajectory around an object.
+fn walk(
+    asset: &Asset,
+    which: Trajectory,
+    laps: usize,
+    target: &SweepTarget,
+    shape: &parry3d_f64::shape::SharedShape,
+    seed: u64,
+) -> Walk {
+    let lap = trajectory::lap(which, asset.name, shape, asset.size);
+    let truth: Vec<Isometry3<f64>> = (0..laps).flat_map(|_| lap.iter().copied()).collect();
+    let stream = format!("object-slam/{}/{}", asset.name, which.name());
+    let whiskers: Vec<RigidWhisker> = array::modules()
+        .into_iter()
+        .map(|m| RigidWhisker::new(m, 3.0e-3))
+        .collect();
+    let patterns = vec![WhiskingPattern::default(); whiskers.len()];
+    let mut sensing = KinematicArray::new(
+        whiskers,
+        patterns,
+        ContactNoise::default(),
+        whisker_slam::rng::substream_key(seed, &stream),
+    );
+    let cycles = truth
+        .iter()
+        .enumerate()
+        .map(|(k, p)| sensing.sense(target, k as u64, k as f64, p))
+        .collect();
+    let mut rng = substream(seed, &format!("{stream}/odometry"));
+    let angle = Normal::new(0.0, 0.5f64.to_radians()).expect("valid sigma");
+    let odometry = (0..truth.len())
+        .map(|k| {
+            if k == 0 {
+                return Odometry {
+                    dt: 1.0,
+                    ..Odometry::default()
+                };
+            }
+            let mut o = Odometry::between(&truth[k - 1], &truth[k], 1.0);
+            let step = Vector3::from(o.v).norm();
+            let s = Normal::new(0.0, 0.05 * step.max(1e-12)).expect("valid sigma");
+            for a in 0..3 {
+                o.v[a] += s.sample(&mut rng);
+                o.omega[a] += angle.sample(&mut rng);
+            }
+            o
+        })
+        .collect();
+    Walk {
+        truth,
+        cycles,
+        odometry,
+    }
+}
+
+/// The features of one whisk for a contact estimate.
+fn features(cycle: &ContactCycle, contact: ContactEstimate, modules: &[Module]) -> Features {
+    let points: Vec<Point3<f64>> = cycle
+        .contacts
+        .iter()
+        .map(|c| match contact {
+            ContactEstimate::Svr => c.point,
+            ContactEstimate::Tip => {
+                let m = &modules[c.whisker];
+                m.whisker_pose(c.angle_rad) * Point3::new(0.0, 0.0, m.beam.length)
+            }
+        })
+        .collect();
+    let mut sda = Sda::from_cycle(cycle, WHISKERS);
+    for s in sda.0.iter_mut().flatten() {
+        *s = s.clamp(-SLOPE_CLIP, SLOPE_CLIP);
+    }
+    Features {
+        pfh: histogram(&points, &Point3::origin(), &PfhParams::default()),
+        sda,
+    }
+}
+
+/// Runs `walk` through `slam`; returns the localisation errors (m, deg) of its
+/// re-localisations from sample `from` on, relative to `origin` (A's first true pose),
+/// and the object each re-localisation landed on.
+fn explore(
+    slam: &mut WhiskerRatSlam,
+    walk: &Walk,
+    combo: Combo,
+    modules: &[Module],
+    origin: &Isometry3<f64>,
+    from: usize,
+) -> Vec<Event> {
+    let mut out = Vec::new();
+    for (k, (cycle, odo)) in walk.cycles.iter().zip(&walk.odometry).enumerate() {
+        let step = slam.step(&features(cycle, combo.contact, modules), odo);
+        if step.relocalised && k >= from {
+            let map_origin = slam.map.pose(0).inverse();
+            let estimate = map_origin * slam.map.pose(step.experience);
+            let truth = origin.inverse() * walk.truth[k];
+            let (dt, dr) = whisker_slam::pose::distance(&estimate, &truth);
+            let object = slam.map.experiences[step.experience].object.clone();
+            out.push((k, dt, dr.to_degrees(), object));
+        }
+    }
+    out
+}
+
+fn params(combo: Combo) -> Params {
+    let mut p = Params::default();
+    p.matching.features = combo.features;
+    p.merge_features = combo.merge;
+    p
+}
+
+/// Median of a list (NaN when empty).
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        (v[n / 2 - 1] + v[n / 2]) / 2.0
+    }
+}
+
+/// `whisker object-slam`.
+pub fn run(o: &Options) -> CliResult {
+    let assets: Vec<&Asset> = if o.objects.is_empty() {
+        CATALOGUE.iter().collect()
+    } else {
+        o.objects
+            .iter()
+            .map(|n| {
+                CATALOGUE.iter().find(|a| a.name == n).ok_or_else(|| {
+                    let names: Vec<&str> = CATALOGUE.iter().map(|a| a.name).collect();
+                    CliError::Input(format!(
+                        "--objects: unknown object {n:?}; expected some of {}",
+                        names.join(", ")
+                    ))
+                })
+            })
+            .collect::<CliResult<_>>()?
+    };
+    if let Some(dir) = &o.out {
+        crate::output::create_dir(dir)?;
+    }
+    let modules = array::modules();
+    let data: Vec<Sensed> = assets
+        .par_iter()
+        .map(|asset| {
+            let mesh = generate(asset);
+            let shape = mesh
+                .shape()
+                .map_err(|e| CliError::Failure(format!("{}: {e}", asset.name)))?;
+            let target = SweepTarget::new(mesh);
+            let a = walk(asset, Trajectory::A, 2, &target, &shape, o.seed);
+            let b = walk(asset, Trajectory::B, 1, &target, &shape, o.seed);
+            let lap = a.truth.len() / 2;
+            let step = trajectory::mean_step(&a.truth[..lap]);
+            eprintln!("{}: {} poses per lap sensed", asset.name, lap);
+            Ok((*asset, a, b, step))
+        })
+        .collect::<CliResult<_>>()?;
+    // Localisation: every object × every parameter set.
+    let jobs: Vec<(usize, Combo)> = (0..data.len())
+        .flat_map(|i| Combo::all().into_iter().map(move |c| (i, c)))
+        .collect();
+    let results: Vec<LocalisationRun> = jobs
+        .par_iter()
+        .map(|&(i, combo)| {
+            let (_, a, b, _) = &data[i];
+            let lap = a.truth.len() / 2;
+            let origin = a.truth[0];
+            let mut slam = WhiskerRatSlam::new(params(combo), ObjectMap::default());
+            let on_a = explore(&mut slam, a, combo, &modules, &origin, lap);
+            let map = slam.map.clone();
+            let mut slam_b = WhiskerRatSlam::new(params(combo), map.clone());
+            let on_b = explore(&mut slam_b, b, combo, &modules, &origin, 0);
+            (i, combo, on_a, on_b, map)
+        })
+        .collect();
+    eprintln!("localisation: {} runs done", results.len());
+    let localisation = report::localisation(o, &data, &results)?;
+    // Identification with the best set's maps, the unmapped object left out.
+    let mut appended = ObjectMap::default();
+    let mut mapped = Vec::new();
+    for (i, combo, _, _, map) in &results {
+        let name = data[*i].0.name;
+        if *combo == Combo::BEST && name != UNMAPPED {
+            appended.append(map, name);
+            mapped.push(name.to_string());
+        }
+    }
+    let id_runs: Vec<_> = (0..data.len())
+        .flat_map(|i| [(i, Trajectory::A), (i, Trajectory::B)])
+        .collect();
+    let identification: Vec<IdentificationRun> = id_runs
+        .par_iter()
+        .map(|&(i, which)| {
+            let (_, a, b, _) = &data[i];
+            let walk = match which {
+                Trajectory::A => Walk {
+                    truth: a.truth[..a.truth.len() / 2].to_vec(),
+                    cycles: a.cycles[..a.cycles.len() / 2].to_vec(),
+                    odometry: a.odometry[..a.odometry.len() / 2].to_vec(),
+                },
+                Trajectory::B => Walk {
+                    truth: b.truth.clone(),
+                    cycles: b.cycles.clone(),
+                    odometry: b.odometry.clone(),
+                },
+            };
+            let mut slam = WhiskerRatSlam::new(params(Combo::BEST), appended.clone());
+            let mut id = Identification::new(mapped.clone(), DECAY);
+            let mut series = Vec::new();
+            let events = explore(&mut slam, &walk, Combo::BEST, &modules, &a.truth[0], 0);
+            let mut e = events.iter().peekable();
+            for k in 0..walk.truth.len() {
+                let onto = e.next_if(|x| x.0 == k).and_then(|x| x.3.clone());
+                id.update(onto.as_deref());
+                series.push(id.confidence.clone());
+            }
+            (i, which, events, series)
+        })
+        .collect();
+    let identification = report::identification(o, &data, &mapped, &identification)?;
+    if o.json {
+        println!(
+            "{}",
+            json!({ "seed": o.seed, "localisation": localisation, "identification": identification })
+        );
+    }
+    Ok(())
+}
+
+mod report;
