@@ -236,7 +236,7 @@ impl Mesh {
     /// `FIX_INTERNAL_EDGES`: with it, a whisker tip pressed into a concave crease (the
     /// Barrel's hoops) wedges ~2 mm into the solid within half a minute of whisking
     /// (`whisker soak --objects barrel --whiskers D1`: 1.9 mm at 27 s with 2 substeps);
-    /// without it, and with 2 substeps per step, the centre line stays within 0.12 mm
+    /// without it (2 substeps per step), the centre line stayed within 0.12 mm
     /// over 60 s. Point queries on this shape are not inside tests for meshes of several
     /// components; use [`super::solids::Solids`].
     pub fn shape(&self) -> Result<SharedShape, String> {
