@@ -13,6 +13,7 @@
 
 pub mod contact;
 pub mod features;
+pub mod frontend;
 pub mod pose;
 pub mod pose_grid;
 pub mod recognition;

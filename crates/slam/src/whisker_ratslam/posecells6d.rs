@@ -74,7 +74,7 @@ impl PoseCellParams {
             ("excite_width", self.excite_width),
             ("inhibit_width", self.inhibit_width),
         ] {
-            if w % 2 == 0 || w > shortest {
+            if w.is_multiple_of(2) || w > shortest {
                 return Err(format!(
                     "{name} {w}: expected an odd width of at most {shortest} cells (a wider window wraps onto itself)"
                 ));
