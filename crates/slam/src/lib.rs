@@ -16,6 +16,7 @@ pub mod features;
 pub mod frontend;
 pub mod pose;
 pub mod pose_grid;
+pub mod radial;
 pub mod recognition;
 pub mod rng;
 pub mod sensor;
