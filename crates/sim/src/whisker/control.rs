@@ -5,11 +5,13 @@
 //! A = (θ_p − θ_r)/2 — fully retracted (40°) at the start of each cycle, fully protracted
 //! (140°) half way through (1 Hz by default, §2.2.2).
 //!
-//! RCP: once the magnitude of the y deflection crosses a threshold while protracting,
+//! RCP: once the magnitude of the y deflection reaches a threshold while protracting,
 //! protraction stops at once and the whisker retracts from where it is, on a half-cosine
 //! that reaches the retraction limit at the end of the current cycle; the next cycle
 //! starts open-loop again. The threshold is either 20 × the standard deviation of the
-//! deflection during free whisking (§3.2.2) or the sensor's saturation value (§4.1.1).
+//! deflection during free whisking (§3.2.2) or the sensor's saturation value (§4.1.1) —
+//! "reaches", not "exceeds": a saturated reading equals the saturation value and never
+//! exceeds it.
 
 use std::f64::consts::{PI, TAU};
 
@@ -112,7 +114,7 @@ impl Controller {
         }
         let open = self.pattern.angle(t);
         if let (Some(threshold), None) = (self.rcp_threshold, self.retraction)
-            && y.abs() > threshold
+            && y.abs() >= threshold
             && open > self.last_command
         {
             self.retraction = Some((k, t, self.last_command));
