@@ -7,9 +7,11 @@ mod bench_slam;
 mod characterize;
 mod contacts;
 mod error;
+mod frontend;
 mod object_slam;
 mod output;
 mod plan;
+mod radial;
 mod recording;
 mod run;
 mod scenario;
@@ -56,6 +58,11 @@ enum Command {
     Soak(soak::Options),
     /// WhiskerRatSLAM on the catalogue objects (thesis §5.2): localisation and identification.
     ObjectSlam(object_slam::Options),
+    /// Radial distance to contact (thesis Ch 4): data sets, the Table 4.1 models, validation.
+    Radial {
+        #[command(subcommand)]
+        command: radial::RadialCommand,
+    },
     /// The generated object meshes of `assets/meshes`.
     Assets {
         #[command(subcommand)]
@@ -137,6 +144,7 @@ fn main() -> ExitCode {
         } => bench_slam::slam(&options),
         Command::Soak(options) => soak::soak(&options),
         Command::ObjectSlam(options) => object_slam::run(&options),
+        Command::Radial { command } => radial::run(&command),
         Command::Assets {
             command: AssetsCommand::Generate { out },
         } => assets_cmd::generate_all(&out),

@@ -201,7 +201,7 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
             world.step(&all);
         }
         if let Some(w) = &mut whiskers {
-            w.advance_to(&plan, t);
+            w.advance_to(&plan, t, recording.as_ref())?;
         }
         if let Some(c) = &mut contacts {
             c.advance_to(&plan, t, recording.as_ref())?;
@@ -244,6 +244,7 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
     }
 
     let whisker_samples = whiskers.as_ref().map_or(0, ArraySimulation::samples);
+    let frontend_contacts = whiskers.as_ref().map(ArraySimulation::frontend_contacts);
     let length: f64 = tip_path
         .windows(2)
         .map(|w| (w[1].translation.vector - w[0].translation.vector).norm())
@@ -279,6 +280,7 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
         "environment_pieces": environment.pieces.iter().map(|p| p.name.clone()).collect::<Vec<_>>(),
         "whisk_cycles_swept": contacts.as_ref().map_or(0, |c| c.counts().0),
         "contacts": contacts.as_ref().map_or(0, |c| c.counts().1),
+        "frontend_contacts": frontend_contacts.unwrap_or(0),
     });
 
     output::write_atomic(&dir.join("path.csv"), csv.as_bytes())?;
@@ -312,13 +314,16 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
         ""
     };
     let csv = match (scenario.sensing, contacts_file.is_some()) {
-        (Sensing::Physics, true) => ", whiskers.csv, anticipated.csv",
-        (Sensing::Physics, false) => ", whiskers.csv",
+        (Sensing::Physics, true) => ", whiskers.csv, frontend.csv, anticipated.csv",
+        (Sensing::Physics, false) => ", whiskers.csv, frontend.csv",
         (Sensing::Kinematic, _) => ", contacts.csv",
         (Sensing::None, _) => "",
     };
     if let (Some((cycles, n)), Sensing::Kinematic) = (contacts_file, scenario.sensing) {
         println!("sensed     {n} contacts in {cycles} whisk cycles");
+    }
+    if let Some(n) = frontend_contacts {
+        println!("front end  {n} contacts detected in the whisker streams");
     }
     println!(
         "wrote      {}/{{path.csv, summary.json{csv}{rrd}}}",

@@ -5,6 +5,7 @@
 use crate::error::{CliError, CliResult};
 use crate::output;
 use crate::plan::Plan;
+use crate::recording::Recording;
 use crate::scenario::Scenario;
 use rayon::prelude::*;
 use std::fmt::Write as _;
@@ -87,6 +88,8 @@ pub struct ArraySimulation {
     dt: f64,
     steps: u64,
     csv: String,
+    /// The signal front end (thesis Ch 4) on the simulated streams.
+    frontend: crate::frontend::FrontEnd,
 }
 
 impl ArraySimulation {
@@ -123,6 +126,7 @@ impl ArraySimulation {
         }
         csv.push('\n');
         let start = chain.fk(&plan.waypoints[0]);
+        let frontend = crate::frontend::FrontEnd::new(scenario, file, &configs)?;
         let array = PhysicsArray::new(
             configs,
             &environment.physics_pieces(),
@@ -136,22 +140,31 @@ impl ArraySimulation {
             dt,
             steps: 0,
             csv,
+            frontend,
         })
     }
 
-    /// Simulates up to time `t` (s), the arm following the plan's trajectory.
-    pub fn advance_to(&mut self, plan: &Plan, t: f64) {
+    /// Simulates up to time `t` (s), the arm following the plan's trajectory; the front
+    /// end processes every whisk cycle completed.
+    pub fn advance_to(&mut self, plan: &Plan, t: f64, recording: Option<&Recording>) -> CliResult {
         while (self.steps + 1) as f64 * self.dt <= t + 1e-9 {
             self.steps += 1;
             let time = self.steps as f64 * self.dt;
             let pose = self.chain.fk(&plan.trajectory.sample(time));
             let samples = self.array.step(&pose);
             let _ = write!(self.csv, "{time}");
-            for s in samples {
+            for s in &samples {
                 let _ = write!(self.csv, ",{},{},{}", s.angle_rad, s.x, s.y);
             }
             self.csv.push('\n');
+            self.frontend.push(time, &pose, &samples, recording)?;
         }
+        Ok(())
+    }
+
+    /// Contacts the front end has detected.
+    pub fn frontend_contacts(&self) -> u64 {
+        self.frontend.contacts()
     }
 
     /// Number of 2 kHz samples simulated.
@@ -159,8 +172,9 @@ impl ArraySimulation {
         self.steps
     }
 
-    /// Writes `whiskers.csv` into `dir`.
+    /// Writes `whiskers.csv` and `frontend.csv` into `dir`.
     pub fn finish(self, dir: &Path) -> CliResult {
-        output::write_atomic(&dir.join("whiskers.csv"), self.csv.as_bytes())
+        output::write_atomic(&dir.join("whiskers.csv"), self.csv.as_bytes())?;
+        self.frontend.finish(dir)
     }
 }

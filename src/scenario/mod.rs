@@ -43,11 +43,70 @@ pub struct Scenario {
     /// The whisker array (used with `sensing = "physics"`).
     #[serde(default)]
     pub array: array::ArrayConfig,
+    /// `[frontend]`: the signal front end of physics runs.
+    #[serde(default)]
+    pub frontend: FrontEndConfig,
     /// Where the arm goes.
     pub trajectory: TrajectoryConfig,
     /// What is written.
     #[serde(default)]
     pub output: OutputConfig,
+}
+
+/// `[frontend]`: the signal front end of `sensing = "physics"` (thesis Ch 4).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrontEndConfig {
+    /// Radial-distance model (a `whisker radial train` output), relative to the scenario
+    /// file; default: the built-in svr10.
+    pub radial_model: Option<PathBuf>,
+    /// `[frontend.detection]`: contact-detection parameters (thesis defaults).
+    #[serde(default)]
+    pub detection: whisker_slam::frontend::contact::FrontEndParams,
+}
+
+impl FrontEndConfig {
+    /// Checks the detection parameters; names the offending field.
+    pub fn validate(&self, file: &Path) -> CliResult {
+        let d = &self.detection;
+        let p = &d.peaks;
+        let checks: [(&str, bool); 7] = [
+            ("peaks.max_peaks", p.max_peaks >= 1),
+            ("smoothing_span", d.smoothing_span >= 1),
+            ("baseline_samples", d.baseline_samples >= 1),
+            (
+                "confirm_counts",
+                d.confirm_counts.is_finite() && d.confirm_counts >= 0.0,
+            ),
+            (
+                "contact_angle_rate",
+                d.contact_angle_rate.is_finite() && d.contact_angle_rate > 0.0,
+            ),
+            (
+                "peaks.min_width",
+                p.min_width.is_finite() && p.min_width >= 0.0,
+            ),
+            (
+                "peaks.min_prominence",
+                p.min_prominence.is_finite() && p.min_prominence >= 0.0,
+            ),
+        ];
+        for (name, ok) in checks {
+            if !ok {
+                return Err(CliError::field(
+                    file,
+                    &format!("frontend.detection.{name}"),
+                    "expected a finite number ≥ 0 (spans and counts ≥ 1, rates > 0)",
+                ));
+            }
+        }
+        if let Some(model) = &self.radial_model {
+            let path = file.parent().unwrap_or(Path::new("")).join(model);
+            crate::radial::load_model(&path)
+                .map_err(|e| CliError::field(file, "frontend.radial_model", e))?;
+        }
+        Ok(())
+    }
 }
 
 /// Sensing mode of a scenario.
@@ -215,6 +274,7 @@ impl Scenario {
                 );
             }
             self.array.whisker_configs(file)?;
+            self.frontend.validate(file)?;
         }
         if self.sensing == Sensing::Kinematic {
             self.kinematic.noise(file)?;

@@ -7,6 +7,7 @@ mod inputs;
 mod object_slam;
 mod physics;
 mod quickstart;
+mod radial;
 mod urdf;
 
 // Helpers shared by the test modules.
@@ -23,6 +24,16 @@ pub fn whisker(args: &[&str]) -> Output {
         .args(args)
         .output()
         .expect("whisker runs")
+}
+
+/// The rows of a CSV file (header skipped), as strings.
+pub fn rows(path: &Path) -> Vec<Vec<String>> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect()
 }
 
 pub fn stderr(o: &Output) -> String {

@@ -9,13 +9,12 @@
 //! `maze/deformities` sub-stream of the scenario seed), to make places distinguishable.
 //! Every part becomes a fixed collider with a primitive shape (cuboid, cylinder).
 
-use super::shapes::{cuboid, lathe, rotation, transformed};
+use super::shapes::cuboid;
 use super::{Environment, Piece};
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::shape::SharedShape;
 use rand::RngExt;
 use serde::Deserialize;
-use std::f64::consts::FRAC_PI_2;
 
 /// Floor slab thickness (m).
 pub const FLOOR_THICKNESS: f64 = 0.02;
@@ -210,22 +209,12 @@ impl MazeLayout {
                     Point3::new(r, r, h),
                     at,
                 )),
-                PostShape::Cylinder => {
-                    // parry's cylinder stands along its y axis: mesh it the same way and
-                    // turn the piece frame so that y points up.
-                    let along_z = lathe(
-                        &[(0.0, -h / 2.0), (r, -h / 2.0), (r, h / 2.0), (0.0, h / 2.0)],
-                        64,
-                    );
-                    pieces.push(Piece {
-                        name: format!("maze post {i}"),
-                        shape: SharedShape::cylinder(h / 2.0, r),
-                        mesh: transformed(&along_z, &rotation(Vector3::x(), -FRAC_PI_2)),
-                        pose: at
-                            * Isometry3::translation(0.0, 0.0, h / 2.0)
-                            * rotation(Vector3::x(), FRAC_PI_2),
-                    });
-                }
+                PostShape::Cylinder => pieces.push(Piece::cylinder(
+                    format!("maze post {i}"),
+                    r,
+                    h,
+                    at * Isometry3::translation(0.0, 0.0, h / 2.0),
+                )),
             }
         }
         if let Some(def) = &self.deformities {

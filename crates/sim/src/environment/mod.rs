@@ -40,6 +40,23 @@ pub struct Piece {
     pub pose: Isometry3<f64>,
 }
 
+impl Piece {
+    /// A solid cylinder of `radius` and `length` whose axis is the z axis of `pose`
+    /// (centred on its origin): exact in the physics (parry's cylinder, which stands along
+    /// its own y axis, turned to z), a 64-sided prism for the kinematic sweep.
+    pub fn cylinder(name: String, radius: f64, length: f64, pose: Isometry3<f64>) -> Self {
+        let h = length / 2.0;
+        let along_z = shapes::lathe(&[(0.0, -h), (radius, -h), (radius, h), (0.0, h)], 64);
+        let y_to_z = shapes::rotation(nalgebra::Vector3::x(), std::f64::consts::FRAC_PI_2);
+        Self {
+            name,
+            shape: SharedShape::cylinder(h, radius),
+            mesh: shapes::transformed(&along_z, &y_to_z.inverse()),
+            pose: pose * y_to_z,
+        }
+    }
+}
+
 impl std::fmt::Debug for Piece {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Piece")

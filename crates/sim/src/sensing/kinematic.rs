@@ -76,6 +76,21 @@ impl RigidWhisker {
     pub fn angle(&self, k: usize) -> f64 {
         self.retracted + k as f64 * self.step
     }
+
+    /// The point of the straight shaft at `radial_distance` from its base (world), at
+    /// whisk angle `theta` with the array at `array_pose`: contact localisation in the
+    /// simulator's frames (thesis Eq 5.1–5.2; the whisker frame turns about its x axis
+    /// and the shaft lies along its z axis, starting `base_offset` out from the pivot).
+    pub fn shaft_point(
+        &self,
+        array_pose: &Isometry3<f64>,
+        theta: f64,
+        radial_distance: f64,
+    ) -> Point3<f64> {
+        array_pose
+            * self.module.whisker_pose(theta)
+            * Point3::new(0.0, 0.0, self.base_offset + radial_distance)
+    }
 }
 
 /// An anticipated contact: where the rigid whisker first meets the environment.

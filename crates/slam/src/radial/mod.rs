@@ -4,6 +4,8 @@
 //! Table 4.1, with PCA, cross-validation and standardisation.
 
 pub mod cross_validation;
+pub mod dataset;
+pub mod kolmogorov_smirnov;
 pub mod mlp;
 pub mod pca;
 pub mod polynomial;

@@ -1,0 +1,224 @@
+//! `whisker radial eval`: the validation of thesis §4.2.1 (Figs 4.8–4.9). For every
+//! trained model found in `--models` (Table 4.1 labels), the tip assumption and a uniform
+//! random guess, over the validation contacts whose ground truth lies at ≤ 0.7 L (the
+//! thesis' restriction against the bias towards tip contacts):
+//! - the normalised radial-distance error δr = (d_m − d_gt)/L (Eq 4.1), median and
+//!   standard deviation;
+//! - the distance from the contact point localised with the estimate (Eq 5.1–5.2) to the
+//!   nearest face of the object, median and standard deviation (mm);
+//! - two-sample Kolmogorov–Smirnov p-values of each distribution against the tip's and the
+//!   random guess's.
+
+use super::{Label, feature_names, load_model, read_set};
+use crate::error::{CliError, CliResult};
+use parry3d_f64::math::Vector as PVector;
+use parry3d_f64::shape::SharedShape;
+use serde_json::json;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use whisker_sim::environment::assets::{CATALOGUE, generate};
+use whisker_slam::radial::RadialEstimator;
+use whisker_slam::radial::dataset::RadialSample;
+use whisker_slam::radial::kolmogorov_smirnov::two_sample;
+
+/// Options of `whisker radial eval`.
+#[derive(clap::Args, Debug)]
+pub struct EvalOptions {
+    /// The validation set (CSV of `whisker radial generate --set validation`).
+    #[arg(long)]
+    pub data: PathBuf,
+    /// Directory of trained models (`<label>.json`, from `whisker radial train`).
+    #[arg(long)]
+    pub models: PathBuf,
+    /// Seed of the random guess.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Ground-truth limit as a fraction of the whisker length.
+    #[arg(long, default_value_t = 0.7)]
+    pub max_fraction: f64,
+    /// Print one JSON object.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// One estimator's distributions.
+struct Scored {
+    name: String,
+    features: String,
+    errors: Vec<f64>,
+    distances_mm: Vec<f64>,
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    match s.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => s[n / 2],
+        n => 0.5 * (s[n / 2 - 1] + s[n / 2]),
+    }
+}
+
+fn std(v: &[f64]) -> f64 {
+    let n = v.len() as f64;
+    let m = v.iter().sum::<f64>() / n;
+    (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt()
+}
+
+fn score(
+    name: &str,
+    model: &RadialEstimator,
+    set: &[RadialSample],
+    objects: &BTreeMap<String, SharedShape>,
+    seed: u64,
+) -> Scored {
+    let mut rng = whisker_slam::rng::substream(seed, &format!("radial/eval/{name}"));
+    let mut errors = Vec::with_capacity(set.len());
+    let mut distances_mm = Vec::new();
+    for s in set {
+        let r = model.estimate(&s.features, &mut rng);
+        errors.push((r - s.truth_radial_m) / s.features.wl);
+        if let Some(shape) = objects.get(&s.object) {
+            let p = s.point_at(r);
+            let v = PVector::new(p.x, p.y, p.z);
+            let d = (shape.project_local_point(v, false).point - v).length();
+            distances_mm.push(1000.0 * d);
+        }
+    }
+    let features = match model {
+        RadialEstimator::Tip | RadialEstimator::Random => "-".into(),
+        RadialEstimator::Polynomial { features, .. }
+        | RadialEstimator::Mlp { features, .. }
+        | RadialEstimator::Svr { features, .. } => feature_names(features),
+    };
+    Scored {
+        name: name.into(),
+        features,
+        errors,
+        distances_mm,
+    }
+}
+
+/// Runs `whisker radial eval`.
+pub fn run(o: &EvalOptions) -> CliResult {
+    if !(o.max_fraction > 0.0 && o.max_fraction <= 1.0) {
+        return Err(CliError::Input(format!(
+            "--max-fraction: expected 0 < f ≤ 1, got {}",
+            o.max_fraction
+        )));
+    }
+    let all = read_set(&o.data)?;
+    let set: Vec<RadialSample> = all
+        .iter()
+        .filter(|s| s.truth_radial_m <= o.max_fraction * s.features.wl)
+        .cloned()
+        .collect();
+    if set.is_empty() {
+        return Err(CliError::Input(format!(
+            "{}: no contact with ground truth ≤ {} L",
+            o.data.display(),
+            o.max_fraction
+        )));
+    }
+    let mut objects = BTreeMap::new();
+    for s in &set {
+        if let Some(asset) = CATALOGUE.iter().find(|a| a.name == s.object)
+            && !objects.contains_key(&s.object)
+        {
+            let shape = generate(asset)
+                .shape()
+                .map_err(|e| CliError::Failure(format!("{}: {e}", asset.name)))?;
+            objects.insert(s.object.clone(), shape);
+        }
+    }
+    let mut scored = vec![
+        score("tip", &RadialEstimator::Tip, &set, &objects, o.seed),
+        score("random", &RadialEstimator::Random, &set, &objects, o.seed),
+    ];
+    for label in Label::all() {
+        let path = o.models.join(format!("{}.json", label.name));
+        if path.exists() {
+            scored.push(score(
+                &label.name,
+                &load_model(&path)?,
+                &set,
+                &objects,
+                o.seed,
+            ));
+        }
+    }
+    if scored.len() == 2 {
+        return Err(CliError::Input(format!(
+            "{}: no model files (nn1.json … svr12.json; see `whisker radial train`)",
+            o.models.display()
+        )));
+    }
+    let p = |a: &[f64], b: &[f64]| two_sample(a, b).map_or(f64::NAN, |t| t.p);
+    let rows: Vec<serde_json::Value> = scored
+        .iter()
+        .map(|s| {
+            json!({
+                "model": s.name,
+                "features": s.features,
+                "contacts": s.errors.len(),
+                "radial_error_median": median(&s.errors),
+                "radial_error_std": std(&s.errors),
+                "face_distance_median_mm": median(&s.distances_mm),
+                "face_distance_std_mm": std(&s.distances_mm),
+                "radial_error_p_vs_tip": p(&s.errors, &scored[0].errors),
+                "radial_error_p_vs_random": p(&s.errors, &scored[1].errors),
+                "face_distance_p_vs_tip": p(&s.distances_mm, &scored[0].distances_mm),
+                "face_distance_p_vs_random": p(&s.distances_mm, &scored[1].distances_mm),
+            })
+        })
+        .collect();
+    if o.json {
+        println!(
+            "{}",
+            json!({"data": o.data, "contacts_total": all.len(), "contacts_used": set.len(),
+                   "max_fraction": o.max_fraction, "models": rows})
+        );
+        return Ok(());
+    }
+    println!(
+        "{}: {} of {} contacts with ground truth ≤ {} L",
+        o.data.display(),
+        set.len(),
+        all.len(),
+        o.max_fraction
+    );
+    println!(
+        "{:<7} {:<20} | {:>8} {:>7} {:>9} {:>9} | {:>8} {:>7} {:>9} {:>9}",
+        "model",
+        "features",
+        "δr med",
+        "δr std",
+        "p(tip)",
+        "p(random)",
+        "d med",
+        "d std",
+        "p(tip)",
+        "p(random)"
+    );
+    println!(
+        "{:<28} | {:^36} | {:^36}",
+        "", "radial error (Eq 4.1)", "distance to face (mm)"
+    );
+    for r in &rows {
+        let f = |k: &str| r[k].as_f64().unwrap_or(f64::NAN);
+        println!(
+            "{:<7} {:<20} | {:>+8.3} {:>7.3} {:>9.2e} {:>9.2e} | {:>8.2} {:>7.2} {:>9.2e} {:>9.2e}",
+            r["model"].as_str().unwrap_or(""),
+            r["features"].as_str().unwrap_or(""),
+            f("radial_error_median"),
+            f("radial_error_std"),
+            f("radial_error_p_vs_tip"),
+            f("radial_error_p_vs_random"),
+            f("face_distance_median_mm"),
+            f("face_distance_std_mm"),
+            f("face_distance_p_vs_tip"),
+            f("face_distance_p_vs_random"),
+        );
+    }
+    Ok(())
+}

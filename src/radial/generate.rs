@@ -1,0 +1,379 @@
+//! `whisker radial generate`: the physics data sets of thesis §4.1.2.
+//!
+//! - Training (§4.1.2.1, Fig 4.1a): one whisker module whisks into a rod (6 mm across,
+//!   its axis along the whisk axis) placed so that the rigid shaft first touches it at
+//!   radial distance r; r takes 20 equally spaced values from 25 mm from the shaft's base
+//!   to the tip, for whisker lengths 65, 78, 87, 88, 94, 107, 113 and 137 mm; at each, the
+//!   whisker whisks once at each of `--frequencies` frequencies drawn log-uniformly from
+//!   0.2–2.5 Hz, with the rod at a contact angle drawn uniformly from 60°–110°.
+//! - Validation (§4.1.2.2, Fig 4.1b): the full array, its whiskers cut to 50, 64, 80, 95,
+//!   101, 127, 128, 150 and 154 mm (two of each, shortest on the rostral ring), held
+//!   still at `--waypoints` poses around the Box (of 512 poses 2–8 cm off its surface,
+//!   those where the most whiskers touch at ≤ 0.7 L), whisking `--whisks` times at 1 Hz.
+//!
+//! Whisking uses RCP at the sensor's saturation (§4.1.1). Ground truth is the kinematic
+//! sweep (the anticipated intersect, §4.1.2.3); every contact the front end detects on a
+//! whisker the sweep says touches becomes a row of the data set
+//! (`whisker_slam::radial::dataset`). Each (whisker, rod or waypoint) is a simulation
+//! of its own with sensor noise from the sub-stream `radial/<case>` of the seed, so the
+//! file does not depend on the number of threads.
+
+use crate::error::{CliError, CliResult};
+use crate::output::write_atomic;
+use nalgebra::{Isometry3, Point3, Vector3};
+use rand::RngExt;
+use rayon::prelude::*;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+use whisker_sim::environment::assets::{CATALOGUE, generate};
+use whisker_sim::environment::{Environment, Piece, viewpoints};
+use whisker_sim::sensing::kinematic::{Intersect, RigidWhisker, SweepTarget};
+use whisker_sim::sensing::physics::{DEFAULT_SUBSTEPS, DT, PhysicsArray, WhiskerConfig};
+use whisker_sim::whisker::array::{self, Module};
+use whisker_sim::whisker::beam::BeamDesign;
+use whisker_sim::whisker::control::WhiskingPattern;
+use whisker_slam::frontend::contact::{FrontEndParams, detect};
+use whisker_slam::radial::dataset::{RadialSample, to_csv};
+use whisker_slam::rng::{substream, substream_key};
+
+/// Whisker lengths of the training set (mm, §4.1.2.1).
+pub const TRAINING_LENGTHS_MM: [f64; 8] = [65.0, 78.0, 87.0, 88.0, 94.0, 107.0, 113.0, 137.0];
+/// Whisker lengths of the validation set (mm, §4.1.2.2).
+pub const VALIDATION_LENGTHS_MM: [f64; 9] =
+    [50.0, 64.0, 80.0, 95.0, 101.0, 127.0, 128.0, 150.0, 154.0];
+/// Rod radius (m).
+const ROD_RADIUS: f64 = 3.0e-3;
+/// Radial distances per whisker length, and the first one (m).
+const DISTANCES: usize = 20;
+const FIRST_DISTANCE: f64 = 0.025;
+
+/// Which data set.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
+pub enum Set {
+    /// Single whiskers against a rod (§4.1.2.1).
+    Training,
+    /// The array around the Box (§4.1.2.2).
+    Validation,
+}
+
+/// Options of `whisker radial generate`.
+#[derive(clap::Args, Debug)]
+pub struct GenerateOptions {
+    /// Which set.
+    #[arg(long, value_enum)]
+    pub set: Set,
+    /// Output CSV file.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Seed of every random draw (frequencies, rod angles, waypoints, sensor noise).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Training: whisks (each at its own frequency) per whisker length and distance.
+    #[arg(long, default_value_t = 3)]
+    pub frequencies: usize,
+    /// Training: only these whisker lengths (mm, comma-separated) [default: all eight].
+    #[arg(long, value_delimiter = ',')]
+    pub lengths: Vec<f64>,
+    /// Validation: array poses held still around the Box.
+    #[arg(long, default_value_t = 24)]
+    pub waypoints: usize,
+    /// Validation: whisks (1 Hz) per pose.
+    #[arg(long, default_value_t = 2)]
+    pub whisks: usize,
+    /// Rapier substeps per 0.5 ms step.
+    #[arg(long, default_value_t = DEFAULT_SUBSTEPS)]
+    pub substeps: usize,
+}
+
+/// A candidate pose: whiskers touching at ≤ 0.7 L, the pose, (whisker, intersect) of all touching.
+type Scored = (usize, Isometry3<f64>, Vec<(usize, Intersect)>);
+
+/// One simulation: a whisker, what it touches, where the array is, the ground truth.
+struct Job {
+    case: String,
+    object: String,
+    config: WhiskerConfig,
+    environment: Vec<Piece>,
+    array_pose: Isometry3<f64>,
+    rigid: RigidWhisker,
+    truth: Intersect,
+    whisks: usize,
+}
+
+/// What a job's whisks gave: detected contacts, and whisks with none.
+struct Outcome {
+    samples: Vec<RadialSample>,
+    missed: usize,
+}
+
+fn whisker_config(module: Module, frequency: f64, substeps: usize) -> WhiskerConfig {
+    let mut c = WhiskerConfig::with_defaults(module);
+    c.pattern = WhiskingPattern {
+        frequency,
+        ..WhiskingPattern::default()
+    };
+    c.rcp_threshold = Some(c.sensor.saturation_counts);
+    c.substeps = substeps;
+    c
+}
+
+fn pivot_depth(c: &WhiskerConfig) -> f64 {
+    c.follicle.map_or(0.0, |f| f.pivot_depth)
+}
+
+/// A rod along the whisk axis that the rigid shaft of `whisker` (array at the origin)
+/// first touches at `theta`, `r` from the shaft's base: its axis lies one rod radius
+/// ahead of the shaft (in the sweep direction) at that point.
+fn rod(whisker: &RigidWhisker, r: f64, theta: f64) -> Piece {
+    let frame = whisker.module.whisker_pose(theta);
+    let centre = frame * Point3::new(0.0, ROD_RADIUS, whisker.base_offset + r);
+    let pose = Isometry3::face_towards(
+        &centre,
+        &(centre + frame.rotation * Vector3::x()),
+        &(frame.rotation * Vector3::y()),
+    );
+    Piece::cylinder("rod".into(), ROD_RADIUS, 0.06, pose)
+}
+
+fn training_jobs(o: &GenerateOptions) -> CliResult<Vec<Job>> {
+    let lengths: Vec<f64> = if o.lengths.is_empty() {
+        TRAINING_LENGTHS_MM.to_vec()
+    } else {
+        o.lengths.clone()
+    };
+    if let Some(bad) = lengths.iter().find(|&&l| !(l > 30.0 && l <= 400.0)) {
+        return Err(CliError::Input(format!(
+            "--lengths: expected whisker lengths in mm, 30 < L ≤ 400, got {bad}"
+        )));
+    }
+    if o.frequencies == 0 {
+        return Err(CliError::Input("--frequencies: expected at least 1".into()));
+    }
+    let module = array::modules().remove(0);
+    let mut jobs = Vec::new();
+    for &mm in &lengths {
+        let length = mm / 1000.0;
+        let module = Module {
+            beam: BeamDesign::with_length(length),
+            ..module.clone()
+        };
+        for k in 0..DISTANCES {
+            let r = FIRST_DISTANCE + k as f64 * (length - FIRST_DISTANCE) / (DISTANCES - 1) as f64;
+            for j in 0..o.frequencies {
+                let case = format!("L{mm:03}/r{k:02}/f{j}");
+                let mut rng = substream(o.seed, &format!("radial/{case}/setup"));
+                let frequency = (0.2f64.ln() + rng.random::<f64>() * (2.5f64 / 0.2).ln()).exp();
+                let theta = rng.random_range(60.0..110.0f64).to_radians();
+                let config = whisker_config(module.clone(), frequency, o.substeps);
+                let rigid = RigidWhisker::new(module.clone(), pivot_depth(&config));
+                let piece = rod(&rigid, r, theta);
+                let target = SweepTarget::new(piece_mesh(&piece));
+                // The 64-gon rod may be first met a step later or, at the tip, missed.
+                let Some(truth) = target.sweep(&rigid, &Isometry3::identity()) else {
+                    continue;
+                };
+                jobs.push(Job {
+                    case,
+                    object: "rod".into(),
+                    config,
+                    environment: vec![piece],
+                    array_pose: Isometry3::identity(),
+                    rigid,
+                    truth,
+                    whisks: 1,
+                });
+            }
+        }
+    }
+    Ok(jobs)
+}
+
+fn piece_mesh(piece: &Piece) -> whisker_sim::environment::Mesh {
+    Environment {
+        pieces: vec![piece.clone()],
+    }
+    .world_mesh()
+}
+
+fn validation_jobs(o: &GenerateOptions) -> CliResult<Vec<Job>> {
+    if o.waypoints == 0 || o.whisks == 0 {
+        return Err(CliError::Input(
+            "--waypoints and --whisks: expected at least 1".into(),
+        ));
+    }
+    let asset = CATALOGUE
+        .iter()
+        .find(|a| a.name == "box")
+        .expect("the catalogue has a box");
+    let mesh = generate(asset);
+    let shape = mesh
+        .shape()
+        .map_err(|e| CliError::Failure(format!("box: {e}")))?;
+    let piece = Piece {
+        name: "box".into(),
+        shape: shape.clone(),
+        mesh: mesh.clone(),
+        pose: Isometry3::identity(),
+    };
+    let configs: Vec<WhiskerConfig> = array::modules()
+        .into_iter()
+        .map(|m| {
+            // Two whiskers of each length, shortest on the rostral ring.
+            let mm = VALIDATION_LENGTHS_MM[(m.ring * array::PER_RING + m.column) / 2];
+            let m = Module {
+                beam: BeamDesign::with_length(mm / 1000.0),
+                ..m
+            };
+            whisker_config(m, 1.0, o.substeps)
+        })
+        .collect();
+    let rigid: Vec<RigidWhisker> = configs
+        .iter()
+        .map(|c| RigidWhisker::new(c.module.clone(), pivot_depth(c)))
+        .collect();
+    let target = SweepTarget::new(mesh);
+    let stream = format!("radial/validation/{}/waypoints", o.seed);
+    let candidates = viewpoints::facing(&shape, asset.size, 512, &stream);
+    // Score each pose by its whiskers touching at ≤ 0.7 L; skip poses where a whisker
+    // would start inside the Box (touching within 3° of retraction).
+    let mut scored: Vec<Scored> = candidates
+        .into_iter()
+        .filter_map(|pose| {
+            let hits: Vec<(usize, Intersect)> = rigid
+                .iter()
+                .enumerate()
+                .filter_map(|(i, w)| target.sweep(w, &pose).map(|h| (i, h)))
+                .collect();
+            hits.iter().all(|(_, h)| h.step >= 3).then(|| {
+                let near = hits
+                    .iter()
+                    .filter(|(i, h)| h.radial_distance <= 0.7 * rigid[*i].module.beam.length)
+                    .count();
+                (near, pose, hits)
+            })
+        })
+        .collect();
+    // Stable sort: equal scores keep the draw order.
+    scored.sort_by_key(|s| std::cmp::Reverse(s.0));
+    let mut jobs = Vec::new();
+    for (w, (_, pose, hits)) in scored.into_iter().take(o.waypoints).enumerate() {
+        for (i, truth) in hits {
+            jobs.push(Job {
+                case: format!("wp{w:02}/{}", rigid[i].module.pixel()),
+                object: "box".into(),
+                config: configs[i].clone(),
+                environment: vec![piece.clone()],
+                array_pose: pose,
+                rigid: rigid[i].clone(),
+                truth,
+                whisks: o.whisks,
+            });
+        }
+    }
+    Ok(jobs)
+}
+
+fn run_job(job: &Job, seed: u64, params: &FrontEndParams) -> Outcome {
+    let pieces = Environment {
+        pieces: job.environment.clone(),
+    }
+    .physics_pieces();
+    let noise_seed = substream_key(seed, &format!("radial/{}", job.case));
+    let mut array = PhysicsArray::new(
+        vec![job.config.clone()],
+        &pieces,
+        &job.array_pose,
+        noise_seed,
+        DT,
+    );
+    let length = job.config.module.beam.length;
+    let mut outcome = Outcome {
+        samples: Vec::new(),
+        missed: 0,
+    };
+    for w in 0..job.whisks {
+        let cycle = array.whisk(w as u64, |_| job.array_pose);
+        let Some(event) = detect(&cycle.samples[0], cycle.rate_hz, length, params) else {
+            outcome.missed += 1;
+            continue;
+        };
+        let base = job
+            .rigid
+            .shaft_point(&job.array_pose, event.onset_angle, 0.0);
+        let direction = (job
+            .rigid
+            .shaft_point(&job.array_pose, event.onset_angle, 1.0)
+            - base)
+            .normalize();
+        outcome.samples.push(RadialSample {
+            case: if job.whisks > 1 {
+                format!("{}/w{w}", job.case)
+            } else {
+                job.case.clone()
+            },
+            object: job.object.clone(),
+            whisker: job.config.module.pixel(),
+            frequency_hz: job.config.pattern.frequency,
+            truth_radial_m: job.truth.radial_distance,
+            truth_angle_rad: job.truth.angle,
+            onset_angle_rad: event.onset_angle,
+            features: event.features,
+            base,
+            direction,
+        });
+    }
+    outcome
+}
+
+/// Runs `whisker radial generate`.
+pub fn run(o: &GenerateOptions) -> CliResult {
+    let jobs = match o.set {
+        Set::Training => training_jobs(o)?,
+        Set::Validation => validation_jobs(o)?,
+    };
+    let simulated: f64 = jobs
+        .iter()
+        .map(|j| j.whisks as f64 / j.config.pattern.frequency)
+        .sum();
+    eprintln!(
+        "{:?} set: {} simulations, {simulated:.0} whisker-seconds of physics",
+        o.set,
+        jobs.len()
+    );
+    let params = FrontEndParams::default();
+    let done = AtomicUsize::new(0);
+    let start = Instant::now();
+    let outcomes: Vec<Outcome> = jobs
+        .par_iter()
+        .map(|j| {
+            let out = run_job(j, o.seed, &params);
+            let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+            if n.is_multiple_of((jobs.len() / 20).max(1)) || n == jobs.len() {
+                eprintln!(
+                    "  {n}/{} simulations ({:.0} s)",
+                    jobs.len(),
+                    start.elapsed().as_secs_f64()
+                );
+            }
+            out
+        })
+        .collect();
+    let missed: usize = outcomes.iter().map(|o| o.missed).sum();
+    let samples: Vec<RadialSample> = outcomes.into_iter().flat_map(|o| o.samples).collect();
+    let whisks: usize = jobs.iter().map(|j| j.whisks).sum();
+    let near = samples
+        .iter()
+        .filter(|s| s.truth_radial_m <= 0.7 * s.features.wl)
+        .count();
+    write_atomic(&o.out, to_csv(&samples).as_bytes())?;
+    println!(
+        "{}: {} contacts ({near} at ≤ 0.7 L) from {whisks} whisks that the sweep says touch; \
+         {missed} whisks with no contact detected ({:.1} %); {:.0} s",
+        o.out.display(),
+        samples.len(),
+        100.0 * missed as f64 / whisks.max(1) as f64,
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}

@@ -1,0 +1,185 @@
+//! `whisker radial train`: the twelve regressors of thesis Table 4.1 (nn1–4, poly5–8,
+//! svr9–12: CP-CA-DV-DA with and without AV and WL) trained on a training set
+//! (`whisker radial generate --set training`), each saved as `<label>.json`, a serialised
+//! [`RadialEstimator`] — the file scenarios load (`[frontend] radial_model`), format in
+//! `scenarios/README.md`. It also prints the whitened PCA loadings of all seven features
+//! (Fig 4.6).
+//!
+//! Hyper-parameters are chosen by 10-fold cross-validation (§4.1.3): polynomial order
+//! 2–6 (one-standard-error rule); MLP hidden layers — one or two, of ⌈N_h/2⌉ or N_h units
+//! with N_h = (N_in + √N_p)/L (Gnana Sheela & Deepa's bound the thesis used); SVR C, ε and
+//! γ over [`Svr::default_grid`].
+
+use super::{Label, read_set};
+use crate::error::{CliError, CliResult};
+use crate::output::{create_dir, write_atomic};
+use rayon::prelude::*;
+use std::path::PathBuf;
+use std::time::Instant;
+use whisker_slam::frontend::features::Feature;
+use whisker_slam::radial::RadialEstimator;
+use whisker_slam::radial::cross_validation::r2;
+use whisker_slam::radial::mlp::{Mlp, MlpTraining};
+use whisker_slam::radial::pca::Pca;
+use whisker_slam::radial::polynomial::Polynomial;
+use whisker_slam::radial::svr::Svr;
+
+/// Options of `whisker radial train`.
+#[derive(clap::Args, Debug)]
+pub struct TrainOptions {
+    /// The training set (CSV of `whisker radial generate`).
+    #[arg(long)]
+    pub data: PathBuf,
+    /// Directory the models are written to.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Models to train (labels of Table 4.1, comma-separated) [default: all twelve].
+    #[arg(long, value_delimiter = ',')]
+    pub models: Vec<String>,
+    /// Seed of the cross-validation folds and the MLP weights.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+}
+
+/// Folds of the cross-validation (§4.1.3).
+const FOLDS: usize = 10;
+
+fn train(
+    label: &Label,
+    x: &[Vec<f64>],
+    y: &[f64],
+    seed: u64,
+) -> CliResult<(RadialEstimator, String)> {
+    let features = label.features.clone();
+    Ok(match label.family {
+        "poly" => {
+            let (model, _) = Polynomial::fit_cv(x, y, 2..=6, FOLDS, seed);
+            let note = format!("order {}", model.degree);
+            (RadialEstimator::Polynomial { features, model }, note)
+        }
+        "nn" => {
+            let n_in = features.len() as f64;
+            let bound = |layers: f64| ((n_in + (x.len() as f64).sqrt()) / layers).round() as usize;
+            let (one, two) = (bound(1.0).max(2), bound(2.0).max(2));
+            let candidates = vec![
+                vec![one.div_ceil(2)],
+                vec![one],
+                vec![two.div_ceil(2); 2],
+                vec![two; 2],
+            ];
+            let training = MlpTraining {
+                seed,
+                ..MlpTraining::default()
+            };
+            let (model, _) = Mlp::fit_search(x, y, &candidates, FOLDS, &training);
+            let note = format!("hidden {:?}", model.hidden);
+            (RadialEstimator::Mlp { features, model }, note)
+        }
+        _ => {
+            let grid = Svr::default_grid(features.len());
+            let (model, _) = Svr::fit_search(x, y, &grid, FOLDS, seed).map_err(|e| {
+                CliError::Failure(format!("{}: SVR training failed: {e}", label.name))
+            })?;
+            let p = model.params;
+            let note = format!(
+                "C {} ε {} γ {:.3}, {} support vectors",
+                p.c,
+                p.eps,
+                p.gamma,
+                model.support.len()
+            );
+            (RadialEstimator::Svr { features, model }, note)
+        }
+    })
+}
+
+/// Runs `whisker radial train`.
+pub fn run(o: &TrainOptions) -> CliResult {
+    let set = read_set(&o.data)?;
+    if set.len() < 2 * FOLDS {
+        return Err(CliError::Input(format!(
+            "{}: {} contacts; training needs at least {}",
+            o.data.display(),
+            set.len(),
+            2 * FOLDS
+        )));
+    }
+    let labels = Label::parse_list(&o.models)?;
+    create_dir(&o.out)?;
+    let all = [
+        Feature::Cp,
+        Feature::Ca,
+        Feature::Dv,
+        Feature::Da,
+        Feature::Av,
+        Feature::Aa,
+        Feature::Wl,
+    ];
+    let pca = Pca::fit(
+        &set.iter()
+            .map(|s| s.features.select(&all))
+            .collect::<Vec<_>>(),
+    );
+    println!("PCA of the whitened features (Fig 4.6), loadings on CP CA DV DA AV AA WL:");
+    let total: f64 = pca.variances.iter().sum();
+    for (k, (c, v)) in pca
+        .components
+        .iter()
+        .zip(&pca.variances)
+        .take(3)
+        .enumerate()
+    {
+        let loadings: Vec<String> = c.iter().map(|v| format!("{v:+.2}")).collect();
+        println!(
+            "  PC{} ({:4.1} % of variance): {}",
+            k + 1,
+            100.0 * v / total,
+            loadings.join(" ")
+        );
+    }
+    let y: Vec<f64> = set.iter().map(|s| s.truth_radial_m).collect();
+    let start = Instant::now();
+    let trained: Vec<CliResult<(String, RadialEstimator, String)>> = labels
+        .par_iter()
+        .map(|label| {
+            let x: Vec<Vec<f64>> = set
+                .iter()
+                .map(|s| s.features.select(&label.features))
+                .collect();
+            let (model, note) = train(label, &x, &y, o.seed)?;
+            Ok((label.name.clone(), model, note))
+        })
+        .collect();
+    println!(
+        "{:<7} {:<20} {:>9} {:>11}  chosen",
+        "model", "features", "R² train", "RMSE (mm)"
+    );
+    let mut rng = whisker_slam::rng::substream(o.seed, "radial/train/report");
+    for t in trained {
+        let (name, model, note) = t?;
+        let p: Vec<f64> = set
+            .iter()
+            .map(|s| model.estimate(&s.features, &mut rng))
+            .collect();
+        let rmse =
+            (p.iter().zip(&y).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / y.len() as f64).sqrt();
+        let label = Label::parse(&name)?;
+        println!(
+            "{name:<7} {:<20} {:>9.4} {:>11.2}  {note}",
+            label.feature_names(),
+            r2(&p, &y),
+            1000.0 * rmse
+        );
+        let json = serde_json::to_string_pretty(&model)
+            .map_err(|e| CliError::Failure(format!("{name}: {e}")))?;
+        write_atomic(&o.out.join(format!("{name}.json")), json.as_bytes())?;
+    }
+    println!(
+        "{} models from {} contacts written to {} ({:.0} s)",
+        labels.len(),
+        set.len(),
+        o.out.display(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
