@@ -1,5 +1,6 @@
 //! `whisker object-slam`: the WhiskerRatSLAM experiments of thesis §5.2 with kinematic
-//! sensing — localisation on each catalogue object (Table 5.1's twelve parameter sets,
+//! sensing (or, `--sensing physics`, physics whiskers through the signal front end:
+//! [`physics`]) — localisation on each catalogue object (Table 5.1's twelve parameter sets,
 //! Fig 5.15) and object identification by appended object maps (Figs 5.16–5.17).
 //!
 //! For each object, the array whisks once per pose along trajectory A (two laps: the
@@ -11,8 +12,9 @@
 //! (`object-slam/<object>/<A|B>/odometry`). Features: the PFH of the contact points in
 //! the array frame, and the SDA of the slopes (clipped to ±10: Eq 6.14 is unbounded when
 //! the contacted normal lies in the sweep plane). Contact points by the tip assumption
-//! (each whisker's tip at its contact angle) or "svr": the noisy anticipated point, whose
-//! 25 %-of-length noise is §6.1.3.1.2's model of the SVR estimate.
+//! (each whisker's tip at its contact angle) or "svr": kinematically, the noisy anticipated
+//! point, whose 25 %-of-length noise is §6.1.3.1.2's model of the SVR estimate; in physics,
+//! the radial-distance model's estimate (default svr10) at the detected onset angle.
 //!
 //! A localisation estimate is the map pose of the experience a whisk re-localises onto;
 //! its error is the distance (m) and the minimum rotation angle to the true pose, both
@@ -21,10 +23,12 @@
 //! each object, Skull included, is explored for one lap of A and of B while a leaky
 //! integrator per mapped object (decay 0.9 per whisk) is fed by re-localisations.
 
+mod physics;
 mod trajectory;
 
 use crate::error::{CliError, CliResult};
 use nalgebra::{Isometry3, Point3, Vector3};
+use physics::PhysicsSensing;
 use rand_distr::{Distribution, Normal};
 use rayon::prelude::*;
 use serde_json::json;
@@ -39,6 +43,7 @@ use whisker_slam::contact::ContactCycle;
 use whisker_slam::features::pfh::{PfhParams, histogram};
 use whisker_slam::features::sda::Sda;
 use whisker_slam::features::similarity::{FeatureSet, Features};
+use whisker_slam::radial::RadialEstimator;
 use whisker_slam::recognition::Identification;
 use whisker_slam::rng::substream;
 use whisker_slam::sensor::{Odometry, WHISKERS};
@@ -67,6 +72,24 @@ pub struct Options {
     /// Print one JSON object instead of tables.
     #[arg(long)]
     pub json: bool,
+    /// How contacts are sensed: the kinematic sweep with the noise of §6.1.3.1.2, or
+    /// physics whiskers through the signal front end and a radial-distance model (slow:
+    /// about 10 CPU-minutes per object).
+    #[arg(long, value_enum, default_value_t = SensingArg::Kinematic)]
+    pub sensing: SensingArg,
+    /// With `--sensing physics`: the radial-distance model file (`whisker radial train`)
+    /// [default: the built-in svr10].
+    #[arg(long)]
+    pub radial_model: Option<PathBuf>,
+}
+
+/// `--sensing`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SensingArg {
+    /// Anticipated intersect with noise.
+    Kinematic,
+    /// Rapier whiskers, the front end and a radial-distance model.
+    Physics,
 }
 
 /// How contact points are placed (Table 5.1 "contact algorithm").
@@ -143,7 +166,8 @@ struct Walk {
     odometry: Vec<Odometry>,
 }
 
-/// Senses `laps` laps of a trajectory around an object.
+/// Senses `laps` laps of a trajectory around an object, kinematically or (given
+/// `physics`) by physics whiskers.
 fn walk(
     asset: &Asset,
     which: Trajectory,
@@ -151,26 +175,32 @@ fn walk(
     target: &SweepTarget,
     shape: &parry3d_f64::shape::SharedShape,
     seed: u64,
+    physics: Option<&PhysicsSensing>,
 ) -> Walk {
     let lap = trajectory::lap(which, asset.name, shape, asset.size);
     let truth: Vec<Isometry3<f64>> = (0..laps).flat_map(|_| lap.iter().copied()).collect();
     let stream = format!("object-slam/{}/{}", asset.name, which.name());
-    let whiskers: Vec<RigidWhisker> = array::modules()
-        .into_iter()
-        .map(|m| RigidWhisker::new(m, 3.0e-3))
-        .collect();
-    let patterns = vec![WhiskingPattern::default(); whiskers.len()];
-    let mut sensing = KinematicArray::new(
-        whiskers,
-        patterns,
-        ContactNoise::default(),
-        whisker_slam::rng::substream_key(seed, &stream),
-    );
-    let cycles = truth
-        .iter()
-        .enumerate()
-        .map(|(k, p)| sensing.sense(target, k as u64, k as f64, p))
-        .collect();
+    let cycles = match physics {
+        Some(p) => p.sense(target, &truth, seed, &stream),
+        None => {
+            let whiskers: Vec<RigidWhisker> = array::modules()
+                .into_iter()
+                .map(|m| RigidWhisker::new(m, 3.0e-3))
+                .collect();
+            let patterns = vec![WhiskingPattern::default(); whiskers.len()];
+            let mut sensing = KinematicArray::new(
+                whiskers,
+                patterns,
+                ContactNoise::default(),
+                whisker_slam::rng::substream_key(seed, &stream),
+            );
+            truth
+                .iter()
+                .enumerate()
+                .map(|(k, p)| sensing.sense(target, k as u64, k as f64, p))
+                .collect()
+        }
+    };
     let mut rng = substream(seed, &format!("{stream}/odometry"));
     let angle = Normal::new(0.0, 0.5f64.to_radians()).expect("valid sigma");
     let odometry = (0..truth.len())
@@ -290,6 +320,19 @@ pub fn run(o: &Options) -> CliResult {
         crate::output::create_dir(dir)?;
     }
     let modules = array::modules();
+    let model: Option<RadialEstimator> = match (o.sensing, &o.radial_model) {
+        (SensingArg::Kinematic, None) => None,
+        (SensingArg::Kinematic, Some(_)) => {
+            return Err(CliError::Input(
+                "--radial-model: only used with --sensing physics".into(),
+            ));
+        }
+        (SensingArg::Physics, Some(path)) => Some(crate::radial::load_model(path)?),
+        (SensingArg::Physics, None) => Some(
+            serde_json::from_str(crate::frontend::DEFAULT_MODEL)
+                .map_err(|e| CliError::Failure(format!("the built-in svr10 model: {e}")))?,
+        ),
+    };
     let data: Vec<Sensed> = assets
         .par_iter()
         .map(|asset| {
@@ -298,8 +341,27 @@ pub fn run(o: &Options) -> CliResult {
                 .shape()
                 .map_err(|e| CliError::Failure(format!("{}: {e}", asset.name)))?;
             let target = SweepTarget::new(mesh);
-            let a = walk(asset, Trajectory::A, 2, &target, &shape, o.seed);
-            let b = walk(asset, Trajectory::B, 1, &target, &shape, o.seed);
+            let physics = model
+                .clone()
+                .map(|m| PhysicsSensing::new(vec![(shape.clone(), Isometry3::identity())], m));
+            let a = walk(
+                asset,
+                Trajectory::A,
+                2,
+                &target,
+                &shape,
+                o.seed,
+                physics.as_ref(),
+            );
+            let b = walk(
+                asset,
+                Trajectory::B,
+                1,
+                &target,
+                &shape,
+                o.seed,
+                physics.as_ref(),
+            );
             let lap = a.truth.len() / 2;
             let step = trajectory::mean_step(&a.truth[..lap]);
             eprintln!("{}: {} poses per lap sensed", asset.name, lap);

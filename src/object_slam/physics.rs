@@ -1,0 +1,130 @@
+//! Physics sensing for `whisker object-slam --sensing physics`: at each pose of a walk
+//! the array is held still and whisks once (1 Hz, RCP at saturation — the conditions the
+//! radial-distance models are trained under, §4.1.1) in Rapier; the signal front end
+//! detects each whisker's contact, the radial-distance model (default svr10) places it
+//! along the shaft at the onset's whisk angle (Eq 5.1–5.2), and the slope is the
+//! gradient of y against x deflection (§5.1.1.1.3).
+//!
+//! Only the whiskers whose rigid sweep meets the object are simulated (a bending shaft
+//! reaches no further than the straight one; the others would whisk freely and, with the
+//! front end's confirmation, register nothing). Each pose is a simulation of its own with
+//! sensor noise from the sub-stream `<stream>/physics/<k>` of the seed, so results do not
+//! depend on the number of threads. An undefined slope (no x or y variation) reads as
+//! flat (0), as a missing SDA entry does.
+
+use nalgebra::{Isometry3, Point3};
+use rayon::prelude::*;
+use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
+use whisker_sim::sensing::physics::{DT, EnvironmentPiece, PhysicsArray, WhiskerConfig};
+use whisker_sim::whisker::array;
+use whisker_slam::contact::{Contact, ContactCycle};
+use whisker_slam::frontend::contact::{FrontEndParams, detect};
+use whisker_slam::radial::RadialEstimator;
+use whisker_slam::rng::{substream, substream_key};
+
+/// The array's whiskers in physics, and how their contacts are estimated.
+pub struct PhysicsSensing {
+    /// The object in the physics worlds.
+    pub environment: Vec<EnvironmentPiece>,
+    /// Radial-distance model.
+    pub model: RadialEstimator,
+    configs: Vec<WhiskerConfig>,
+    rigid: Vec<RigidWhisker>,
+    params: FrontEndParams,
+}
+
+impl PhysicsSensing {
+    /// The default array (1 Hz, RCP at the sensor's saturation) against `environment`.
+    pub fn new(environment: Vec<EnvironmentPiece>, model: RadialEstimator) -> Self {
+        let configs: Vec<WhiskerConfig> = array::modules()
+            .into_iter()
+            .map(|m| {
+                let mut c = WhiskerConfig::with_defaults(m);
+                c.rcp_threshold = Some(c.sensor.saturation_counts);
+                c
+            })
+            .collect();
+        let rigid = configs
+            .iter()
+            .map(|c| RigidWhisker::new(c.module.clone(), c.follicle.map_or(0.0, |f| f.pivot_depth)))
+            .collect();
+        Self {
+            environment,
+            model,
+            configs,
+            rigid,
+            params: FrontEndParams::default(),
+        }
+    }
+
+    /// One whisk at each of `poses` (whisk k starts at time k s): the contact cycles.
+    pub fn sense(
+        &self,
+        target: &SweepTarget,
+        poses: &[Isometry3<f64>],
+        seed: u64,
+        stream: &str,
+    ) -> Vec<ContactCycle> {
+        poses
+            .par_iter()
+            .enumerate()
+            .map(|(k, pose)| self.whisk(target, k, pose, seed, &format!("{stream}/physics/{k}")))
+            .collect()
+    }
+
+    fn whisk(
+        &self,
+        target: &SweepTarget,
+        k: usize,
+        pose: &Isometry3<f64>,
+        seed: u64,
+        stream: &str,
+    ) -> ContactCycle {
+        let touching: Vec<usize> = self
+            .rigid
+            .iter()
+            .enumerate()
+            .filter(|(_, w)| target.sweep(w, pose).is_some())
+            .map(|(i, _)| i)
+            .collect();
+        let configs = touching.iter().map(|&i| self.configs[i].clone()).collect();
+        let mut array = PhysicsArray::new(
+            configs,
+            &self.environment,
+            pose,
+            substream_key(seed, stream),
+            DT,
+        );
+        let mut rng = substream(seed, &format!("{stream}/radial"));
+        let cycle = array.whisk(k as u64, |_| *pose);
+        let mut contacts = Vec::new();
+        for (j, &i) in touching.iter().enumerate() {
+            let whisker = &self.rigid[i];
+            let length = whisker.module.beam.length;
+            let Some(event) = detect(&cycle.samples[j], cycle.rate_hz, length, &self.params) else {
+                continue;
+            };
+            let r = self.model.estimate(&event.features, &mut rng);
+            let point: Point3<f64> =
+                whisker.shaft_point(&Isometry3::identity(), event.onset_angle, r);
+            contacts.push(Contact {
+                whisker: i,
+                time_s: k as f64 + event.onset as f64 / cycle.rate_hz,
+                angle_rad: event.onset_angle,
+                radial_distance: r,
+                point,
+                slope: if event.slope.is_nan() {
+                    0.0
+                } else {
+                    event.slope
+                },
+            });
+        }
+        ContactCycle {
+            index: k as u64,
+            start_s: k as f64,
+            array_pose: *pose,
+            contacts,
+        }
+    }
+}
