@@ -128,3 +128,57 @@ impl PhysicsSensing {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Translation3;
+    use whisker_sim::environment::assets::{CATALOGUE, generate};
+    use whisker_sim::environment::{Environment, Piece, viewpoints};
+
+    /// Far from the object nothing is simulated and nothing is sensed; at the pose near the
+    /// Box where the most whiskers touch (as in `crates/sim/tests/front_end.rs`), the front
+    /// end detects the whiskers the rigid sweep says touch and no others, at onset angles
+    /// within a few degrees of the anticipated ones, and svr10 places the contacts within
+    /// half a whisker length of the anticipated points.
+    #[test]
+    fn physics_contacts_follow_the_anticipated_ones() {
+        let asset = CATALOGUE.iter().find(|a| a.name == "box").unwrap();
+        let mesh = generate(asset);
+        let shape = mesh.shape().unwrap();
+        let environment = Environment {
+            pieces: vec![Piece {
+                name: "box".into(),
+                shape: shape.clone(),
+                mesh: mesh.clone(),
+                pose: Isometry3::identity(),
+            }],
+        };
+        let candidates = viewpoints::facing(&shape, asset.size, 64, "bench/sensing");
+        let (near, _) = viewpoints::most_touching(&environment, &candidates).unwrap();
+        let far = Isometry3::from_parts(Translation3::new(2.0, 0.0, 0.2), near.rotation);
+        let target = SweepTarget::new(mesh);
+        let model = serde_json::from_str(crate::frontend::DEFAULT_MODEL).unwrap();
+        let sensing = PhysicsSensing::new(vec![(shape, Isometry3::identity())], model);
+        let cycles = sensing.sense(&target, &[far, near], 0, "test");
+        assert!(cycles[0].contacts.is_empty());
+        let contacts = &cycles[1].contacts;
+        let touching: Vec<usize> = (0..sensing.rigid.len())
+            .filter(|&i| target.sweep(&sensing.rigid[i], &near).is_some())
+            .collect();
+        assert!(touching.len() >= 4, "{touching:?}");
+        let detected: Vec<usize> = contacts.iter().map(|c| c.whisker).collect();
+        assert!(detected.iter().all(|w| touching.contains(w)));
+        assert!(
+            10 * detected.len() >= 9 * touching.len(),
+            "{detected:?} of {touching:?}"
+        );
+        for c in contacts {
+            let w = &sensing.rigid[c.whisker];
+            let hit = target.sweep(w, &near).unwrap();
+            assert!((c.angle_rad - hit.angle).to_degrees().abs() < 3.0);
+            let d = (near * c.point - hit.point).norm();
+            assert!(d < 0.5 * w.module.beam.length, "{}: {d}", w.module.pixel());
+        }
+    }
+}

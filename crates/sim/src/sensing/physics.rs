@@ -293,8 +293,17 @@ impl PhysicsArray {
 
     /// Simulates one whisk cycle of the first whisker's pattern (1/f seconds; the
     /// array's whiskers share a frequency by default) with the array frame at
-    /// `array_pose(t)` at time t, and returns it as a [`WhiskCycle`] numbered `index`.
+    /// `array_pose(t)` at time t, and returns it as a [`WhiskCycle`] numbered `index`
+    /// (empty, with nothing simulated, for an array of no whiskers).
     pub fn whisk(&mut self, index: u64, array_pose: impl Fn(f64) -> Isometry3<f64>) -> WhiskCycle {
+        if self.units.is_empty() {
+            return WhiskCycle {
+                index,
+                start_s: 0.0,
+                rate_hz: SAMPLE_RATE_HZ,
+                samples: Vec::new(),
+            };
+        }
         let dt = self.units[0].world.integration_parameters.dt;
         let start_s = self.units[0].time() + dt;
         let n = (1.0 / (self.units[0].config.pattern.frequency * dt)).round() as usize;
