@@ -14,6 +14,7 @@
 
 use nalgebra::{Isometry3, Point3};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
 use whisker_sim::sensing::physics::{DT, EnvironmentPiece, PhysicsArray, WhiskerConfig};
 use whisker_sim::whisker::array;
@@ -65,10 +66,18 @@ impl PhysicsSensing {
         seed: u64,
         stream: &str,
     ) -> Vec<ContactCycle> {
+        let done = AtomicUsize::new(0);
         poses
             .par_iter()
             .enumerate()
-            .map(|(k, pose)| self.whisk(target, k, pose, seed, &format!("{stream}/physics/{k}")))
+            .map(|(k, pose)| {
+                let cycle = self.whisk(target, k, pose, seed, &format!("{stream}/physics/{k}"));
+                let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+                if n.is_multiple_of(10) || n == poses.len() {
+                    eprintln!("  {stream}: {n}/{} whisks simulated", poses.len());
+                }
+                cycle
+            })
             .collect()
     }
 
