@@ -6,7 +6,9 @@
 //! - the baseline, measured in the same run: one naive dense 6-D convolution of the same
 //!   grid with the full 5⁶-entry excitation kernel (every cell against every offset), the
 //!   way Eq 5.10 reads, and the separable excitation pass that replaces it;
-//! - one point feature histogram of an 18-contact whisk.
+//! - one point feature histogram of an 18-contact whisk;
+//! - one planar RatSLAM pose-cell update at 21 × 21 × 36 cells (Ch 3), one cell forward
+//!   and 10° of turn per update.
 //!
 //! Timing is a benchmark, never a test.
 
@@ -17,6 +19,7 @@ use serde_json::json;
 use std::time::Instant;
 use whisker_slam::features::pfh::{PfhParams, histogram};
 use whisker_slam::pose_grid::gaussian_kernel;
+use whisker_slam::ratslam::posecells3d::{PlanarCellParams, PoseCells3};
 use whisker_slam::rng::substream;
 use whisker_slam::whisker_ratslam::posecells6d::{PoseCellParams, PoseCells6, dense_convolve};
 
@@ -76,10 +79,20 @@ pub fn slam(o: &Options) -> CliResult {
     let pfh_ms = time_ms(o.updates, || {
         bins = histogram(&contacts, &Point3::origin(), &pfh).len();
     });
+    let planar = PlanarCellParams {
+        dim_xy: 21,
+        ..PlanarCellParams::default()
+    };
+    let mut cells3 = PoseCells3::new(planar, &[10.0, 10.0, 0.0]);
+    let posecell3d_ms = time_ms(o.updates, || {
+        cells3.update(planar.cell_size_m, 10f64.to_radians())
+    });
     if o.json {
         println!(
             "{}",
             json!({
+                "posecell3d_cells": cells3.grid.cells.len(),
+                "posecell3d_update_ms": posecell3d_ms,
                 "posecell6d_cells": cells.grid.cells.len(),
                 "posecell6d_update_ms": update_ms,
                 "naive_dense_ms": dense_ms,
@@ -116,6 +129,14 @@ pub fn slam(o: &Options) -> CliResult {
             "  {:<58} {:>12.4}",
             format!("point feature histogram, 18 contacts, {bins} bins"),
             pfh_ms
+        );
+        println!(
+            "  {:<58} {:>12.4}",
+            format!(
+                "one planar pose-cell update, {} cells (21x21x36)",
+                cells3.grid.cells.len()
+            ),
+            posecell3d_ms
         );
     }
     Ok(())

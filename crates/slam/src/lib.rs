@@ -17,6 +17,7 @@ pub mod frontend;
 pub mod pose;
 pub mod pose_grid;
 pub mod radial;
+pub mod ratslam;
 pub mod recognition;
 pub mod rng;
 pub mod sensor;

@@ -54,6 +54,20 @@ pub fn population_index(activity: &[f64]) -> f64 {
     (angle * n / TAU) % n
 }
 
+/// Euclidean distance between two fractional cell coordinates on a torus of axis
+/// lengths `dims`, each axis the shorter way round (cells).
+pub fn wrapped_distance(a: &[f64], b: &[f64], dims: &[usize]) -> f64 {
+    a.iter()
+        .zip(b)
+        .zip(dims)
+        .map(|((x, y), &n)| {
+            let d = (x - y).rem_euclid(n as f64);
+            d.min(n as f64 - d).powi(2)
+        })
+        .sum::<f64>()
+        .sqrt()
+}
+
 impl PoseGrid {
     /// An all-zero grid of the given axis lengths.
     pub fn new(dims: &[usize]) -> Self {

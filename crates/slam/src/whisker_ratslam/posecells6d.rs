@@ -20,7 +20,7 @@
 //! Cell i of a rotation axis of n cells stands for the angle 360°·i/n (cell 0 is 0°);
 //! cell i of a translation axis for the position i·`cell_size_m` (modulo n cells).
 
-use crate::pose_grid::{PoseGrid, gaussian_kernel};
+use crate::pose_grid::{PoseGrid, gaussian_kernel, wrapped_distance};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
@@ -204,15 +204,7 @@ impl PoseCells6 {
     /// Distance between two pose-cell coordinates (cells, Euclidean over the six axes,
     /// each the shorter way round).
     pub fn distance(&self, a: &Cell6, b: &Cell6) -> f64 {
-        a.iter()
-            .zip(b)
-            .zip(&self.params.cells)
-            .map(|((x, y), &n)| {
-                let d = (x - y).rem_euclid(n as f64);
-                d.min(n as f64 - d).powi(2)
-            })
-            .sum::<f64>()
-            .sqrt()
+        wrapped_distance(a, b, &self.params.cells)
     }
 }
 

@@ -1,0 +1,291 @@
+//! RatSLAM's experience map (thesis §2.1.2, §3.2.1; `shared/notes/ratslam.md`): a graph
+//! of experiences — a pose (x, y, θ) in the map frame, the local-view template and the
+//! pose cell they were made at — joined by links holding the odometric relative pose
+//! (distance, direction of travel relative to the start's heading, change of heading).
+//!
+//! Each update the odometry (turn, then move: §3.1.2) is accumulated from the current
+//! experience. When the template differs from the current experience's or the best pose
+//! cell has moved more than `delta_pc_threshold` cells from it, the experience with that
+//! template nearest in pose cells (within the threshold) becomes current — a
+//! re-localisation, linked from the previous one if they were not linked — or else a new
+//! experience is made at the accumulated pose and linked. Then the map is relaxed:
+//! `loops` Jacobi passes, each experience moving by `correction` of the mean
+//! disagreement between its pose and those its links predict from their other ends; on a
+//! loop the odometric error ends up shared equally among the links. The first experience
+//! is at the origin with heading 0.
+
+use super::posecells3d::Cell3;
+use crate::pose_grid::wrapped_distance;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::{PI, TAU};
+
+/// Parameters of the experience map.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ExperienceMapParams {
+    /// Pose-cell distance beyond which the current experience no longer holds (cells;
+    /// Table 3.1: 1).
+    pub delta_pc_threshold: f64,
+    /// Fraction of the disagreement corrected per pass.
+    pub correction: f64,
+    /// Relaxation passes per update (Table 3.1: 10).
+    pub loops: usize,
+}
+
+impl Default for ExperienceMapParams {
+    fn default() -> Self {
+        Self {
+            delta_pc_threshold: 1.0,
+            correction: 0.5,
+            loops: 10,
+        }
+    }
+}
+
+/// A planar pose in the map frame: x, y (m), θ (rad, from +x towards +y).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Pose2 {
+    /// x (m).
+    pub x: f64,
+    /// y (m).
+    pub y: f64,
+    /// Heading (rad).
+    pub th: f64,
+}
+
+/// An angle wrapped to (−π, π].
+pub fn wrap(a: f64) -> f64 {
+    let w = (a + PI).rem_euclid(TAU) - PI;
+    if w == -PI { PI } else { w }
+}
+
+impl Pose2 {
+    /// `b` expressed in this pose's frame (b ⊖ self, Eq 3.3).
+    pub fn relative(&self, b: &Pose2) -> Pose2 {
+        let (dx, dy) = (b.x - self.x, b.y - self.y);
+        let (s, c) = self.th.sin_cos();
+        Pose2 {
+            x: c * dx + s * dy,
+            y: -s * dx + c * dy,
+            th: wrap(b.th - self.th),
+        }
+    }
+}
+
+/// An experience.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Experience {
+    /// Pose in the map.
+    pub pose: Pose2,
+    /// Local-view template.
+    pub template: usize,
+    /// Pose cell.
+    pub cell: Cell3,
+}
+
+/// A link: the odometry from one experience to another.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Link {
+    /// Start experience.
+    pub from: usize,
+    /// End experience.
+    pub to: usize,
+    /// Distance travelled (m, straight line).
+    pub d: f64,
+    /// Direction of the displacement relative to the start's heading (rad).
+    pub heading: f64,
+    /// Change of heading (rad).
+    pub facing: f64,
+}
+
+impl Link {
+    /// Where the link puts its end, seen from `from`.
+    pub fn predict_to(&self, from: &Pose2) -> Pose2 {
+        let a = from.th + self.heading;
+        Pose2 {
+            x: from.x + self.d * a.cos(),
+            y: from.y + self.d * a.sin(),
+            th: wrap(from.th + self.facing),
+        }
+    }
+
+    /// Where the link puts its start, seen from `to`.
+    pub fn predict_from(&self, to: &Pose2) -> Pose2 {
+        let th = wrap(to.th - self.facing);
+        let a = th + self.heading;
+        Pose2 {
+            x: to.x - self.d * a.cos(),
+            y: to.y - self.d * a.sin(),
+            th,
+        }
+    }
+}
+
+/// What one map update did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MapEvent {
+    /// The current experience still holds.
+    Stay,
+    /// A new experience was made.
+    Created,
+    /// An existing experience became current (re-localisation).
+    Relocalised,
+}
+
+/// The experience map.
+#[derive(Debug, Clone, Default)]
+pub struct ExperienceMap {
+    /// Parameters.
+    pub params: ExperienceMapParams,
+    /// Experiences, in order of creation.
+    pub experiences: Vec<Experience>,
+    /// Links.
+    pub links: Vec<Link>,
+    /// The current experience.
+    pub current: usize,
+    /// Odometry accumulated since the current experience: displacement (map axes) and
+    /// heading.
+    accum: Pose2,
+    /// Pose-cell axis lengths (for distances).
+    dims: [usize; 3],
+}
+
+impl ExperienceMap {
+    /// An empty map for pose cells of axis lengths `dims`.
+    pub fn new(params: ExperienceMapParams, dims: [usize; 3]) -> Self {
+        Self {
+            params,
+            dims,
+            ..Self::default()
+        }
+    }
+
+    /// The dead-reckoned pose: the current experience plus the odometry since.
+    pub fn pose(&self) -> Pose2 {
+        match self.experiences.get(self.current) {
+            Some(e) => Pose2 {
+                x: e.pose.x + self.accum.x,
+                y: e.pose.y + self.accum.y,
+                th: self.accum.th,
+            },
+            None => self.accum,
+        }
+    }
+
+    fn link_to(&self, to: usize, end: &Pose2) -> Link {
+        let from = &self.experiences[self.current].pose;
+        let (dx, dy) = (end.x - from.x, end.y - from.y);
+        Link {
+            from: self.current,
+            to,
+            d: dx.hypot(dy),
+            heading: wrap(dy.atan2(dx) - from.th),
+            facing: wrap(end.th - from.th),
+        }
+    }
+
+    /// One update: odometry `distance` (m) after turning `dtheta` (rad), the local view's
+    /// template and the pose cells' best cell.
+    pub fn update(
+        &mut self,
+        distance: f64,
+        dtheta: f64,
+        template: usize,
+        cell: &Cell3,
+    ) -> MapEvent {
+        self.accum.th = wrap(self.accum.th + dtheta);
+        self.accum.x += distance * self.accum.th.cos();
+        self.accum.y += distance * self.accum.th.sin();
+        if self.experiences.is_empty() {
+            self.experiences.push(Experience {
+                pose: Pose2::default(),
+                template,
+                cell: *cell,
+            });
+            self.accum = Pose2::default();
+            return MapEvent::Created;
+        }
+        let cur = &self.experiences[self.current];
+        let threshold = self.params.delta_pc_threshold;
+        if cur.template == template && wrapped_distance(&cur.cell, cell, &self.dims) <= threshold {
+            return MapEvent::Stay;
+        }
+        let end = self.pose();
+        let matched = self
+            .experiences
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| e.template == template)
+            .map(|(i, e)| (i, wrapped_distance(&e.cell, cell, &self.dims)))
+            .filter(|&(_, d)| d < threshold)
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        let event = match matched {
+            Some((m, _)) if m != self.current => {
+                let linked = self.links.iter().any(|l| {
+                    (l.from, l.to) == (self.current, m) || (l.from, l.to) == (m, self.current)
+                });
+                if !linked {
+                    let link = self.link_to(m, &end);
+                    self.links.push(link);
+                }
+                self.current = m;
+                MapEvent::Relocalised
+            }
+            Some(_) => MapEvent::Stay,
+            None => {
+                let id = self.experiences.len();
+                let link = self.link_to(id, &end);
+                self.links.push(link);
+                self.experiences.push(Experience {
+                    pose: end,
+                    template,
+                    cell: *cell,
+                });
+                self.current = id;
+                MapEvent::Created
+            }
+        };
+        if event != MapEvent::Stay {
+            self.accum = Pose2 {
+                x: 0.0,
+                y: 0.0,
+                th: self.experiences[self.current].pose.th,
+            };
+            self.relax(self.params.loops, self.params.correction);
+        }
+        event
+    }
+
+    /// `loops` Jacobi passes of relaxation (module documentation).
+    pub fn relax(&mut self, loops: usize, correction: f64) {
+        let n = self.experiences.len();
+        for _ in 0..loops {
+            let poses: Vec<Pose2> = self.experiences.iter().map(|e| e.pose).collect();
+            let mut sum = vec![(0.0, 0.0, 0.0); n];
+            let mut degree = vec![0usize; n];
+            for l in &self.links {
+                if l.from == l.to {
+                    continue;
+                }
+                for (i, p) in [
+                    (l.to, l.predict_to(&poses[l.from])),
+                    (l.from, l.predict_from(&poses[l.to])),
+                ] {
+                    sum[i].0 += p.x - poses[i].x;
+                    sum[i].1 += p.y - poses[i].y;
+                    sum[i].2 += wrap(p.th - poses[i].th);
+                    degree[i] += 1;
+                }
+            }
+            for (i, e) in self.experiences.iter_mut().enumerate() {
+                if degree[i] == 0 {
+                    continue;
+                }
+                let k = correction / degree[i] as f64;
+                e.pose.x += k * sum[i].0;
+                e.pose.y += k * sum[i].1;
+                e.pose.th = wrap(e.pose.th + k * sum[i].2);
+            }
+        }
+    }
+}

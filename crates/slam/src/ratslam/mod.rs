@@ -1,0 +1,92 @@
+//! Planar RatSLAM on tactile images (thesis Chapter 3, §2.1.2): local view cells on 6 × 3
+//! tactile images ([`local_view`], Eq 3.1), an (x, y, θ) pose-cell network
+//! ([`posecells3d`]), the experience map ([`experience_map`]), the odometry error model of
+//! §3.1.2 ([`odometry`]) and the Experience and Energy Metrics ([`metrics`], Algorithm 1,
+//! Eq 3.2–3.3).
+//!
+//! One update ([`RatSlam::step`]) per tactile image and odometry reading (1.5 Hz in the
+//! thesis): the image is matched against the templates (a new one is stored at the
+//! current best pose cell); a matched template injects its Eq 5.8 energy at its pose
+//! cell; the pose cells excite, inhibit and normalise, then integrate the odometry (turn,
+//! then move); the experience map takes the odometry, the template and the new best cell.
+
+pub mod experience_map;
+pub mod local_view;
+pub mod metrics;
+pub mod odometry;
+pub mod posecells3d;
+
+use experience_map::{ExperienceMap, ExperienceMapParams, MapEvent};
+use local_view::{LocalView, LocalViewParams, TactileImage};
+use posecells3d::{Cell3, PlanarCellParams, PoseCells3};
+use serde::{Deserialize, Serialize};
+
+/// All parameters (Table 3.1 where the thesis gives them).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RatSlamParams {
+    /// Pose cells.
+    pub pose_cells: PlanarCellParams,
+    /// Local view.
+    pub local_view: LocalViewParams,
+    /// Experience map.
+    pub experience_map: ExperienceMapParams,
+}
+
+/// What one update did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Step {
+    /// The template matched or made.
+    pub template: usize,
+    /// Whether the template is new.
+    pub new_template: bool,
+    /// The current experience after the update.
+    pub experience: usize,
+    /// What the experience map did.
+    pub event: MapEvent,
+    /// The best pose cell.
+    pub cell: Cell3,
+}
+
+/// Planar RatSLAM.
+#[derive(Debug, Clone)]
+pub struct RatSlam {
+    /// Local view cells.
+    pub view: LocalView,
+    /// Pose cells.
+    pub cells: PoseCells3,
+    /// Experience map.
+    pub map: ExperienceMap,
+}
+
+impl RatSlam {
+    /// A fresh system, its activity packet in the middle of the x/y plane at heading 0.
+    pub fn new(params: RatSlamParams) -> Self {
+        let p = params.pose_cells;
+        let mid = (p.dim_xy / 2) as f64;
+        Self {
+            view: LocalView::new(params.local_view),
+            cells: PoseCells3::new(p, &[mid, mid, 0.0]),
+            map: ExperienceMap::new(params.experience_map, [p.dim_xy, p.dim_xy, p.dim_th]),
+        }
+    }
+
+    /// One update with a tactile image and odometry (`distance` m after a turn of
+    /// `dtheta` rad).
+    pub fn step(&mut self, image: &TactileImage, distance: f64, dtheta: f64) -> Step {
+        let seen = self.view.observe(image, &self.cells.best());
+        if seen.energy > 0.0 {
+            self.cells.inject(&seen.cell, seen.energy);
+        }
+        self.cells.update(distance, dtheta);
+        let cell = self.cells.best();
+        let event = self.map.update(distance, dtheta, seen.template, &cell);
+        Step {
+            template: seen.template,
+            new_template: seen.new,
+            experience: self.map.current,
+            event,
+            cell,
+        }
+    }
+}

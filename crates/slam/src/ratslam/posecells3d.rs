@@ -1,0 +1,193 @@
+//! RatSLAM's planar pose cells (thesis §2.1.2, §3.2.1; `shared/notes/ratslam.md`): a
+//! periodic (x, y, θ) grid — 30 × 30 × 36 cells of 0.015 m and 10° by default (Table 3.1,
+//! read with its values shifted one row down: pc_dim_xy 30, pc_cell_x_size 0.015) —
+//! with, per update, local excitation (7 wide, variance 1) and inhibition (5 wide,
+//! variance 2), global inhibition 2e-5, normalisation, then path integration: first the
+//! rotation (the θ axis shifted by the floor/ceil pair of dθ over the cell angle), then
+//! the translation — each θ layer shifted by (d·cos θ, d·sin θ)/cell size, separably (x,
+//! then y: an exact bilinear sub-cell shift, mass conserved; the reference implementation
+//! loses one torus-corner cell's spill per layer — not here), the order the thesis
+//! prescribes (§3.1.2: rotate, then translate).
+//!
+//! Frames: cell (i, j, k) stands for x = i·cell size, y = j·cell size (both modulo the
+//! grid) and heading θ = k·360°/n_θ measured from +x towards +y — the same frame the
+//! experience map uses (the reference implementation transposes x and y between the
+//! two). A packet moves at exactly its velocity only at whole cells per update: the
+//! attractor dynamics pull a packet that moves a fraction of a cell per update back
+//! towards its cell (Ball et al. 2013 set the cell size so that one update is one cell).
+
+use crate::pose_grid::{PoseGrid, gaussian_kernel, wrapped_distance};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::TAU;
+
+/// Parameters of the planar pose cells.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PlanarCellParams {
+    /// Cells along x and y.
+    pub dim_xy: usize,
+    /// Cells around θ.
+    pub dim_th: usize,
+    /// Size of an x/y cell (m).
+    pub cell_size_m: f64,
+    /// Width and variance of the excitation kernel (cells, cells²).
+    pub excite_width: usize,
+    /// Variance of the excitation kernel.
+    pub excite_variance: f64,
+    /// Width of the inhibition kernel (cells).
+    pub inhibit_width: usize,
+    /// Variance of the inhibition kernel.
+    pub inhibit_variance: f64,
+    /// Global inhibition.
+    pub global_inhibition: f64,
+}
+
+impl Default for PlanarCellParams {
+    fn default() -> Self {
+        Self {
+            dim_xy: 30,
+            dim_th: 36,
+            cell_size_m: 0.015,
+            excite_width: 7,
+            excite_variance: 1.0,
+            inhibit_width: 5,
+            inhibit_variance: 2.0,
+            global_inhibition: 2e-5,
+        }
+    }
+}
+
+impl PlanarCellParams {
+    /// Checks the parameters; the message names the field.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.dim_xy < 3 || self.dim_th < 3 {
+            return Err(format!(
+                "dim_xy {} / dim_th {}: expected at least 3 cells",
+                self.dim_xy, self.dim_th
+            ));
+        }
+        let shortest = self.dim_xy.min(self.dim_th);
+        for (name, w) in [
+            ("excite_width", self.excite_width),
+            ("inhibit_width", self.inhibit_width),
+        ] {
+            if w.is_multiple_of(2) || w > shortest {
+                return Err(format!(
+                    "{name} {w}: expected an odd width of at most {shortest} cells"
+                ));
+            }
+        }
+        for (name, v) in [
+            ("cell_size_m", self.cell_size_m),
+            ("excite_variance", self.excite_variance),
+            ("inhibit_variance", self.inhibit_variance),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!("{name} {v}: expected a positive number"));
+            }
+        }
+        if !(self.global_inhibition.is_finite() && self.global_inhibition >= 0.0) {
+            return Err(format!(
+                "global_inhibition {}: expected a number ≥ 0",
+                self.global_inhibition
+            ));
+        }
+        Ok(())
+    }
+
+    /// The heading one θ cell stands for (rad).
+    pub fn cell_angle(&self) -> f64 {
+        TAU / self.dim_th as f64
+    }
+}
+
+/// Planar pose-cell coordinates (fractional cells): x, y, θ.
+pub type Cell3 = [f64; 3];
+
+/// The planar pose-cell network.
+#[derive(Debug, Clone)]
+pub struct PoseCells3 {
+    /// Its parameters.
+    pub params: PlanarCellParams,
+    /// The activities (x fastest, then y, then θ).
+    pub grid: PoseGrid,
+    excite: Vec<f64>,
+    inhibit: Vec<f64>,
+}
+
+impl PoseCells3 {
+    /// A network with all activity in the cell nearest `start`.
+    pub fn new(params: PlanarCellParams, start: &Cell3) -> Self {
+        let mut cells = Self {
+            params,
+            grid: PoseGrid::new(&[params.dim_xy, params.dim_xy, params.dim_th]),
+            excite: gaussian_kernel(params.excite_width, params.excite_variance),
+            inhibit: gaussian_kernel(params.inhibit_width, params.inhibit_variance),
+        };
+        cells.inject(start, 1.0);
+        cells
+    }
+
+    /// Adds `amount` of activity to the cell nearest `at` (view-template injection).
+    pub fn inject(&mut self, at: &Cell3, amount: f64) {
+        let coords: Vec<i64> = at.iter().map(|c| c.round() as i64).collect();
+        let i = self.grid.index(&coords);
+        self.grid.cells[i] += amount;
+    }
+
+    /// Local excitation and inhibition, global inhibition, normalisation.
+    pub fn excite_inhibit(&mut self) {
+        self.grid
+            .excite_inhibit(&self.excite, &self.inhibit, self.params.global_inhibition);
+    }
+
+    /// Path integration of one update: turn by `dtheta` (rad), then move `distance` (m)
+    /// along each layer's heading. Mass is conserved exactly (up to rounding).
+    pub fn path_integrate(&mut self, distance: f64, dtheta: f64) {
+        let (n, nt) = (self.params.dim_xy, self.params.dim_th);
+        if dtheta != 0.0 {
+            self.grid.shift_axis(2, dtheta / self.params.cell_angle());
+        }
+        if distance == 0.0 {
+            return;
+        }
+        let block = n * n;
+        let v = distance / self.params.cell_size_m;
+        for k in 0..nt {
+            let start = k * block;
+            if self.grid.cells[start..start + block]
+                .iter()
+                .all(|&c| c == 0.0)
+            {
+                continue;
+            }
+            let th = k as f64 * self.params.cell_angle();
+            let (dx, dy) = (v * th.cos(), v * th.sin());
+            if dx != 0.0 {
+                self.grid.shift_block_axis(start, block, 0, dx);
+            }
+            if dy != 0.0 {
+                self.grid.shift_block_axis(start, block, 1, dy);
+            }
+        }
+    }
+
+    /// One update without view input: excitation/inhibition, then path integration.
+    pub fn update(&mut self, distance: f64, dtheta: f64) {
+        self.excite_inhibit();
+        self.path_integrate(distance, dtheta);
+    }
+
+    /// The best pose: population-vector decode around the most active cell (window of the
+    /// excitation width).
+    pub fn best(&self) -> Cell3 {
+        let b = self.grid.best(self.params.excite_width);
+        [b[0], b[1], b[2]]
+    }
+
+    /// Distance between two cells (cells, Euclidean over x, y, θ, each the shorter way).
+    pub fn distance(&self, a: &Cell3, b: &Cell3) -> f64 {
+        let n = [self.params.dim_xy, self.params.dim_xy, self.params.dim_th];
+        wrapped_distance(a, b, &n)
+    }
+}
