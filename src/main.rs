@@ -8,6 +8,7 @@ mod characterize;
 mod contacts;
 mod error;
 mod frontend;
+mod maze_slam;
 mod object_slam;
 mod output;
 mod plan;
@@ -58,6 +59,8 @@ enum Command {
     Soak(soak::Options),
     /// WhiskerRatSLAM on the catalogue objects (thesis §5.2): localisation and identification.
     ObjectSlam(object_slam::Options),
+    /// Planar RatSLAM on the maze with tactile images (thesis Ch 3): ARR, ARCR, EM.
+    MazeSlam(maze_slam::Options),
     /// Radial distance to contact (thesis Ch 4): data sets, the Table 4.1 models, validation.
     Radial {
         #[command(subcommand)]
@@ -145,6 +148,7 @@ fn main() -> ExitCode {
         Command::Soak(options) => soak::soak(&options),
         Command::ObjectSlam(options) => object_slam::run(&options),
         Command::Radial { command } => radial::run(&command),
+        Command::MazeSlam(options) => maze_slam::run(&options),
         Command::Assets {
             command: AssetsCommand::Generate { out },
         } => assets_cmd::generate_all(&out),

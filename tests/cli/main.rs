@@ -4,6 +4,7 @@
 
 mod environment;
 mod inputs;
+mod maze_slam;
 mod object_slam;
 mod physics;
 mod quickstart;
