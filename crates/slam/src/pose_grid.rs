@@ -68,6 +68,54 @@ pub fn wrapped_distance(a: &[f64], b: &[f64], dims: &[usize]) -> f64 {
         .sqrt()
 }
 
+/// The parameters every pose-cell network shares, for checking.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NetworkShape {
+    /// Length of the shortest axis (cells).
+    pub shortest_axis: usize,
+    /// Excitation and inhibition kernel widths (cells).
+    pub widths: [usize; 2],
+    /// Cell size (m) and the two kernel variances (cells²).
+    pub positives: [f64; 3],
+    /// Global inhibition.
+    pub global_inhibition: f64,
+}
+
+impl NetworkShape {
+    /// Checks that every axis has at least 3 cells, the kernels are odd and no wider than
+    /// the shortest axis (a wider window wraps onto itself), sizes and variances are
+    /// positive and global inhibition ≥ 0; the message names the field.
+    pub fn validate(&self) -> Result<(), String> {
+        let shortest = self.shortest_axis;
+        if shortest < 3 {
+            return Err(format!("{shortest} cells on an axis: expected at least 3"));
+        }
+        for (name, w) in ["excite_width", "inhibit_width"]
+            .into_iter()
+            .zip(self.widths)
+        {
+            if w.is_multiple_of(2) || w > shortest {
+                return Err(format!(
+                    "{name} {w}: expected an odd width of at most {shortest} cells (a wider window wraps onto itself)"
+                ));
+            }
+        }
+        for (name, v) in ["cell_size_m", "excite_variance", "inhibit_variance"]
+            .into_iter()
+            .zip(self.positives)
+        {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!("{name} {v}: expected a positive number"));
+            }
+        }
+        let g = self.global_inhibition;
+        if !(g.is_finite() && g >= 0.0) {
+            return Err(format!("global_inhibition {g}: expected a number ≥ 0"));
+        }
+        Ok(())
+    }
+}
+
 impl PoseGrid {
     /// An all-zero grid of the given axis lengths.
     pub fn new(dims: &[usize]) -> Self {
@@ -188,6 +236,19 @@ impl PoseGrid {
             &mut self.scratch[start..start + len],
         );
         shift_lines(cells, scratch, n, stride, amount);
+    }
+
+    /// Adds `amount` of activity to the cell nearest the fractional coordinates `at`
+    /// (wrapped).
+    pub fn inject_nearest(&mut self, at: &[f64], amount: f64) {
+        let coords: Vec<i64> = at.iter().map(|c| c.round() as i64).collect();
+        let i = self.index(&coords);
+        self.cells[i] += amount;
+    }
+
+    /// Whether the block of `len` cells from `start` holds no activity.
+    pub fn block_is_empty(&self, start: usize, len: usize) -> bool {
+        self.cells[start..start + len].iter().all(|&c| c == 0.0)
     }
 
     /// Index of the most active cell (the first on ties).

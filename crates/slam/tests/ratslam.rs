@@ -338,3 +338,41 @@ fn a_second_lap_of_distinct_places_relocalises_onto_the_first() {
     assert!(m.arr > 0.5, "{m:?}");
     assert!(m.arcr > 0.9, "{m:?}");
 }
+
+#[test]
+fn bad_pose_cell_parameters_name_the_field() {
+    assert!(PlanarCellParams::default().validate().is_ok());
+    for (p, field) in [
+        (
+            PlanarCellParams {
+                excite_width: 6,
+                ..PlanarCellParams::default()
+            },
+            "excite_width",
+        ),
+        (
+            PlanarCellParams {
+                dim_th: 4,
+                ..PlanarCellParams::default()
+            },
+            "excite_width",
+        ),
+        (
+            PlanarCellParams {
+                cell_size_m: 0.0,
+                ..PlanarCellParams::default()
+            },
+            "cell_size_m",
+        ),
+        (
+            PlanarCellParams {
+                global_inhibition: f64::NAN,
+                ..PlanarCellParams::default()
+            },
+            "global_inhibition",
+        ),
+    ] {
+        let e = p.validate().unwrap_err();
+        assert!(e.contains(field), "{e}");
+    }
+}

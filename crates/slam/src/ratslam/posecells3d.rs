@@ -16,7 +16,7 @@
 //! attractor dynamics pull a packet that moves a fraction of a cell per update back
 //! towards its cell (Ball et al. 2013 set the cell size so that one update is one cell).
 
-use crate::pose_grid::{PoseGrid, gaussian_kernel, wrapped_distance};
+use crate::pose_grid::{NetworkShape, PoseGrid, gaussian_kernel, wrapped_distance};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
@@ -60,39 +60,17 @@ impl Default for PlanarCellParams {
 impl PlanarCellParams {
     /// Checks the parameters; the message names the field.
     pub fn validate(&self) -> Result<(), String> {
-        if self.dim_xy < 3 || self.dim_th < 3 {
-            return Err(format!(
-                "dim_xy {} / dim_th {}: expected at least 3 cells",
-                self.dim_xy, self.dim_th
-            ));
+        NetworkShape {
+            shortest_axis: self.dim_xy.min(self.dim_th),
+            widths: [self.excite_width, self.inhibit_width],
+            positives: [
+                self.cell_size_m,
+                self.excite_variance,
+                self.inhibit_variance,
+            ],
+            global_inhibition: self.global_inhibition,
         }
-        let shortest = self.dim_xy.min(self.dim_th);
-        for (name, w) in [
-            ("excite_width", self.excite_width),
-            ("inhibit_width", self.inhibit_width),
-        ] {
-            if w.is_multiple_of(2) || w > shortest {
-                return Err(format!(
-                    "{name} {w}: expected an odd width of at most {shortest} cells"
-                ));
-            }
-        }
-        for (name, v) in [
-            ("cell_size_m", self.cell_size_m),
-            ("excite_variance", self.excite_variance),
-            ("inhibit_variance", self.inhibit_variance),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(format!("{name} {v}: expected a positive number"));
-            }
-        }
-        if !(self.global_inhibition.is_finite() && self.global_inhibition >= 0.0) {
-            return Err(format!(
-                "global_inhibition {}: expected a number ≥ 0",
-                self.global_inhibition
-            ));
-        }
-        Ok(())
+        .validate()
     }
 
     /// The heading one θ cell stands for (rad).
@@ -130,9 +108,7 @@ impl PoseCells3 {
 
     /// Adds `amount` of activity to the cell nearest `at` (view-template injection).
     pub fn inject(&mut self, at: &Cell3, amount: f64) {
-        let coords: Vec<i64> = at.iter().map(|c| c.round() as i64).collect();
-        let i = self.grid.index(&coords);
-        self.grid.cells[i] += amount;
+        self.grid.inject_nearest(at, amount);
     }
 
     /// Local excitation and inhibition, global inhibition, normalisation.
@@ -155,10 +131,7 @@ impl PoseCells3 {
         let v = distance / self.params.cell_size_m;
         for k in 0..nt {
             let start = k * block;
-            if self.grid.cells[start..start + block]
-                .iter()
-                .all(|&c| c == 0.0)
-            {
+            if self.grid.block_is_empty(start, block) {
                 continue;
             }
             let th = k as f64 * self.params.cell_angle();

@@ -20,7 +20,7 @@
 //! Cell i of a rotation axis of n cells stands for the angle 360°·i/n (cell 0 is 0°);
 //! cell i of a translation axis for the position i·`cell_size_m` (modulo n cells).
 
-use crate::pose_grid::{PoseGrid, gaussian_kernel, wrapped_distance};
+use crate::pose_grid::{NetworkShape, PoseGrid, gaussian_kernel, wrapped_distance};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
@@ -69,33 +69,17 @@ impl PoseCellParams {
                 self.cells
             ));
         }
-        let shortest = *self.cells.iter().min().unwrap_or(&0);
-        for (name, w) in [
-            ("excite_width", self.excite_width),
-            ("inhibit_width", self.inhibit_width),
-        ] {
-            if w.is_multiple_of(2) || w > shortest {
-                return Err(format!(
-                    "{name} {w}: expected an odd width of at most {shortest} cells (a wider window wraps onto itself)"
-                ));
-            }
+        NetworkShape {
+            shortest_axis: *self.cells.iter().min().unwrap_or(&0),
+            widths: [self.excite_width, self.inhibit_width],
+            positives: [
+                self.cell_size_m,
+                self.excite_variance,
+                self.inhibit_variance,
+            ],
+            global_inhibition: self.global_inhibition,
         }
-        for (name, v) in [
-            ("cell_size_m", self.cell_size_m),
-            ("excite_variance", self.excite_variance),
-            ("inhibit_variance", self.inhibit_variance),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(format!("{name} {v}: expected a positive number"));
-            }
-        }
-        if !(self.global_inhibition.is_finite() && self.global_inhibition >= 0.0) {
-            return Err(format!(
-                "global_inhibition {}: expected a number ≥ 0",
-                self.global_inhibition
-            ));
-        }
-        Ok(())
+        .validate()
     }
 
     /// The angle one cell of rotation axis `axis` (3, 4 or 5) stands for (rad).
@@ -133,9 +117,7 @@ impl PoseCells6 {
 
     /// Adds `amount` of activity to the cell nearest `at` (Eq 5.9).
     pub fn inject(&mut self, at: &Cell6, amount: f64) {
-        let coords: Vec<i64> = at.iter().map(|c| c.round() as i64).collect();
-        let i = self.grid.index(&coords);
-        self.grid.cells[i] += amount;
+        self.grid.inject_nearest(at, amount);
     }
 
     /// Local excitation, local and global inhibition, normalisation (Alg 3–5).
@@ -157,10 +139,7 @@ impl PoseCells6 {
                         let q = self.voxel_rotation(a, b, g);
                         let w = q * v;
                         let start = ((g * nb + b) * na + a) * block;
-                        if self.grid.cells[start..start + block]
-                            .iter()
-                            .all(|&c| c == 0.0)
-                        {
+                        if self.grid.block_is_empty(start, block) {
                             continue;
                         }
                         for (axis, amount) in w.iter().enumerate() {
