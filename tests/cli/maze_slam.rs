@@ -30,7 +30,7 @@ fn kidnapping_raises_the_energy_metric_and_runs_are_reproducible() {
     }
     // The second circuit re-localises onto the first, mostly correctly.
     assert!(get(0, "arr") > 0.2 && get(0, "arcr") > 0.8, "{}", runs[0]);
-    let trajectory = rows(&out.join("trajectory-normal-0.csv"));
+    let trajectory = rows(&out.join("trajectory-kinematic-normal-0.csv"));
     assert_eq!(trajectory.len() as f64, get(0, "updates"));
     // Same seed, same bytes.
     let again = whisker(&args);
