@@ -1,7 +1,8 @@
 //! Physics sensing for `whisker maze-slam --sensing physics` (thesis §3.1.1, §3.2.2): the
 //! array moves continuously along the path (linearly interpolated between the 1.5 Hz
 //! updates, whose poses are reached at t = k/1.5 s) while its Rapier whiskers whisk at
-//! 1 Hz, open loop or with RCP (threshold 20 × the free-whisking σ, §3.2.2). After each
+//! 1 Hz, open loop or with RCP (threshold 20 × the free-whisking σ, §3.2.2; the front
+//! end's confirmation and prominence then drop to half the threshold). After each
 //! whisk cycle the signal front end finds each whisker's contact and its angle by both of
 //! §3.1.1's estimators — `max_angle` and `contact_angle` — and each gives a tactile image:
 //! the height above the board of the straight shaft's tip at that angle, with the array
@@ -66,6 +67,7 @@ pub fn images(
             c.rcp_threshold = Some(t);
         }
     }
+    let thresholds: Vec<Option<f64>> = configs.iter().map(|c| c.rcp_threshold).collect();
     let rigid: Vec<RigidWhisker> = configs
         .iter()
         .map(|c| RigidWhisker::new(c.module.clone(), c.follicle.map_or(0.0, |f| f.pivot_depth)))
@@ -75,7 +77,21 @@ pub fn images(
     let duration = (path.len() - 1) as f64 / super::UPDATE_HZ;
     let cycles = (duration * frequency).floor() as usize;
     let mut array = PhysicsArray::new(configs, environment, &pose_at(path, 0.0, g), seed, DT);
-    let params = FrontEndParams::default();
+    // With RCP the whisker retracts as soon as |y| reaches its threshold (20 σ of free
+    // whisking: tens of counts), so a contact's peak is little above the threshold: the
+    // front end's confirmation and prominence (500 counts, tuned for RCP at saturation in
+    // Ch 4) are lowered to half each whisker's threshold.
+    let params: Vec<FrontEndParams> = thresholds
+        .iter()
+        .map(|t| {
+            let mut p = FrontEndParams::default();
+            if let Some(t) = t {
+                p.confirm_counts = p.confirm_counts.min(0.5 * t);
+                p.peaks.min_prominence = p.peaks.min_prominence.min(0.5 * t);
+            }
+            p
+        })
+        .collect();
     let full_scale = g.plane_z - g.board_z;
     let mut by_cycle: Vec<(TactileImage, TactileImage)> = Vec::with_capacity(cycles);
     for c in 0..cycles {
@@ -92,7 +108,7 @@ pub fn images(
         let mut heights = [vec![None; rigid.len()], vec![None; rigid.len()]];
         for (w, stream) in streams.iter().enumerate() {
             let whisker = &rigid[w];
-            let Some(e) = detect(stream, 1.0 / DT, whisker.module.beam.length, &params) else {
+            let Some(e) = detect(stream, 1.0 / DT, whisker.module.beam.length, &params[w]) else {
                 continue;
             };
             let pose = poses[e.onset.min(poses.len() - 1)];
