@@ -18,7 +18,7 @@ use serde_json::json;
 use std::path::PathBuf;
 use std::time::Instant;
 use whisker_sim::environment::Environment;
-use whisker_sim::environment::assets::{CATALOGUE, generate};
+use whisker_sim::environment::assets::{CATALOGUE, placed};
 use whisker_sim::environment::solids::Solids;
 use whisker_sim::environment::viewpoints;
 use whisker_sim::sensing::physics::{DT, PhysicsArray};
@@ -159,19 +159,13 @@ pub fn soak(o: &Options) -> CliResult {
         if !o.objects.is_empty() && !o.objects.iter().any(|n| n == asset.name) {
             continue;
         }
-        let mesh = generate(asset);
-        let shape = mesh.shape().map_err(CliError::Failure)?;
-        let environment = Environment {
-            pieces: vec![whisker_sim::environment::Piece {
-                name: asset.name.to_string(),
-                shape: shape.clone(),
-                mesh,
-                pose: Isometry3::identity(),
-            }],
-        };
-        let candidates = viewpoints::facing(&shape, asset.size, 64, "bench/sensing");
-        let (pose, n) = viewpoints::most_touching(&environment, &candidates)
-            .unwrap_or((candidates[0], Vec::new()));
+        let (environment, shape) = placed(asset).map_err(CliError::Failure)?;
+        let (pose, n) = viewpoints::busiest(&environment, &shape, asset.size).ok_or_else(|| {
+            CliError::Failure(format!(
+                "{}: no candidate pose where the whiskers reach it without starting inside",
+                asset.name
+            ))
+        })?;
         cases.push((asset.name.to_string(), environment, pose, n));
     }
     for name in &o.objects {

@@ -142,8 +142,8 @@ impl PhysicsSensing {
 mod tests {
     use super::*;
     use nalgebra::Translation3;
-    use whisker_sim::environment::assets::{CATALOGUE, generate};
-    use whisker_sim::environment::{Environment, Piece, viewpoints};
+    use whisker_sim::environment::assets::{CATALOGUE, placed};
+    use whisker_sim::environment::viewpoints;
 
     /// Far from the object nothing is simulated and nothing is sensed; at the pose near the
     /// Box where the most whiskers touch (as in `crates/sim/tests/front_end.rs`), the front
@@ -153,20 +153,10 @@ mod tests {
     #[test]
     fn physics_contacts_follow_the_anticipated_ones() {
         let asset = CATALOGUE.iter().find(|a| a.name == "box").unwrap();
-        let mesh = generate(asset);
-        let shape = mesh.shape().unwrap();
-        let environment = Environment {
-            pieces: vec![Piece {
-                name: "box".into(),
-                shape: shape.clone(),
-                mesh: mesh.clone(),
-                pose: Isometry3::identity(),
-            }],
-        };
-        let candidates = viewpoints::facing(&shape, asset.size, 64, "bench/sensing");
-        let (near, _) = viewpoints::most_touching(&environment, &candidates).unwrap();
+        let (environment, shape) = placed(asset).unwrap();
+        let (near, _) = viewpoints::busiest(&environment, &shape, asset.size).unwrap();
         let far = Isometry3::from_parts(Translation3::new(2.0, 0.0, 0.2), near.rotation);
-        let target = SweepTarget::new(mesh);
+        let target = SweepTarget::new(environment.world_mesh());
         let model = serde_json::from_str(crate::frontend::DEFAULT_MODEL).unwrap();
         let sensing = PhysicsSensing::new(vec![(shape, Isometry3::identity())], model);
         let cycles = sensing.sense(&target, &[far, near], 0, "test");

@@ -26,7 +26,7 @@ use rayon::prelude::*;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
-use whisker_sim::environment::assets::{CATALOGUE, generate};
+use whisker_sim::environment::assets::{CATALOGUE, placed};
 use whisker_sim::environment::{Environment, Piece, viewpoints};
 use whisker_sim::sensing::kinematic::{Intersect, RigidWhisker, SweepTarget};
 use whisker_sim::sensing::physics::{DEFAULT_SUBSTEPS, DT, PhysicsArray, WhiskerConfig};
@@ -206,16 +206,8 @@ fn validation_jobs(o: &GenerateOptions) -> CliResult<Vec<Job>> {
         .iter()
         .find(|a| a.name == "box")
         .expect("the catalogue has a box");
-    let mesh = generate(asset);
-    let shape = mesh
-        .shape()
-        .map_err(|e| CliError::Failure(format!("box: {e}")))?;
-    let piece = Piece {
-        name: "box".into(),
-        shape: shape.clone(),
-        mesh: mesh.clone(),
-        pose: Isometry3::identity(),
-    };
+    let (environment, shape) = placed(asset).map_err(|e| CliError::Failure(format!("box: {e}")))?;
+    let piece = environment.pieces[0].clone();
     let configs: Vec<WhiskerConfig> = array::modules()
         .into_iter()
         .map(|m| {
@@ -232,7 +224,7 @@ fn validation_jobs(o: &GenerateOptions) -> CliResult<Vec<Job>> {
         .iter()
         .map(|c| RigidWhisker::new(c.module.clone(), pivot_depth(c)))
         .collect();
-    let target = SweepTarget::new(mesh);
+    let target = SweepTarget::new(environment.world_mesh());
     let stream = format!("radial/validation/{}/waypoints", o.seed);
     let candidates = viewpoints::facing(&shape, asset.size, 512, &stream);
     // Score each pose by its whiskers touching at ≤ 0.7 L; skip poses where a whisker

@@ -7,9 +7,8 @@
 //! ±1.3° of the anticipated ones (median 0.2°): the simulated whiskers bend little before
 //! the follicle reads.
 
-use nalgebra::Isometry3;
-use whisker_sim::environment::assets::{CATALOGUE, generate};
-use whisker_sim::environment::{Environment, Piece, viewpoints};
+use whisker_sim::environment::assets::{CATALOGUE, placed};
+use whisker_sim::environment::viewpoints;
 use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
 use whisker_sim::sensing::physics::{DT, PhysicsArray, WhiskerConfig};
 use whisker_sim::whisker::array;
@@ -18,19 +17,9 @@ use whisker_slam::frontend::contact::{FrontEndParams, detect};
 #[test]
 fn physics_contacts_are_detected_at_the_anticipated_angle() {
     let asset = CATALOGUE.iter().find(|a| a.name == "box").unwrap();
-    let mesh = generate(asset);
-    let shape = mesh.shape().unwrap();
-    let environment = Environment {
-        pieces: vec![Piece {
-            name: "box".into(),
-            shape: shape.clone(),
-            mesh: mesh.clone(),
-            pose: Isometry3::identity(),
-        }],
-    };
-    let candidates = viewpoints::facing(&shape, asset.size, 64, "bench/sensing");
-    let (pose, touching) = viewpoints::most_touching(&environment, &candidates).unwrap();
-    let target = SweepTarget::new(mesh);
+    let (environment, shape) = placed(asset).unwrap();
+    let (pose, touching) = viewpoints::busiest(&environment, &shape, asset.size).unwrap();
+    let target = SweepTarget::new(environment.world_mesh());
     let configs: Vec<WhiskerConfig> = array::modules()
         .into_iter()
         .filter(|m| touching.contains(&m.index))

@@ -4,9 +4,9 @@
 //! `whisker soak`, which runs every object and the maze for 60 s (default substeps).
 
 use nalgebra::{Isometry3, Vector3};
-use whisker_sim::environment::assets::{CATALOGUE, generate};
+use whisker_sim::environment::assets::{CATALOGUE, placed};
 use whisker_sim::environment::solids::Solids;
-use whisker_sim::environment::{Environment, Piece, viewpoints};
+use whisker_sim::environment::viewpoints;
 use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
 use whisker_sim::sensing::physics::{DT, PhysicsArray, WhiskerConfig};
 use whisker_sim::whisker::array;
@@ -17,24 +17,14 @@ use whisker_sim::whisker::array;
 /// how many whiskers were simulated.
 fn whisk_against(name: &str, pose: Option<Isometry3<f64>>, seconds: f64) -> (f64, bool, usize) {
     let asset = CATALOGUE.iter().find(|a| a.name == name).unwrap();
-    let mesh = generate(asset);
-    let shape = mesh.shape().unwrap();
-    let environment = Environment {
-        pieces: vec![Piece {
-            name: name.into(),
-            shape: shape.clone(),
-            mesh: mesh.clone(),
-            pose: Isometry3::identity(),
-        }],
-    };
+    let (environment, shape) = placed(asset).unwrap();
     let solids = Solids::new(&environment).unwrap();
     let pose = pose.unwrap_or_else(|| {
-        let candidates = viewpoints::facing(&shape, asset.size, 64, "bench/sensing");
-        viewpoints::most_touching(&environment, &candidates)
+        viewpoints::busiest(&environment, &shape, asset.size)
             .unwrap()
             .0
     });
-    let target = SweepTarget::new(mesh);
+    let target = SweepTarget::new(environment.world_mesh());
     let configs: Vec<WhiskerConfig> = array::modules()
         .into_iter()
         .filter(|m| {

@@ -95,6 +95,24 @@ pub fn generate(asset: &Asset) -> Mesh {
     fit(&raw, Vector3::from(asset.size))
 }
 
+/// A catalogued object standing at the world origin (its own frame) as an environment of
+/// one piece named after it, and its collision shape.
+pub fn placed(
+    asset: &Asset,
+) -> Result<(super::Environment, parry3d_f64::shape::SharedShape), String> {
+    let mesh = generate(asset);
+    let shape = mesh.shape()?;
+    let environment = super::Environment {
+        pieces: vec![super::Piece {
+            name: asset.name.to_string(),
+            shape: shape.clone(),
+            mesh,
+            pose: nalgebra::Isometry3::identity(),
+        }],
+    };
+    Ok((environment, shape))
+}
+
 /// The OBJ text of a catalogued object, exactly as `whisker assets generate` writes it.
 pub fn obj(asset: &Asset) -> String {
     let mesh = generate(asset);

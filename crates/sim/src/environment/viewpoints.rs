@@ -74,3 +74,14 @@ pub fn most_touching(
         })
         .max_by_key(|(_, touching)| touching.len())
 }
+
+/// The array pose near a catalogued object (`placed`) where the most whiskers touch, of
+/// the 64 [`facing`] poses of the `bench/sensing` stream — the pose of `whisker soak`,
+/// `whisker bench sensing`'s first case and the physics tests — and the touching whiskers.
+pub fn busiest(
+    environment: &Environment,
+    shape: &SharedShape,
+    size: [f64; 3],
+) -> Option<(Isometry3<f64>, Vec<usize>)> {
+    most_touching(environment, &facing(shape, size, 64, "bench/sensing"))
+}
