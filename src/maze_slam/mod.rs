@@ -56,12 +56,13 @@ pub struct Options {
     #[arg(long)]
     pub kidnap: bool,
     /// Local-view matching threshold (Eq 3.1); tuned on seed 0 as the thesis tuned on its
-    /// first run (§3.2: lower → fewer, more often correct re-localisations).
-    #[arg(long, default_value_t = 10.0)]
-    pub match_threshold: f64,
-    /// Pose-cell injection energy (Eq 5.8).
-    #[arg(long, default_value_t = 0.1)]
-    pub inject_energy: f64,
+    /// first run (§3.2.1). Several (comma-separated) run RatSLAM once per value on the same
+    /// images and odometry — a tuning sweep at the cost of one physics run.
+    #[arg(long, value_delimiter = ',', default_value = "10")]
+    pub match_threshold: Vec<f64>,
+    /// Pose-cell injection energy (Eq 5.8); several as for `--match-threshold`.
+    #[arg(long, value_delimiter = ',', default_value = "0.1")]
+    pub inject_energy: Vec<f64>,
     /// Directory for `trajectory-<variant>-<seed>.csv`.
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -222,9 +223,26 @@ pub fn run(o: &Options) -> CliResult {
     let target = SweepTarget::new(environment.world_mesh());
     let noise = scenario.kinematic.noise(file)?;
     let (truth_path, starts) = path(&loop_corners);
-    let mut params = RatSlamParams::default();
-    params.local_view.match_threshold = o.match_threshold;
-    params.local_view.inject_energy = o.inject_energy;
+    if let Some(bad) = o
+        .match_threshold
+        .iter()
+        .chain(&o.inject_energy)
+        .find(|v| !(v.is_finite() && **v > 0.0))
+    {
+        return Err(CliError::Input(format!(
+            "--match-threshold / --inject-energy: expected positive numbers, got {bad}"
+        )));
+    }
+    let mut tunings = Vec::new();
+    for &threshold in &o.match_threshold {
+        for &energy in &o.inject_energy {
+            let mut p = RatSlamParams::default();
+            p.local_view.match_threshold = threshold;
+            p.local_view.inject_energy = energy;
+            tunings.push(p);
+        }
+    }
+    let sweep = tunings.len() > 1;
     if o.kidnap && o.sensing == SensingArg::Physics {
         return Err(CliError::Input(
             "--kidnap: only with --sensing kinematic (a physics array cannot jump)".into(),
@@ -299,60 +317,69 @@ pub fn run(o: &Options) -> CliResult {
                 })
                 .collect();
             for (images_name, images) in &image_sets {
-                let mut slam = RatSlam::new(params);
-                let log: Vec<usize> = images
-                    .iter()
-                    .zip(&steps)
-                    .map(|(img, &(d, t))| slam.step(img, d, t).experience)
-                    .collect();
-                // Estimates: the final map's poses, in the frame of the first true pose.
-                let first = truth[0];
-                let estimate: Vec<Pose2> = log
-                    .iter()
-                    .map(|&e| {
-                        let m = slam.map.experiences[e].pose;
-                        let (s, c) = first.th.sin_cos();
-                        Pose2 {
-                            x: first.x + c * m.x - s * m.y,
-                            y: first.y + s * m.x + c * m.y,
-                            th: wrap(first.th + m.th),
-                        }
-                    })
-                    .collect();
-                let base_end = starts[1] - 1;
-                let metric = experience_metric(&log, &truth, base_end, 0.1, 25f64.to_radians());
-                let em =
-                    energy_metric(&estimate, &truth, &consecutive(truth.len())).unwrap_or(f64::NAN);
-                if let Some(dir) = &o.out {
-                    crate::output::create_dir(dir)?;
-                    let mut csv = String::from(
-                        "update,true_x_m,true_y_m,true_heading_rad,est_x_m,est_y_m,est_heading_rad,experience\n",
-                    );
-                    for (k, (t, e)) in truth.iter().zip(&estimate).enumerate() {
-                        csv += &format!(
-                            "{k},{},{},{},{},{},{},{}\n",
-                            t.x, t.y, t.th, e.x, e.y, e.th, log[k]
+                for params in &tunings {
+                    let params = *params;
+                    let mut slam = RatSlam::new(params);
+                    let log: Vec<usize> = images
+                        .iter()
+                        .zip(&steps)
+                        .map(|(img, &(d, t))| slam.step(img, d, t).experience)
+                        .collect();
+                    // Estimates: the final map's poses, in the frame of the first true pose.
+                    let first = truth[0];
+                    let estimate: Vec<Pose2> = log
+                        .iter()
+                        .map(|&e| {
+                            let m = slam.map.experiences[e].pose;
+                            let (s, c) = first.th.sin_cos();
+                            Pose2 {
+                                x: first.x + c * m.x - s * m.y,
+                                y: first.y + s * m.x + c * m.y,
+                                th: wrap(first.th + m.th),
+                            }
+                        })
+                        .collect();
+                    let base_end = starts[1] - 1;
+                    let metric = experience_metric(&log, &truth, base_end, 0.1, 25f64.to_radians());
+                    let em = energy_metric(&estimate, &truth, &consecutive(truth.len()))
+                        .unwrap_or(f64::NAN);
+                    if let Some(dir) = &o.out {
+                        crate::output::create_dir(dir)?;
+                        let mut csv = String::from(
+                            "update,true_x_m,true_y_m,true_heading_rad,est_x_m,est_y_m,est_heading_rad,experience\n",
                         );
+                        for (k, (t, e)) in truth.iter().zip(&estimate).enumerate() {
+                            csv += &format!(
+                                "{k},{},{},{},{},{},{},{}\n",
+                                t.x, t.y, t.th, e.x, e.y, e.th, log[k]
+                            );
+                        }
+                        let mut tag = images_name.replace('/', "-");
+                        if sweep {
+                            let lv = params.local_view;
+                            tag += &format!("-t{}-e{}", lv.match_threshold, lv.inject_energy);
+                        }
+                        crate::output::write_atomic(
+                            &dir.join(format!("trajectory-{tag}-{name}-{seed}.csv")),
+                            csv.as_bytes(),
+                        )?;
                     }
-                    let tag = images_name.replace('/', "-");
-                    crate::output::write_atomic(
-                        &dir.join(format!("trajectory-{tag}-{name}-{seed}.csv")),
-                        csv.as_bytes(),
-                    )?;
+                    eprintln!("seed {seed} {name} {images_name}: {} updates", truth.len());
+                    results.push(json!({
+                        "seed": seed,
+                        "variant": name,
+                        "images": images_name,
+                        "match_threshold": params.local_view.match_threshold,
+                        "inject_energy": params.local_view.inject_energy,
+                        "updates": truth.len(),
+                        "templates": slam.view.templates.len(),
+                        "experiences": slam.map.experiences.len(),
+                        "arr": metric.arr,
+                        "arcr": metric.arcr,
+                        "relocalisations": metric.relocalisations,
+                        "energy_metric": em,
+                    }));
                 }
-                eprintln!("seed {seed} {name} {images_name}: {} updates", truth.len());
-                results.push(json!({
-                    "seed": seed,
-                    "variant": name,
-                    "images": images_name,
-                    "updates": truth.len(),
-                    "templates": slam.view.templates.len(),
-                    "experiences": slam.map.experiences.len(),
-                    "arr": metric.arr,
-                    "arcr": metric.arcr,
-                    "relocalisations": metric.relocalisations,
-                    "energy_metric": em,
-                }));
             }
         }
     }
@@ -361,15 +388,27 @@ pub fn run(o: &Options) -> CliResult {
     } else {
         println!("Planar RatSLAM on the maze (§3.3)");
         println!(
-            "  {:>5} {:<10} {:<24} {:>7} {:>9} {:>11} {:>7} {:>7} {:>9}",
-            "seed", "variant", "images", "updates", "templates", "experiences", "ARR", "ARCR", "EM"
+            "  {:>5} {:<10} {:<24} {:>6} {:>6} {:>7} {:>9} {:>11} {:>7} {:>7} {:>9}",
+            "seed",
+            "variant",
+            "images",
+            "thresh",
+            "energy",
+            "updates",
+            "templates",
+            "experiences",
+            "ARR",
+            "ARCR",
+            "EM"
         );
         for r in &results {
             println!(
-                "  {:>5} {:<10} {:<24} {:>7} {:>9} {:>11} {:>7.4} {:>7.4} {:>9.4}",
+                "  {:>5} {:<10} {:<24} {:>6} {:>6} {:>7} {:>9} {:>11} {:>7.4} {:>7.4} {:>9.4}",
                 r["seed"].as_u64().unwrap_or(0),
                 r["variant"].as_str().unwrap_or(""),
                 r["images"].as_str().unwrap_or(""),
+                r["match_threshold"].as_f64().unwrap_or(f64::NAN),
+                r["inject_energy"].as_f64().unwrap_or(f64::NAN),
                 r["updates"].as_u64().unwrap_or(0),
                 r["templates"].as_u64().unwrap_or(0),
                 r["experiences"].as_u64().unwrap_or(0),
