@@ -16,7 +16,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 use whisker_sim::environment::Environment;
 use whisker_sim::kinematics::Chain;
-use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
+use whisker_sim::sensing::kinematic::{KinematicArray, SweepTarget};
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::whisker::control::WhiskingPattern;
 
@@ -54,8 +54,7 @@ impl ContactSensing {
         let whiskers = configs
             .iter()
             .map(|c| {
-                let mut w =
-                    RigidWhisker::new(c.module.clone(), c.follicle.map_or(0.0, |f| f.pivot_depth));
+                let mut w = c.rigid();
                 w.retracted = c.pattern.retracted;
                 w.protracted = c.pattern.protracted;
                 w

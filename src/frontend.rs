@@ -60,12 +60,7 @@ impl FrontEnd {
         Ok(Self {
             params: scenario.frontend.detection,
             model,
-            whiskers: configs
-                .iter()
-                .map(|c| {
-                    RigidWhisker::new(c.module.clone(), c.follicle.map_or(0.0, |f| f.pivot_depth))
-                })
-                .collect(),
+            whiskers: configs.iter().map(WhiskerConfig::rigid).collect(),
             pattern: configs[0].pattern,
             rng: whisker_slam::rng::substream(scenario.seed, "frontend/radial"),
             cycle: None,

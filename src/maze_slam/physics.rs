@@ -68,10 +68,7 @@ pub fn images(
         }
     }
     let thresholds: Vec<Option<f64>> = configs.iter().map(|c| c.rcp_threshold).collect();
-    let rigid: Vec<RigidWhisker> = configs
-        .iter()
-        .map(|c| RigidWhisker::new(c.module.clone(), c.follicle.map_or(0.0, |f| f.pivot_depth)))
-        .collect();
+    let rigid: Vec<RigidWhisker> = configs.iter().map(WhiskerConfig::rigid).collect();
     let frequency = configs[0].pattern.frequency;
     let per_cycle = (1.0 / (frequency * DT)).round() as usize;
     let duration = (path.len() - 1) as f64 / super::UPDATE_HZ;

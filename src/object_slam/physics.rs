@@ -45,10 +45,7 @@ impl PhysicsSensing {
                 c
             })
             .collect();
-        let rigid = configs
-            .iter()
-            .map(|c| RigidWhisker::new(c.module.clone(), c.follicle.map_or(0.0, |f| f.pivot_depth)))
-            .collect();
+        let rigid = configs.iter().map(WhiskerConfig::rigid).collect();
         Self {
             environment,
             model,

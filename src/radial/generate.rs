@@ -96,7 +96,6 @@ struct Job {
     config: WhiskerConfig,
     environment: Vec<Piece>,
     array_pose: Isometry3<f64>,
-    rigid: RigidWhisker,
     truth: Intersect,
     whisks: usize,
 }
@@ -116,10 +115,6 @@ fn whisker_config(module: Module, frequency: f64, substeps: usize) -> WhiskerCon
     c.rcp_threshold = Some(c.sensor.saturation_counts);
     c.substeps = substeps;
     c
-}
-
-fn pivot_depth(c: &WhiskerConfig) -> f64 {
-    c.follicle.map_or(0.0, |f| f.pivot_depth)
 }
 
 /// A rod along the whisk axis that the rigid shaft of `whisker` (array at the origin)
@@ -166,7 +161,7 @@ fn training_jobs(o: &GenerateOptions) -> CliResult<Vec<Job>> {
                 let frequency = (0.2f64.ln() + rng.random::<f64>() * (2.5f64 / 0.2).ln()).exp();
                 let theta = rng.random_range(60.0..110.0f64).to_radians();
                 let config = whisker_config(module.clone(), frequency, o.substeps);
-                let rigid = RigidWhisker::new(module.clone(), pivot_depth(&config));
+                let rigid = config.rigid();
                 let piece = rod(&rigid, r, theta);
                 let target = SweepTarget::new(piece_mesh(&piece));
                 // The 64-gon rod may be first met a step later or, at the tip, missed.
@@ -179,7 +174,6 @@ fn training_jobs(o: &GenerateOptions) -> CliResult<Vec<Job>> {
                     config,
                     environment: vec![piece],
                     array_pose: Isometry3::identity(),
-                    rigid,
                     truth,
                     whisks: 1,
                 });
@@ -220,10 +214,7 @@ fn validation_jobs(o: &GenerateOptions) -> CliResult<Vec<Job>> {
             whisker_config(m, 1.0, o.substeps)
         })
         .collect();
-    let rigid: Vec<RigidWhisker> = configs
-        .iter()
-        .map(|c| RigidWhisker::new(c.module.clone(), pivot_depth(c)))
-        .collect();
+    let rigid: Vec<RigidWhisker> = configs.iter().map(WhiskerConfig::rigid).collect();
     let target = SweepTarget::new(environment.world_mesh());
     let stream = format!("radial/validation/{}/waypoints", o.seed);
     let candidates = viewpoints::facing(&shape, asset.size, 512, &stream);
@@ -257,7 +248,6 @@ fn validation_jobs(o: &GenerateOptions) -> CliResult<Vec<Job>> {
                 config: configs[i].clone(),
                 environment: vec![piece.clone()],
                 array_pose: pose,
-                rigid: rigid[i].clone(),
                 truth,
                 whisks: o.whisks,
             });
@@ -280,6 +270,7 @@ fn run_job(job: &Job, seed: u64, params: &FrontEndParams) -> Outcome {
         DT,
     );
     let length = job.config.module.beam.length;
+    let rigid = job.config.rigid();
     let mut outcome = Outcome {
         samples: Vec::new(),
         missed: 0,
@@ -290,14 +281,9 @@ fn run_job(job: &Job, seed: u64, params: &FrontEndParams) -> Outcome {
             outcome.missed += 1;
             continue;
         };
-        let base = job
-            .rigid
-            .shaft_point(&job.array_pose, event.onset_angle, 0.0);
-        let direction = (job
-            .rigid
-            .shaft_point(&job.array_pose, event.onset_angle, 1.0)
-            - base)
-            .normalize();
+        let base = rigid.shaft_point(&job.array_pose, event.onset_angle, 0.0);
+        let direction =
+            (rigid.shaft_point(&job.array_pose, event.onset_angle, 1.0) - base).normalize();
         outcome.samples.push(RadialSample {
             case: if job.whisks > 1 {
                 format!("{}/w{w}", job.case)

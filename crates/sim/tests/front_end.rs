@@ -9,7 +9,7 @@
 
 use whisker_sim::environment::assets::{CATALOGUE, placed};
 use whisker_sim::environment::viewpoints;
-use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
+use whisker_sim::sensing::kinematic::SweepTarget;
 use whisker_sim::sensing::physics::{DT, PhysicsArray, WhiskerConfig};
 use whisker_sim::whisker::array;
 use whisker_slam::frontend::contact::{FrontEndParams, detect};
@@ -28,7 +28,7 @@ fn physics_contacts_are_detected_at_the_anticipated_angle() {
     let anticipated: Vec<f64> = configs
         .iter()
         .map(|c| {
-            let w = RigidWhisker::new(c.module.clone(), c.follicle.map_or(0.0, |f| f.pivot_depth));
+            let w = c.rigid();
             target.sweep(&w, &pose).unwrap().angle
         })
         .collect();

@@ -14,6 +14,7 @@
 //! 10 µm, penetration corrected at up to 1 m/s, and contacts predicted 0.5 mm ahead.
 
 use crate::environment::solids::Solids;
+use crate::sensing::kinematic::RigidWhisker;
 use crate::whisker::array::Module;
 use crate::whisker::body::Whisker;
 use crate::whisker::control::{Controller, RcpThreshold, WhiskingPattern};
@@ -60,6 +61,15 @@ impl WhiskerConfig {
             sensor: SensorModel::default(),
             substeps: DEFAULT_SUBSTEPS,
         }
+    }
+
+    /// The rigid, straight twin of this whisker for the kinematic sweep (the anticipated
+    /// intersect): the same module, its shaft starting the follicle's pivot depth out.
+    pub fn rigid(&self) -> RigidWhisker {
+        RigidWhisker::new(
+            self.module.clone(),
+            self.follicle.map_or(0.0, |f| f.pivot_depth),
+        )
     }
 }
 
