@@ -30,6 +30,16 @@ use whisker_slam::sensor::Sample;
 /// choice (§4.2.1), trained by `whisker radial train` on the physics training set.
 pub const DEFAULT_MODEL: &str = include_str!("../assets/models/svr10.json");
 
+/// The radial-distance model file at `path` (a `whisker radial train` output), or the
+/// built-in svr10.
+pub fn radial_model(path: Option<&Path>) -> CliResult<RadialEstimator> {
+    match path {
+        Some(p) => crate::radial::load_model(p),
+        None => serde_json::from_str(DEFAULT_MODEL)
+            .map_err(|e| CliError::Failure(format!("the built-in svr10 model: {e}"))),
+    }
+}
+
 /// The front end along a physics run.
 pub struct FrontEnd {
     params: FrontEndParams,
@@ -48,15 +58,7 @@ pub struct FrontEnd {
 impl FrontEnd {
     /// The front end of `scenario` for whiskers `configs`.
     pub fn new(scenario: &Scenario, file: &Path, configs: &[WhiskerConfig]) -> CliResult<Self> {
-        let model = match &scenario.frontend.radial_model {
-            Some(path) => {
-                let path = file.parent().unwrap_or(Path::new("")).join(path);
-                crate::radial::load_model(&path)
-                    .map_err(|e| CliError::field(file, "frontend.radial_model", e))?
-            }
-            None => serde_json::from_str(DEFAULT_MODEL)
-                .map_err(|e| CliError::Failure(format!("the built-in svr10 model: {e}")))?,
-        };
+        let model = scenario.frontend.model(file)?;
         Ok(Self {
             params: scenario.frontend.detection,
             model,

@@ -327,11 +327,7 @@ pub fn run(o: &Options) -> CliResult {
                 "--radial-model: only used with --sensing physics".into(),
             ));
         }
-        (SensingArg::Physics, Some(path)) => Some(crate::radial::load_model(path)?),
-        (SensingArg::Physics, None) => Some(
-            serde_json::from_str(crate::frontend::DEFAULT_MODEL)
-                .map_err(|e| CliError::Failure(format!("the built-in svr10 model: {e}")))?,
-        ),
+        (SensingArg::Physics, path) => Some(crate::frontend::radial_model(path.as_deref())?),
     };
     let data: Vec<Sensed> = assets
         .par_iter()

@@ -100,12 +100,17 @@ impl FrontEndConfig {
                 ));
             }
         }
-        if let Some(model) = &self.radial_model {
-            let path = file.parent().unwrap_or(Path::new("")).join(model);
-            crate::radial::load_model(&path)
-                .map_err(|e| CliError::field(file, "frontend.radial_model", e))?;
+        self.model(file).map(|_| ())
+    }
+
+    /// The radial-distance model: `radial_model` (relative to the scenario `file`), or the
+    /// built-in svr10.
+    pub fn model(&self, file: &Path) -> CliResult<whisker_slam::radial::RadialEstimator> {
+        match &self.radial_model {
+            Some(m) => crate::radial::load_model(&relative_to(file, m))
+                .map_err(|e| CliError::field(file, "frontend.radial_model", e)),
+            None => crate::frontend::radial_model(None),
         }
-        Ok(())
     }
 }
 
