@@ -285,7 +285,7 @@ fn params(combo: Combo) -> Params {
 }
 
 /// Median of a list (NaN when empty).
-fn median(mut v: Vec<f64>) -> f64 {
+pub(crate) fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
         return f64::NAN;
     }

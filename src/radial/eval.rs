@@ -11,6 +11,7 @@
 
 use super::{Label, feature_names, load_model, read_set};
 use crate::error::{CliError, CliResult};
+use crate::object_slam::median;
 use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::shape::SharedShape;
 use serde_json::json;
@@ -47,16 +48,6 @@ struct Scored {
     features: String,
     errors: Vec<f64>,
     distances_mm: Vec<f64>,
-}
-
-fn median(v: &[f64]) -> f64 {
-    let mut s = v.to_vec();
-    s.sort_by(f64::total_cmp);
-    match s.len() {
-        0 => f64::NAN,
-        n if n % 2 == 1 => s[n / 2],
-        n => 0.5 * (s[n / 2 - 1] + s[n / 2]),
-    }
 }
 
 fn std(v: &[f64]) -> f64 {
@@ -161,9 +152,9 @@ pub fn run(o: &EvalOptions) -> CliResult {
                 "model": s.name,
                 "features": s.features,
                 "contacts": s.errors.len(),
-                "radial_error_median": median(&s.errors),
+                "radial_error_median": median(s.errors.clone()),
                 "radial_error_std": std(&s.errors),
-                "face_distance_median_mm": median(&s.distances_mm),
+                "face_distance_median_mm": median(s.distances_mm.clone()),
                 "face_distance_std_mm": std(&s.distances_mm),
                 "radial_error_p_vs_tip": p(&s.errors, &scored[0].errors),
                 "radial_error_p_vs_random": p(&s.errors, &scored[1].errors),

@@ -18,7 +18,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 use whisker_slam::frontend::features::Feature;
 use whisker_slam::radial::RadialEstimator;
-use whisker_slam::radial::cross_validation::r2;
+use whisker_slam::radial::cross_validation::{mse, r2};
 use whisker_slam::radial::mlp::{Mlp, MlpTraining};
 use whisker_slam::radial::pca::Pca;
 use whisker_slam::radial::polynomial::Polynomial;
@@ -139,15 +139,14 @@ pub fn run(o: &TrainOptions) -> CliResult {
     }
     let y: Vec<f64> = set.iter().map(|s| s.truth_radial_m).collect();
     let start = Instant::now();
-    let trained: Vec<CliResult<(String, RadialEstimator, String)>> = labels
+    let trained: Vec<CliResult<(RadialEstimator, String)>> = labels
         .par_iter()
         .map(|label| {
             let x: Vec<Vec<f64>> = set
                 .iter()
                 .map(|s| s.features.select(&label.features))
                 .collect();
-            let (model, note) = train(label, &x, &y, o.seed)?;
-            Ok((label.name.clone(), model, note))
+            train(label, &x, &y, o.seed)
         })
         .collect();
     println!(
@@ -155,15 +154,14 @@ pub fn run(o: &TrainOptions) -> CliResult {
         "model", "features", "R² train", "RMSE (mm)"
     );
     let mut rng = whisker_slam::rng::substream(o.seed, "radial/train/report");
-    for t in trained {
-        let (name, model, note) = t?;
+    for (label, t) in labels.iter().zip(trained) {
+        let (model, note) = t?;
+        let name = &label.name;
         let p: Vec<f64> = set
             .iter()
             .map(|s| model.estimate(&s.features, &mut rng))
             .collect();
-        let rmse =
-            (p.iter().zip(&y).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / y.len() as f64).sqrt();
-        let label = Label::parse(&name)?;
+        let rmse = mse(&p, &y).sqrt();
         println!(
             "{name:<7} {:<20} {:>9.4} {:>11.2}  {note}",
             label.feature_names(),
