@@ -36,7 +36,9 @@ use whisker_sim::whisker::array;
 use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_slam::ratslam::experience_map::{Pose2, wrap};
 use whisker_slam::ratslam::local_view::TactileImage;
-use whisker_slam::ratslam::metrics::{consecutive, energy_metric, experience_metric};
+use whisker_slam::ratslam::metrics::{
+    ExperienceMetric, consecutive, energy_metric, experience_metric,
+};
 use whisker_slam::ratslam::odometry::OdometryNoise;
 use whisker_slam::ratslam::{RatSlam, RatSlamParams};
 use whisker_slam::rng::{substream, substream_key};
@@ -91,14 +93,38 @@ pub struct Options {
 /// Updates per second (§3.1.2).
 pub const UPDATE_HZ: f64 = 1.5;
 
-/// The array's pose at a path sample: facing down from the plane at `plane_z`, turned
-/// about the vertical by the heading (yaw `yaw0` at heading 0).
-pub fn pose_of(p: &Sample, plane_z: f64, yaw0: f64) -> Isometry3<f64> {
-    Isometry3::from_parts(
-        Translation3::new(p.x, p.y, plane_z),
-        UnitQuaternion::from_axis_angle(&Vector3::z_axis(), p.th)
-            * UnitQuaternion::from_euler_angles(PI, 0.0, yaw0),
-    )
+/// Where the array flies and how tactile images are scaled.
+pub struct Geometry {
+    /// Height of the array plane (world z, m).
+    pub plane_z: f64,
+    /// Height of the board (world z, m).
+    pub board_z: f64,
+    /// Yaw of the array at heading 0 (rad).
+    pub yaw0: f64,
+}
+
+impl Geometry {
+    /// The array's pose at a path sample: facing down from the plane, turned about the
+    /// vertical by the heading.
+    pub fn pose(&self, p: &Sample) -> Isometry3<f64> {
+        Isometry3::from_parts(
+            Translation3::new(p.x, p.y, self.plane_z),
+            UnitQuaternion::from_axis_angle(&Vector3::z_axis(), p.th)
+                * UnitQuaternion::from_euler_angles(PI, 0.0, self.yaw0),
+        )
+    }
+
+    /// The height above the board of `whisker`'s straight shaft tip at whisk angle `angle`
+    /// with the array at `pose` (forward kinematics, §3.1.1), at least 0.
+    pub fn tip_height(&self, whisker: &RigidWhisker, pose: &Isometry3<f64>, angle: f64) -> f64 {
+        let tip = whisker.shaft_point(pose, angle, whisker.module.beam.length);
+        (tip.z - self.board_z).max(0.0)
+    }
+
+    /// The tactile image of per-whisker heights, full scale the array's height.
+    pub fn image(&self, heights: &[Option<f64>]) -> TactileImage {
+        TactileImage::from_heights(heights, self.plane_z - self.board_z)
+    }
 }
 
 /// Tactile images of every update from the kinematic sweep (the scenario's detection
@@ -108,7 +134,7 @@ fn kinematic_images(
     target: &SweepTarget,
     noise: whisker_sim::sensing::noise::ContactNoise,
     key: u64,
-    g: &physics::Geometry,
+    g: &Geometry,
 ) -> Vec<TactileImage> {
     let whiskers: Vec<RigidWhisker> = array::modules()
         .into_iter()
@@ -124,15 +150,13 @@ fn kinematic_images(
         .iter()
         .enumerate()
         .map(|(k, p)| {
-            let pose = pose_of(p, g.plane_z, g.yaw0);
+            let pose = g.pose(p);
             let cycle = sensing.sense(target, k as u64, k as f64, &pose);
             let mut heights = vec![None; whiskers.len()];
             for c in &cycle.contacts {
-                let w = &whiskers[c.whisker];
-                let tip = w.shaft_point(&pose, c.angle_rad, w.module.beam.length);
-                heights[c.whisker] = Some((tip.z - g.board_z).max(0.0));
+                heights[c.whisker] = Some(g.tip_height(&whiskers[c.whisker], &pose, c.angle_rad));
             }
-            TactileImage::from_heights(&heights, g.plane_z - g.board_z)
+            g.image(&heights)
         })
         .collect()
 }
@@ -189,6 +213,75 @@ fn path(corners: &[(f64, f64)]) -> (Vec<Sample>, Vec<usize>) {
         out.extend(circuit(corners, reverse, &mut at));
     }
     (out, starts)
+}
+
+/// One RatSLAM run over a sequence of images and odometry, and its metrics.
+struct Evaluation {
+    /// The current experience after each update.
+    log: Vec<usize>,
+    /// Each update's estimate: the final relaxed map's pose of the experience current
+    /// then, in the frame of the first true pose.
+    estimate: Vec<Pose2>,
+    metric: ExperienceMetric,
+    energy: f64,
+    templates: usize,
+    experiences: usize,
+}
+
+impl Evaluation {
+    /// RatSLAM with `params` over `images` and `steps` (distance, turn), scored against
+    /// `truth` with the base set ending at update `base_end`.
+    fn of(
+        params: RatSlamParams,
+        images: &[TactileImage],
+        steps: &[(f64, f64)],
+        truth: &[Sample],
+        base_end: usize,
+    ) -> Self {
+        let mut slam = RatSlam::new(params);
+        let log: Vec<usize> = images
+            .iter()
+            .zip(steps)
+            .map(|(img, &(d, t))| slam.step(img, d, t).experience)
+            .collect();
+        let first = truth[0];
+        let (s, c) = first.th.sin_cos();
+        let estimate: Vec<Pose2> = log
+            .iter()
+            .map(|&e| {
+                let m = slam.map.experiences[e].pose;
+                Pose2 {
+                    x: first.x + c * m.x - s * m.y,
+                    y: first.y + s * m.x + c * m.y,
+                    th: wrap(first.th + m.th),
+                }
+            })
+            .collect();
+        let metric = experience_metric(&log, truth, base_end, 0.1, 25f64.to_radians());
+        let energy = energy_metric(&estimate, truth, &consecutive(truth.len())).unwrap_or(f64::NAN);
+        Self {
+            log,
+            estimate,
+            metric,
+            energy,
+            templates: slam.view.templates.len(),
+            experiences: slam.map.experiences.len(),
+        }
+    }
+
+    /// `trajectory-….csv`: true and estimated poses and the experience of each update.
+    fn trajectory_csv(&self, truth: &[Sample]) -> String {
+        let mut csv = String::from(
+            "update,true_x_m,true_y_m,true_heading_rad,est_x_m,est_y_m,est_heading_rad,experience\n",
+        );
+        for (k, (t, e)) in truth.iter().zip(&self.estimate).enumerate() {
+            csv += &format!(
+                "{k},{},{},{},{},{},{},{}\n",
+                t.x, t.y, t.th, e.x, e.y, e.th, self.log[k]
+            );
+        }
+        csv
+    }
 }
 
 /// `whisker maze-slam`.
@@ -248,7 +341,7 @@ pub fn run(o: &Options) -> CliResult {
             "--kidnap: only with --sensing kinematic (a physics array cannot jump)".into(),
         ));
     }
-    let geometry = physics::Geometry {
+    let geometry = Geometry {
         plane_z,
         board_z,
         yaw0,
@@ -318,50 +411,17 @@ pub fn run(o: &Options) -> CliResult {
                 .collect();
             for (images_name, images) in &image_sets {
                 for params in &tunings {
-                    let params = *params;
-                    let mut slam = RatSlam::new(params);
-                    let log: Vec<usize> = images
-                        .iter()
-                        .zip(&steps)
-                        .map(|(img, &(d, t))| slam.step(img, d, t).experience)
-                        .collect();
-                    // Estimates: the final map's poses, in the frame of the first true pose.
-                    let first = truth[0];
-                    let estimate: Vec<Pose2> = log
-                        .iter()
-                        .map(|&e| {
-                            let m = slam.map.experiences[e].pose;
-                            let (s, c) = first.th.sin_cos();
-                            Pose2 {
-                                x: first.x + c * m.x - s * m.y,
-                                y: first.y + s * m.x + c * m.y,
-                                th: wrap(first.th + m.th),
-                            }
-                        })
-                        .collect();
-                    let base_end = starts[1] - 1;
-                    let metric = experience_metric(&log, &truth, base_end, 0.1, 25f64.to_radians());
-                    let em = energy_metric(&estimate, &truth, &consecutive(truth.len()))
-                        .unwrap_or(f64::NAN);
+                    let run = Evaluation::of(*params, images, &steps, &truth, starts[1] - 1);
                     if let Some(dir) = &o.out {
-                        crate::output::create_dir(dir)?;
-                        let mut csv = String::from(
-                            "update,true_x_m,true_y_m,true_heading_rad,est_x_m,est_y_m,est_heading_rad,experience\n",
-                        );
-                        for (k, (t, e)) in truth.iter().zip(&estimate).enumerate() {
-                            csv += &format!(
-                                "{k},{},{},{},{},{},{},{}\n",
-                                t.x, t.y, t.th, e.x, e.y, e.th, log[k]
-                            );
-                        }
                         let mut tag = images_name.replace('/', "-");
                         if sweep {
                             let lv = params.local_view;
                             tag += &format!("-t{}-e{}", lv.match_threshold, lv.inject_energy);
                         }
+                        crate::output::create_dir(dir)?;
                         crate::output::write_atomic(
                             &dir.join(format!("trajectory-{tag}-{name}-{seed}.csv")),
-                            csv.as_bytes(),
+                            run.trajectory_csv(&truth).as_bytes(),
                         )?;
                     }
                     eprintln!("seed {seed} {name} {images_name}: {} updates", truth.len());
@@ -372,12 +432,12 @@ pub fn run(o: &Options) -> CliResult {
                         "match_threshold": params.local_view.match_threshold,
                         "inject_energy": params.local_view.inject_energy,
                         "updates": truth.len(),
-                        "templates": slam.view.templates.len(),
-                        "experiences": slam.map.experiences.len(),
-                        "arr": metric.arr,
-                        "arcr": metric.arcr,
-                        "relocalisations": metric.relocalisations,
-                        "energy_metric": em,
+                        "templates": run.templates,
+                        "experiences": run.experiences,
+                        "arr": run.metric.arr,
+                        "arcr": run.metric.arcr,
+                        "relocalisations": run.metric.relocalisations,
+                        "energy_metric": run.energy,
                     }));
                 }
             }

@@ -9,7 +9,7 @@
 //! where it was at the contact's onset. An update uses the images of the latest whisk
 //! cycle completed before it (the thesis published the latest image at 1.5 Hz).
 
-use super::{Sample, pose_of};
+use super::{Geometry, Sample};
 use nalgebra::Isometry3;
 use rayon::prelude::*;
 use whisker_sim::sensing::kinematic::RigidWhisker;
@@ -25,16 +25,6 @@ use whisker_slam::sensor::Sample as Reading;
 /// The images of every update: (by max_angle, by contact_angle).
 pub type Images = (Vec<TactileImage>, Vec<TactileImage>);
 
-/// How the array is placed and the images scaled.
-pub struct Geometry {
-    /// Height of the array plane (world z, m).
-    pub plane_z: f64,
-    /// Height of the board (world z, m).
-    pub board_z: f64,
-    /// Yaw of the array at heading 0 (rad).
-    pub yaw0: f64,
-}
-
 /// The pose at time `t` (s): the path interpolated between updates at 1.5 Hz.
 fn pose_at(path: &[Sample], t: f64, g: &Geometry) -> Isometry3<f64> {
     let u = (t * super::UPDATE_HZ).min((path.len() - 1) as f64);
@@ -46,7 +36,7 @@ fn pose_at(path: &[Sample], t: f64, g: &Geometry) -> Isometry3<f64> {
         y: a.y + f * (b.y - a.y),
         th: a.th + f * wrap(b.th - a.th),
     };
-    pose_of(&s, g.plane_z, g.yaw0)
+    g.pose(&s)
 }
 
 /// Simulates the whole path and returns both images for every update.
@@ -89,7 +79,6 @@ pub fn images(
             p
         })
         .collect();
-    let full_scale = g.plane_z - g.board_z;
     let mut by_cycle: Vec<(TactileImage, TactileImage)> = Vec::with_capacity(cycles);
     for c in 0..cycles {
         let mut streams: Vec<Vec<Reading>> = vec![Vec::with_capacity(per_cycle); rigid.len()];
@@ -110,16 +99,10 @@ pub fn images(
             };
             let pose = poses[e.onset.min(poses.len() - 1)];
             for (k, angle) in [Some(e.max_angle), e.contact_angle].into_iter().enumerate() {
-                if let Some(a) = angle {
-                    let tip = whisker.shaft_point(&pose, a, whisker.module.beam.length);
-                    heights[k][w] = Some((tip.z - g.board_z).max(0.0));
-                }
+                heights[k][w] = angle.map(|a| g.tip_height(whisker, &pose, a));
             }
         }
-        by_cycle.push((
-            TactileImage::from_heights(&heights[0], full_scale),
-            TactileImage::from_heights(&heights[1], full_scale),
-        ));
+        by_cycle.push((g.image(&heights[0]), g.image(&heights[1])));
         if (c + 1) % 60 == 0 {
             eprintln!("  {} of {cycles} whisk cycles simulated", c + 1);
         }
