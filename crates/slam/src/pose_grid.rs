@@ -114,6 +114,15 @@ impl NetworkShape {
         }
         Ok(())
     }
+
+    /// The excitation and inhibition kernels ([`gaussian_kernel`] of each width and
+    /// variance).
+    pub fn kernels(&self) -> (Vec<f64>, Vec<f64>) {
+        (
+            gaussian_kernel(self.widths[0], self.positives[1]),
+            gaussian_kernel(self.widths[1], self.positives[2]),
+        )
+    }
 }
 
 impl PoseGrid {

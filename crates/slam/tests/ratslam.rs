@@ -142,7 +142,7 @@ fn a_head_direction_ring_reproduces_fig_5_3_with_the_wrap() {
 /// A 4-node square loop, headings 0, whose closing link claims 0.4 m more travel in x
 /// than the others undo.
 fn square_with_error() -> ExperienceMap {
-    let mut map = ExperienceMap::new(ExperienceMapParams::default(), [21, 21, 36]);
+    let mut map = ExperienceMap::new(ExperienceMapParams::default());
     for (x, y) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
         map.experiences.push(Experience {
             pose: Pose2 { x, y, th: 0.0 },
@@ -195,7 +195,7 @@ fn relaxation_spreads_a_loops_odometric_error_evenly() {
 #[test]
 fn relaxation_spreads_a_heading_error_evenly_too() {
     // Four links each claiming a 90° turn plus a 4° error at one: each ends 1° off.
-    let mut map = ExperienceMap::new(ExperienceMapParams::default(), [21, 21, 36]);
+    let mut map = ExperienceMap::new(ExperienceMapParams::default());
     for k in 0..4 {
         map.experiences.push(Experience {
             pose: Pose2 {

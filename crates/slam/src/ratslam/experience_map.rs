@@ -14,8 +14,7 @@
 //! loop the odometric error ends up shared equally among the links. The first experience
 //! is at the origin with heading 0.
 
-use super::posecells3d::Cell3;
-use crate::pose_grid::wrapped_distance;
+use super::posecells3d::{Cell3, PoseCells3};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{PI, TAU};
 
@@ -146,16 +145,13 @@ pub struct ExperienceMap {
     /// Odometry accumulated since the current experience: displacement (map axes) and
     /// heading.
     accum: Pose2,
-    /// Pose-cell axis lengths (for distances).
-    dims: [usize; 3],
 }
 
 impl ExperienceMap {
-    /// An empty map for pose cells of axis lengths `dims`.
-    pub fn new(params: ExperienceMapParams, dims: [usize; 3]) -> Self {
+    /// An empty map.
+    pub fn new(params: ExperienceMapParams) -> Self {
         Self {
             params,
-            dims,
             ..Self::default()
         }
     }
@@ -185,13 +181,14 @@ impl ExperienceMap {
     }
 
     /// One update: odometry `distance` (m) after turning `dtheta` (rad), the local view's
-    /// template and the pose cells' best cell.
+    /// template and the best cell of the pose cells `cells`.
     pub fn update(
         &mut self,
         distance: f64,
         dtheta: f64,
         template: usize,
         cell: &Cell3,
+        cells: &PoseCells3,
     ) -> MapEvent {
         self.accum.th = wrap(self.accum.th + dtheta);
         self.accum.x += distance * self.accum.th.cos();
@@ -207,7 +204,7 @@ impl ExperienceMap {
         }
         let cur = &self.experiences[self.current];
         let threshold = self.params.delta_pc_threshold;
-        if cur.template == template && wrapped_distance(&cur.cell, cell, &self.dims) <= threshold {
+        if cur.template == template && cells.distance(&cur.cell, cell) <= threshold {
             return MapEvent::Stay;
         }
         let end = self.pose();
@@ -216,7 +213,7 @@ impl ExperienceMap {
             .iter()
             .enumerate()
             .filter(|(_, e)| e.template == template)
-            .map(|(i, e)| (i, wrapped_distance(&e.cell, cell, &self.dims)))
+            .map(|(i, e)| (i, cells.distance(&e.cell, cell)))
             .filter(|&(_, d)| d < threshold)
             .min_by(|a, b| a.1.total_cmp(&b.1));
         let event = match matched {

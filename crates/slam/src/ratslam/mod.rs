@@ -67,7 +67,7 @@ impl RatSlam {
         Self {
             view: LocalView::new(params.local_view),
             cells: PoseCells3::new(p, &[mid, mid, 0.0]),
-            map: ExperienceMap::new(params.experience_map, [p.dim_xy, p.dim_xy, p.dim_th]),
+            map: ExperienceMap::new(params.experience_map),
         }
     }
 
@@ -80,7 +80,9 @@ impl RatSlam {
         }
         self.cells.update(distance, dtheta);
         let cell = self.cells.best();
-        let event = self.map.update(distance, dtheta, seen.template, &cell);
+        let event = self
+            .map
+            .update(distance, dtheta, seen.template, &cell, &self.cells);
         Step {
             template: seen.template,
             new_template: seen.new,

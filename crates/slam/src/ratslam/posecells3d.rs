@@ -12,11 +12,13 @@
 //! Frames: cell (i, j, k) stands for x = i·cell size, y = j·cell size (both modulo the
 //! grid) and heading θ = k·360°/n_θ measured from +x towards +y — the same frame the
 //! experience map uses (the reference implementation transposes x and y between the
-//! two). A packet moves at exactly its velocity only at whole cells per update: the
-//! attractor dynamics pull a packet that moves a fraction of a cell per update back
-//! towards its cell (Ball et al. 2013 set the cell size so that one update is one cell).
+//! two). Path integration alone moves the activity by exactly its velocity; with the
+//! attractor dynamics a packet lags a little — it spans several θ layers, whose
+//! neighbours move at cos 10°, cos 20°… of the velocity (99.25 cells in 100 updates at
+//! one cell per update, the speed Ball et al. 2013 choose the cell size for) — and one
+//! moving a fraction of a cell per update is pulled back towards its cell.
 
-use crate::pose_grid::{NetworkShape, PoseGrid, gaussian_kernel, wrapped_distance};
+use crate::pose_grid::{NetworkShape, PoseGrid, wrapped_distance};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
@@ -60,6 +62,11 @@ impl Default for PlanarCellParams {
 impl PlanarCellParams {
     /// Checks the parameters; the message names the field.
     pub fn validate(&self) -> Result<(), String> {
+        self.shape().validate()
+    }
+
+    /// What the planar network shares with every pose-cell network.
+    pub fn shape(&self) -> NetworkShape {
         NetworkShape {
             shortest_axis: self.dim_xy.min(self.dim_th),
             widths: [self.excite_width, self.inhibit_width],
@@ -70,7 +77,6 @@ impl PlanarCellParams {
             ],
             global_inhibition: self.global_inhibition,
         }
-        .validate()
     }
 
     /// The heading one θ cell stands for (rad).
@@ -96,11 +102,12 @@ pub struct PoseCells3 {
 impl PoseCells3 {
     /// A network with all activity in the cell nearest `start`.
     pub fn new(params: PlanarCellParams, start: &Cell3) -> Self {
+        let (excite, inhibit) = params.shape().kernels();
         let mut cells = Self {
             params,
             grid: PoseGrid::new(&[params.dim_xy, params.dim_xy, params.dim_th]),
-            excite: gaussian_kernel(params.excite_width, params.excite_variance),
-            inhibit: gaussian_kernel(params.inhibit_width, params.inhibit_variance),
+            excite,
+            inhibit,
         };
         cells.inject(start, 1.0);
         cells

@@ -20,7 +20,7 @@
 //! Cell i of a rotation axis of n cells stands for the angle 360°·i/n (cell 0 is 0°);
 //! cell i of a translation axis for the position i·`cell_size_m` (modulo n cells).
 
-use crate::pose_grid::{NetworkShape, PoseGrid, gaussian_kernel, wrapped_distance};
+use crate::pose_grid::{NetworkShape, PoseGrid, wrapped_distance};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
@@ -69,6 +69,11 @@ impl PoseCellParams {
                 self.cells
             ));
         }
+        self.shape().validate()
+    }
+
+    /// What the 6-D network shares with every pose-cell network.
+    pub fn shape(&self) -> NetworkShape {
         NetworkShape {
             shortest_axis: *self.cells.iter().min().unwrap_or(&0),
             widths: [self.excite_width, self.inhibit_width],
@@ -79,7 +84,6 @@ impl PoseCellParams {
             ],
             global_inhibition: self.global_inhibition,
         }
-        .validate()
     }
 
     /// The angle one cell of rotation axis `axis` (3, 4 or 5) stands for (rad).
@@ -105,11 +109,12 @@ pub struct PoseCells6 {
 impl PoseCells6 {
     /// A network with all activity in `start` (rounded to a cell).
     pub fn new(params: PoseCellParams, start: &Cell6) -> Self {
+        let (excite, inhibit) = params.shape().kernels();
         let mut cells = Self {
             params,
             grid: PoseGrid::new(&params.cells),
-            excite: gaussian_kernel(params.excite_width, params.excite_variance),
-            inhibit: gaussian_kernel(params.inhibit_width, params.inhibit_variance),
+            excite,
+            inhibit,
         };
         cells.inject(start, 1.0);
         cells
