@@ -152,7 +152,10 @@ impl Arm {
     pub fn drive(&self, model: &RobotModel, world: &mut PhysicsWorld, q: &[f64]) {
         let poses = model.link_poses(q);
         for &(link, handle) in &self.bodies {
-            world.bodies[handle].set_next_kinematic_position((self.root_pose * poses[link]).into());
+            crate::world::set_next_kinematic_pose(
+                &mut world.bodies[handle],
+                self.root_pose * poses[link],
+            );
         }
     }
 
