@@ -62,22 +62,29 @@ fn unwrapped_mean(cells: &PoseCells3, axis: usize) -> f64 {
 
 #[test]
 fn path_integration_moves_the_mass_v_t_cells_across_the_wrap_and_conserves_it() {
-    // Pure path integration (no attractor) of a one-cell packet near the edge: 10 updates
-    // of 0.37 cell along the heading of its layer move its mean by exactly 3.7 cells —
-    // across the wrap — along (cos θ, sin θ), the mass conserved to 1e-12.
-    let p = params();
+    // Path integration (the update's step 5, before the next normalisation) of a one-cell
+    // packet: 100 updates of 0.37 cell along the heading of its layer move its mean by
+    // v·t = 37 cells along (cos θ, sin θ) — across the wrap of the 61-cell ring — within
+    // 1e-6 cell (the issue asks 0.05 per 100 updates), the mass conserved to 1e-12. (The
+    // grid is wide enough that the bilinear shifts' spreading, σ ≈ 5 cells after 100
+    // sub-cell shifts, barely wraps onto itself: its tails move the unwrapped mean by
+    // ~2e-8 cell.)
+    let p = PlanarCellParams {
+        dim_xy: 61,
+        ..params()
+    };
     for layer in [0usize, 1, 9, 22] {
-        let mut cells = PoseCells3::new(p, &[19.0, 19.0, layer as f64]);
+        let mut cells = PoseCells3::new(p, &[50.0, 50.0, layer as f64]);
         let th = layer as f64 * p.cell_angle();
-        for _ in 0..10 {
+        for _ in 0..100 {
             cells.path_integrate(0.37 * p.cell_size_m, 0.0);
+            assert!((cells.grid.sum() - 1.0).abs() < 1e-12);
         }
-        assert!((cells.grid.sum() - 1.0).abs() < 1e-12);
         for (axis, v) in [(0, th.cos()), (1, th.sin())] {
-            let want = (19.0 + 3.7 * v).rem_euclid(21.0);
+            let want = (50.0 + 37.0 * v).rem_euclid(61.0);
             let got = unwrapped_mean(&cells, axis);
             assert!(
-                circular_gap(got, want, 21.0) < 1e-9,
+                circular_gap(got, want, 61.0) < 1e-6,
                 "layer {layer} axis {axis}: {got} vs {want}"
             );
         }
@@ -88,9 +95,11 @@ fn path_integration_moves_the_mass_v_t_cells_across_the_wrap_and_conserves_it() 
 fn full_updates_at_one_cell_per_update_move_the_packet_about_v_t_cells() {
     // With the attractor dynamics, a packet driven at one cell per update (the thesis'
     // choice of cell size, §3.2.1) along a θ layer's heading moves within 1 % of v·t
-    // cells — across the wrap — and keeps unit mass. (It lags slightly: the packet spans
-    // several θ layers, and the neighbouring ones move at cos 10°, cos 20°… of a cell;
-    // 99.25 cells in 100 updates at the defaults.)
+    // cells — across the wrap — and keeps unit mass. It lags by more than the 0.05 cell
+    // per 100 updates the issue asks (99.25 cells in 100 updates at the defaults): the
+    // packet spans several θ layers, and the neighbouring ones move at cos 10°, cos 20°…
+    // of a cell — the expected advance of a heading belief that wide. Slower packets are
+    // also pinned by the lattice (posecells3d's doc; `--example packet_speed`).
     let p = params();
     let mut cells = PoseCells3::new(p, &[15.0, 5.0, 0.0]);
     for _ in 0..20 {
