@@ -1,93 +1,104 @@
 //! `whisker maze-slam`: planar RatSLAM on the maze with tactile images (thesis Ch 3,
-//! §3.1–§3.3), kinematic (default) or physics sensing.
+//! §3.1–§3.3); the experiment is a scenario's `[maze_slam]` (scenarios/README.md).
 //!
 //! The array, facing down, is carried in a plane over the maze of a scenario (its
 //! `[maze]`, e.g. `scenarios/maze.toml`) around the loop through the scenario's pose
 //! waypoints (their positions; the first is repeated at the end), turning about its own
-//! axis to face the direction of travel, like the thesis' path of Fig 3.3: 3 clockwise
-//! circuits, 3 anticlockwise, then one of each. It moves one pose-cell size (15 mm) per
-//! 1.5 Hz update (§3.1.2, §3.2.1) and turns at the corners 10° per update. Each update
-//! the rigid whiskers are swept (the anticipated intersect; the scenario's `[kinematic]`
-//! detection probability applies) and the tactile image is made from the contact angles:
-//! pixel intensity 255 × the height above the board of the shaft's tip at the contact
-//! angle (forward kinematics), over the array's height (§3.1.1). Odometry is the true
-//! turn and distance with the error model of §3.1.2 (sub-stream
-//! `maze-slam/<variant>/odometry` of the seed).
+//! axis to face the direction of travel, like the thesis' path of Fig 3.3 ([`path`]): 3
+//! clockwise circuits, 3 anticlockwise, then one of each, one pose-cell size (15 mm) or
+//! 10° of turn per 1.5 Hz update (§3.1.2, §3.2.1). Each update gets a tactile image:
+//! pixel intensity 255 × the height above the board of the straight shaft's tip at the
+//! contact angle (forward kinematics), over the array's height (§3.1.1). The contact
+//! angles come from physics whiskers through the front end ([`physics`]; the scenario's
+//! `sensing = "physics"`: open loop or RCP after `[array]`, images by `max_angle` and by
+//! `contact_angle`, §3.3.3–§3.3.4), or from the kinematic sweep (`"kinematic"`: the
+//! anticipated intersect, with the `[kinematic]` detection noise). Odometry is the true
+//! turn and distance with the error model of §3.1.2. Random draws: sub-streams
+//! `maze-slam/sensing`, `maze-slam/physics` and `maze-slam/odometry` of each seed.
 //!
-//! `--kidnap` skips the array forward along the path by a quarter circuit at the start of
-//! the 4th circuit while odometry reports an ordinary step (§3.3.1). Reported: ARR and ARCR
-//! (Algorithm 1, base set = the first circuit, thresholds 0.1 m and 25°) and the Energy
-//! Metric (Eq 3.2 on consecutive updates, each update's estimate being the final relaxed
-//! map's pose of the experience current then). `--out` writes `trajectory.csv`.
-//!
-//! `--sensing physics` makes the images from Rapier whiskers through the front end
-//! ([`physics`]), open loop or `--rcp`, by both `max_angle` and `contact_angle` (§3.3.3–
-//! §3.3.4); every run is then reported for both, on the same odometry draws.
+//! The kidnapped variant (§3.3.1) is the same data set with a quarter circuit cut out
+//! ([`path::kidnapping`]): the array jumps forward while odometry reports the ordinary
+//! step that follows. Reported: ARR and ARCR (Algorithm 1, base set = the first circuit,
+//! thresholds 0.1 m and 25°) and the Energy Metric (Eq 3.2 on consecutive updates, each
+//! update's estimate being the final relaxed map's pose of the experience current then).
+//! `--out` writes each image set and each run's true and estimated trajectory (CSV).
 
 use crate::error::{CliError, CliResult};
 use crate::object_slam::SensingArg;
-use crate::scenario::Scenario;
+use crate::scenario::maze_slam::AngleEstimate;
+use crate::scenario::{Scenario, Sensing};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use path::Sample;
 use serde_json::json;
 use std::f64::consts::PI;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
+use whisker_sim::sensing::physics::WhiskerConfig;
 use whisker_sim::whisker::array;
-use whisker_sim::whisker::control::WhiskingPattern;
+use whisker_sim::whisker::control::{RcpThreshold, WhiskingPattern};
 use whisker_slam::ratslam::experience_map::{Pose2, wrap};
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::ratslam::metrics::{
     ExperienceMetric, consecutive, energy_metric, experience_metric,
 };
-use whisker_slam::ratslam::odometry::OdometryNoise;
 use whisker_slam::ratslam::{RatSlam, RatSlamParams};
 use whisker_slam::rng::{substream, substream_key};
 
+pub mod images;
+pub mod path;
 pub mod physics;
 
-/// Options of `whisker maze-slam`.
+/// Options of `whisker maze-slam`; every one but the scenario overrides the scenario.
 #[derive(clap::Args, Debug)]
 pub struct Options {
-    /// Scenario with a `[maze]` and pose waypoints (the loop's corners).
+    /// Scenario with a `[maze]`, pose waypoints (the loop's corners) and optionally
+    /// `[maze_slam]`.
     #[arg(default_value = "scenarios/maze.toml")]
     pub scenario: PathBuf,
-    /// Seeds (comma-separated): one run per seed.
-    #[arg(long, value_delimiter = ',', default_value = "0")]
-    pub seeds: Vec<u64>,
-    /// Also run the kidnapped variant of every seed (§3.3.1).
+    /// Seeds (comma-separated): one run per seed [default: the scenario's `seed`].
+    #[arg(long, value_delimiter = ',')]
+    pub seeds: Option<Vec<u64>>,
+    /// Also run the kidnapped variant of every seed (§3.3.1) [scenario:
+    /// `maze_slam.kidnap`].
     #[arg(long)]
     pub kidnap: bool,
-    /// Local-view matching threshold (Eq 3.1); tuned on seed 0 as the thesis tuned on its
-    /// first run (§3.2.1). Several (comma-separated) run RatSLAM once per value on the same
-    /// images and odometry — a tuning sweep at the cost of one physics run.
-    #[arg(long, value_delimiter = ',', default_value = "10")]
-    pub match_threshold: Vec<f64>,
-    /// Pose-cell injection energy (Eq 5.8); several as for `--match-threshold`.
-    #[arg(long, value_delimiter = ',', default_value = "0.1")]
-    pub inject_energy: Vec<f64>,
-    /// Directory for `trajectory-<variant>-<seed>.csv`.
+    /// Local-view matching threshold (Eq 3.1) [scenario:
+    /// `maze_slam.ratslam.local_view.match_threshold`]. Several (comma-separated) run
+    /// RatSLAM once per value on the same images and odometry — a tuning sweep at the
+    /// cost of one physics run.
+    #[arg(long, value_delimiter = ',')]
+    pub match_threshold: Option<Vec<f64>>,
+    /// Pose-cell injection energy (Eq 5.8) [scenario:
+    /// `maze_slam.ratslam.local_view.inject_energy`]; several as for `--match-threshold`.
+    #[arg(long, value_delimiter = ',')]
+    pub inject_energy: Option<Vec<f64>>,
+    /// Directory for `trajectory-<images>-<variant>-<seed>.csv` and `images-….csv`.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Read each seed's tactile images from the `images-….csv` an earlier `--out` wrote
+    /// to this directory, instead of sensing (re-running RatSLAM on recorded images).
+    #[arg(long)]
+    pub images: Option<PathBuf>,
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,
-    /// How tactile images are made: the kinematic sweep's contact angles, or physics
-    /// whiskers through the front end (both `max_angle` and `contact_angle` images).
-    #[arg(long, value_enum, default_value_t = crate::object_slam::SensingArg::Kinematic)]
-    pub sensing: crate::object_slam::SensingArg,
-    /// Physics: whisk with RCP (threshold 20 × the free-whisking σ, §3.2.2) instead of
-    /// open loop.
+    /// How tactile images are made [scenario: `sensing`]: the kinematic sweep's contact
+    /// angles, or physics whiskers through the front end.
+    #[arg(long, value_enum)]
+    pub sensing: Option<SensingArg>,
+    /// Physics: whisk with RCP at 20 × the free-whisking σ (§3.2.2) [scenario:
+    /// `array.rcp`].
     #[arg(long)]
     pub rcp: bool,
-    /// Physics: shaft joint model.
-    #[arg(long, value_enum, default_value_t = crate::characterize::BendingArg::Spatial)]
-    pub bending: crate::characterize::BendingArg,
-    /// Physics: segments per whisker [default: the array's].
+    /// Physics: shaft joint model [scenario: `array.bending`].
+    #[arg(long, value_enum)]
+    pub bending: Option<crate::characterize::BendingArg>,
+    /// Physics: segments per whisker [scenario: `array.segments`].
     #[arg(long)]
     pub segments: Option<usize>,
-    /// Physics: Rapier substeps per 0.5 ms step.
-    #[arg(long, default_value_t = whisker_sim::sensing::physics::DEFAULT_SUBSTEPS)]
-    pub substeps: usize,
+    /// Physics: Rapier substeps per 0.5 ms step [scenario: `array.substeps`].
+    #[arg(long)]
+    pub substeps: Option<usize>,
 }
 
 /// Updates per second (§3.1.2).
@@ -161,66 +172,12 @@ fn kinematic_images(
         .collect()
 }
 
-/// Pose-cell size and distance per update (m), and turn per update at corners (rad).
-const STEP_M: f64 = 0.015;
-const TURN_RAD: f64 = 10.0 * PI / 180.0;
-
-/// A planar path sample: position (world x, y) and heading.
-pub type Sample = Pose2;
-
-/// One circuit of the loop through `corners` (closed), in their order or reversed,
-/// starting at the first corner facing along the first edge: a turn to each edge's
-/// heading in 10° updates, then the edge in 15 mm updates.
-fn circuit(corners: &[(f64, f64)], reverse: bool, from: &mut Sample) -> Vec<Sample> {
-    let mut c: Vec<(f64, f64)> = corners.to_vec();
-    if reverse {
-        c.reverse();
-        c.rotate_right(1);
-    }
-    c.push(c[0]);
-    let mut out = Vec::new();
-    for w in c.windows(2) {
-        let (a, b) = (w[0], w[1]);
-        let heading = (b.1 - a.1).atan2(b.0 - a.0);
-        let mut turn = wrap(heading - from.th);
-        while turn.abs() > 1e-9 {
-            let d = turn.clamp(-TURN_RAD, TURN_RAD);
-            from.th = wrap(from.th + d);
-            turn -= d;
-            out.push(*from);
-        }
-        let length = (b.0 - a.0).hypot(b.1 - a.1);
-        let n = (length / STEP_M).round() as usize;
-        for k in 1..=n {
-            let s = k as f64 / n as f64;
-            from.x = a.0 + s * (b.0 - a.0);
-            from.y = a.1 + s * (b.1 - a.1);
-            out.push(*from);
-        }
-    }
-    out
-}
-
-/// The whole run: 3 clockwise circuits, 3 anticlockwise, one of each (§3.2); the index
-/// where each circuit starts.
-fn path(corners: &[(f64, f64)]) -> (Vec<Sample>, Vec<usize>) {
-    let (x, y) = corners[0];
-    let mut at = Sample { x, y, th: 0.0 };
-    let mut out = vec![at];
-    let mut starts = Vec::new();
-    for reverse in [false, false, false, true, true, true, false, true] {
-        starts.push(out.len());
-        out.extend(circuit(corners, reverse, &mut at));
-    }
-    (out, starts)
-}
-
 /// One RatSLAM run over a sequence of images and odometry, and its metrics.
 struct Evaluation {
     /// The current experience after each update.
     log: Vec<usize>,
     /// Each update's estimate: the final relaxed map's pose of the experience current
-    /// then, in the frame of the first true pose.
+    /// then, relative to the first update's experience, placed at the first true pose.
     estimate: Vec<Pose2>,
     metric: ExperienceMetric,
     energy: f64,
@@ -246,10 +203,13 @@ impl Evaluation {
             .collect();
         let first = truth[0];
         let (s, c) = first.th.sin_cos();
+        // Relaxation moves the whole map (its links fix only relative poses): anchor it
+        // at the first update's experience.
+        let anchor = slam.map.experiences[log[0]].pose;
         let estimate: Vec<Pose2> = log
             .iter()
             .map(|&e| {
-                let m = slam.map.experiences[e].pose;
+                let m = anchor.relative(&slam.map.experiences[e].pose);
                 Pose2 {
                     x: first.x + c * m.x - s * m.y,
                     y: first.y + s * m.x + c * m.y,
@@ -284,141 +244,247 @@ impl Evaluation {
     }
 }
 
-/// `whisker maze-slam`.
-pub fn run(o: &Options) -> CliResult {
-    let scenario = Scenario::load(&o.scenario)?;
-    let file = &o.scenario;
-    let maze = scenario
-        .maze
-        .as_ref()
-        .ok_or_else(|| CliError::field(file, "maze", "maze-slam needs a [maze] section"))?;
-    let corners: Vec<(f64, f64, f64, f64)> = scenario
+/// The loop's corners (x, y) from the scenario's pose waypoints, and the geometry: the
+/// array plane at the first waypoint's height, its yaw at heading 0 from its `rpy_deg`,
+/// the board's top at `board_z`.
+fn corners(
+    scenario: &Scenario,
+    file: &Path,
+    board_z: f64,
+) -> CliResult<(Vec<(f64, f64)>, Geometry)> {
+    let poses: Vec<([f64; 3], [f64; 3])> = scenario
         .trajectory
         .waypoints
         .iter()
         .filter_map(|w| Some((w.position_m?, w.rpy_deg?)))
-        .map(|(p, r)| (p[0], p[1], p[2], r[2]))
         .collect();
-    if corners.len() < 3 {
+    if poses.len() < 3 {
         return Err(CliError::field(
             file,
             "trajectory.waypoints",
             "maze-slam needs at least 3 pose waypoints (the loop's corners)",
         ));
     }
-    let mut loop_corners: Vec<(f64, f64)> = corners.iter().map(|c| (c.0, c.1)).collect();
-    if loop_corners.len() > 3 && loop_corners.first() == loop_corners.last() {
-        loop_corners.pop();
+    let mut corners: Vec<(f64, f64)> = poses.iter().map(|(p, _)| (p[0], p[1])).collect();
+    if corners.len() > 3 && corners.first() == corners.last() {
+        corners.pop();
     }
-    let (plane_z, yaw0) = (corners[0].2, corners[0].3.to_radians());
-    let environment = scenario.environment(file)?.environment;
-    let board_z = maze.position_m[2];
-    let target = SweepTarget::new(environment.world_mesh());
-    let noise = scenario.kinematic.noise(file)?;
-    let (truth_path, starts) = path(&loop_corners);
-    if let Some(bad) = o
+    let geometry = Geometry {
+        plane_z: poses[0].0[2],
+        board_z,
+        yaw0: poses[0].1[2].to_radians(),
+    };
+    Ok((corners, geometry))
+}
+
+/// The RatSLAM parameter sets to run: the scenario's, or one per pair of the
+/// command line's lists.
+fn tunings(base: RatSlamParams, o: &Options) -> CliResult<Vec<RatSlamParams>> {
+    let lv = base.local_view;
+    let thresholds = o
         .match_threshold
+        .clone()
+        .unwrap_or(vec![lv.match_threshold]);
+    let energies = o.inject_energy.clone().unwrap_or(vec![lv.inject_energy]);
+    if let Some(bad) = thresholds
         .iter()
-        .chain(&o.inject_energy)
+        .chain(&energies)
         .find(|v| !(v.is_finite() && **v > 0.0))
     {
         return Err(CliError::Input(format!(
             "--match-threshold / --inject-energy: expected positive numbers, got {bad}"
         )));
     }
-    let mut tunings = Vec::new();
-    for &threshold in &o.match_threshold {
-        for &energy in &o.inject_energy {
-            let mut p = RatSlamParams::default();
+    let mut out = Vec::new();
+    for &threshold in &thresholds {
+        for &energy in &energies {
+            let mut p = base;
             p.local_view.match_threshold = threshold;
             p.local_view.inject_energy = energy;
-            tunings.push(p);
+            out.push(p);
         }
     }
-    let sweep = tunings.len() > 1;
-    if o.kidnap && o.sensing == SensingArg::Physics {
-        return Err(CliError::Input(
-            "--kidnap: only with --sensing kinematic (a physics array cannot jump)".into(),
-        ));
+    Ok(out)
+}
+
+/// The physics whiskers: the scenario's `[array]` with the command line's overrides.
+fn physics_configs(
+    scenario: &Scenario,
+    file: &Path,
+    o: &Options,
+) -> CliResult<(Vec<WhiskerConfig>, Option<RcpThreshold>)> {
+    let mut configs = scenario.array.whisker_configs(file)?;
+    for c in &mut configs {
+        if let Some(b) = o.bending {
+            c.module.beam.bending = b.into();
+        }
+        if let Some(n) = o.segments {
+            c.module.beam.segments = n;
+        }
+        if let Some(n) = o.substeps {
+            c.substeps = n;
+        }
+        c.module
+            .beam
+            .validate()
+            .map_err(|e| CliError::Input(format!("--bending / --segments: {e}")))?;
+        if !(1..=64).contains(&c.substeps) {
+            return Err(CliError::Input(format!(
+                "--substeps: expected 1 to 64, got {}",
+                c.substeps
+            )));
+        }
     }
-    let geometry = Geometry {
-        plane_z,
-        board_z,
-        yaw0,
-    };
-    let variants: Vec<bool> = if o.kidnap {
-        vec![false, true]
+    let rcp = if o.rcp {
+        Some(RcpThreshold::NoiseMultiple(20.0))
     } else {
-        vec![false]
+        scenario.array.rcp_mode()
+    };
+    Ok((configs, rcp))
+}
+
+/// `v` without the items in `cut`.
+fn without<T: Copy>(v: &[T], cut: &std::ops::Range<usize>) -> Vec<T> {
+    (0..v.len())
+        .filter(|k| !cut.contains(k))
+        .map(|k| v[k])
+        .collect()
+}
+
+/// One data set: a name and the tactile image of every update.
+type ImageSet = (String, Vec<TactileImage>);
+
+/// `whisker maze-slam`.
+pub fn run(o: &Options) -> CliResult {
+    let scenario = Scenario::load(&o.scenario)?;
+    let file = o.scenario.as_path();
+    let maze = scenario
+        .maze
+        .as_ref()
+        .ok_or_else(|| CliError::field(file, "maze", "maze-slam needs a [maze] section"))?;
+    let config = &scenario.maze_slam;
+    let (loop_corners, geometry) = corners(&scenario, file, maze.position_m[2])?;
+    let sensing = match (o.sensing, scenario.sensing) {
+        (Some(s), _) => s,
+        (None, Sensing::Physics) => SensingArg::Physics,
+        (None, Sensing::Kinematic) => SensingArg::Kinematic,
+        (None, Sensing::None) => {
+            return Err(CliError::field(
+                file,
+                "sensing",
+                "maze-slam needs \"physics\" or \"kinematic\" (or --sensing)",
+            ));
+        }
+    };
+    let environment = scenario.environment(file)?.environment;
+    let tunings = tunings(config.ratslam, o)?;
+    let sweep = tunings.len() > 1;
+    let physics = match sensing {
+        SensingArg::Physics => Some(physics_configs(&scenario, file, o)?),
+        SensingArg::Kinematic => None,
+    };
+    let (truth_path, starts) = path::path(&loop_corners);
+    let kidnap = o.kidnap || config.kidnap;
+    let seeds = o.seeds.clone().unwrap_or(vec![scenario.seed]);
+    // The image sets, named as in reports and file names.
+    let set_names: Vec<String> = match &physics {
+        None => vec!["kinematic".into()],
+        Some((_, rcp)) => {
+            let control = if rcp.is_some() { "rcp" } else { "open-loop" };
+            config
+                .images
+                .iter()
+                .map(|e| format!("{control}/{}", e.name()))
+                .collect()
+        }
     };
     let mut results = Vec::new();
-    for &seed in &o.seeds {
-        for &kidnapped in &variants {
-            let name = if kidnapped { "kidnapped" } else { "normal" };
-            // The kidnapped run skips a quarter circuit at the start of circuit 4.
-            let mut truth: Vec<Sample> = truth_path.clone();
-            let mut jump = None;
-            if kidnapped {
-                let skip = (starts[4] - starts[3]) / 4;
-                truth.drain(starts[3]..starts[3] + skip);
-                jump = Some(starts[3]);
-            }
-            let image_sets: Vec<(String, Vec<TactileImage>)> = match o.sensing {
-                SensingArg::Kinematic => {
-                    let key = substream_key(seed, &format!("maze-slam/{name}/sensing"));
-                    vec![(
-                        "kinematic".into(),
-                        kinematic_images(&truth, &target, noise, key, &geometry),
-                    )]
-                }
-                SensingArg::Physics => {
-                    let configs = crate::bench::array_configs(
-                        array::modules().len(),
-                        o.bending.into(),
-                        o.segments,
-                        o.substeps,
-                    );
-                    let control = if o.rcp { "rcp" } else { "open-loop" };
-                    let (max, contact) = physics::images(
-                        &truth,
-                        &environment.physics_pieces(),
-                        configs,
-                        o.rcp,
-                        substream_key(seed, &format!("maze-slam/{name}/physics")),
-                        &geometry,
-                    );
-                    vec![
-                        (format!("{control}/max_angle"), max),
-                        (format!("{control}/contact_angle"), contact),
-                    ]
-                }
-            };
-            let odometry = OdometryNoise::default();
-            let mut rng = substream(seed, &format!("maze-slam/{name}/odometry"));
-            let steps: Vec<(f64, f64)> = (0..truth.len())
-                .map(|k| {
-                    let (d, t) = if k == 0 {
-                        (0.0, 0.0)
-                    } else if Some(k) == jump {
-                        // Kidnapped: odometry reports an ordinary step forward.
-                        (STEP_M, 0.0)
-                    } else {
-                        let (p, q) = (truth[k], truth[k - 1]);
-                        ((p.x - q.x).hypot(p.y - q.y), wrap(p.th - q.th))
-                    };
-                    odometry.apply(d, t, &mut rng)
+    for &seed in &seeds {
+        let image_sets: Vec<ImageSet> = match (&o.images, &physics) {
+            (Some(dir), _) => set_names
+                .iter()
+                .map(|name| {
+                    Ok((
+                        name.clone(),
+                        images::read(&images::path(dir, name, seed), truth_path.len())?,
+                    ))
                 })
-                .collect();
+                .collect::<CliResult<_>>()?,
+            (None, None) => {
+                let target = SweepTarget::new(environment.world_mesh());
+                let noise = scenario.kinematic.noise(file)?;
+                let key = substream_key(seed, "maze-slam/sensing");
+                let images = kinematic_images(&truth_path, &target, noise, key, &geometry);
+                vec![(set_names[0].clone(), images)]
+            }
+            (None, Some((configs, rcp))) => {
+                let (max, contact) = physics::images(
+                    &truth_path,
+                    &environment.physics_pieces(),
+                    configs.clone(),
+                    *rcp,
+                    &scenario.frontend.detection,
+                    substream_key(seed, "maze-slam/physics"),
+                    &geometry,
+                );
+                config
+                    .images
+                    .iter()
+                    .zip(&set_names)
+                    .map(|(e, name)| {
+                        let images = match e {
+                            AngleEstimate::MaxAngle => max.clone(),
+                            AngleEstimate::ContactAngle => contact.clone(),
+                        };
+                        (name.clone(), images)
+                    })
+                    .collect()
+            }
+        };
+        let mut rng = substream(seed, "maze-slam/odometry");
+        let steps: Vec<(f64, f64)> = (0..truth_path.len())
+            .map(|k| {
+                let (d, t) = match k {
+                    0 => (0.0, 0.0),
+                    _ => {
+                        let (p, q) = (truth_path[k], truth_path[k - 1]);
+                        ((p.x - q.x).hypot(p.y - q.y), wrap(p.th - q.th))
+                    }
+                };
+                config.odometry.apply(d, t, &mut rng)
+            })
+            .collect();
+        if let Some(dir) = &o.out {
+            crate::output::create_dir(dir)?;
             for (images_name, images) in &image_sets {
+                crate::output::write_atomic(
+                    &images::path(dir, images_name, seed),
+                    images::to_csv(images).as_bytes(),
+                )?;
+            }
+        }
+        let variants: &[bool] = if kidnap { &[false, true] } else { &[false] };
+        for &kidnapped in variants {
+            let name = if kidnapped { "kidnapped" } else { "normal" };
+            // The kidnapped data set is the normal one with a quarter circuit cut out: the
+            // array jumps forward while odometry reports the ordinary step that follows.
+            let cut = if kidnapped {
+                path::kidnapping(&starts)
+            } else {
+                0..0
+            };
+            let truth: Vec<Sample> = without(&truth_path, &cut);
+            let steps = without(&steps, &cut);
+            for (images_name, images) in &image_sets {
+                let images = without(images, &cut);
                 for params in &tunings {
-                    let run = Evaluation::of(*params, images, &steps, &truth, starts[1] - 1);
+                    let run = Evaluation::of(*params, &images, &steps, &truth, starts[1] - 1);
                     if let Some(dir) = &o.out {
                         let mut tag = images_name.replace('/', "-");
                         if sweep {
                             let lv = params.local_view;
                             tag += &format!("-t{}-e{}", lv.match_threshold, lv.inject_energy);
                         }
-                        crate::output::create_dir(dir)?;
                         crate::output::write_atomic(
                             &dir.join(format!("trajectory-{tag}-{name}-{seed}.csv")),
                             run.trajectory_csv(&truth).as_bytes(),
@@ -443,40 +509,45 @@ pub fn run(o: &Options) -> CliResult {
             }
         }
     }
-    if o.json {
-        println!("{}", json!({ "runs": results }));
-    } else {
-        println!("Planar RatSLAM on the maze (§3.3)");
-        println!(
-            "  {:>5} {:<10} {:<24} {:>6} {:>6} {:>7} {:>9} {:>11} {:>7} {:>7} {:>9}",
-            "seed",
-            "variant",
-            "images",
-            "thresh",
-            "energy",
-            "updates",
-            "templates",
-            "experiences",
-            "ARR",
-            "ARCR",
-            "EM"
-        );
-        for r in &results {
-            println!(
-                "  {:>5} {:<10} {:<24} {:>6} {:>6} {:>7} {:>9} {:>11} {:>7.4} {:>7.4} {:>9.4}",
-                r["seed"].as_u64().unwrap_or(0),
-                r["variant"].as_str().unwrap_or(""),
-                r["images"].as_str().unwrap_or(""),
-                r["match_threshold"].as_f64().unwrap_or(f64::NAN),
-                r["inject_energy"].as_f64().unwrap_or(f64::NAN),
-                r["updates"].as_u64().unwrap_or(0),
-                r["templates"].as_u64().unwrap_or(0),
-                r["experiences"].as_u64().unwrap_or(0),
-                r["arr"].as_f64().unwrap_or(f64::NAN),
-                r["arcr"].as_f64().unwrap_or(f64::NAN),
-                r["energy_metric"].as_f64().unwrap_or(f64::NAN),
-            );
-        }
-    }
+    report(&results, o.json);
     Ok(())
+}
+
+/// Prints the runs: one JSON object, or a table.
+fn report(results: &[serde_json::Value], as_json: bool) {
+    if as_json {
+        println!("{}", json!({ "runs": results }));
+        return;
+    }
+    println!("Planar RatSLAM on the maze (§3.3)");
+    println!(
+        "  {:>5} {:<10} {:<26} {:>6} {:>6} {:>7} {:>9} {:>11} {:>7} {:>7} {:>9}",
+        "seed",
+        "variant",
+        "images",
+        "thresh",
+        "energy",
+        "updates",
+        "templates",
+        "experiences",
+        "ARR",
+        "ARCR",
+        "EM"
+    );
+    for r in results {
+        println!(
+            "  {:>5} {:<10} {:<26} {:>6} {:>6} {:>7} {:>9} {:>11} {:>7.4} {:>7.4} {:>9.4}",
+            r["seed"].as_u64().unwrap_or(0),
+            r["variant"].as_str().unwrap_or(""),
+            r["images"].as_str().unwrap_or(""),
+            r["match_threshold"].as_f64().unwrap_or(f64::NAN),
+            r["inject_energy"].as_f64().unwrap_or(f64::NAN),
+            r["updates"].as_u64().unwrap_or(0),
+            r["templates"].as_u64().unwrap_or(0),
+            r["experiences"].as_u64().unwrap_or(0),
+            r["arr"].as_f64().unwrap_or(f64::NAN),
+            r["arcr"].as_f64().unwrap_or(f64::NAN),
+            r["energy_metric"].as_f64().unwrap_or(f64::NAN),
+        );
+    }
 }

@@ -9,7 +9,8 @@
 //! where it was at the contact's onset. An update uses the images of the latest whisk
 //! cycle completed before it (the thesis published the latest image at 1.5 Hz).
 
-use super::{Geometry, Sample};
+use super::Geometry;
+use super::path::Sample;
 use nalgebra::Isometry3;
 use rayon::prelude::*;
 use whisker_sim::sensing::kinematic::RigidWhisker;
@@ -44,14 +45,15 @@ pub fn images(
     path: &[Sample],
     environment: &[EnvironmentPiece],
     mut configs: Vec<WhiskerConfig>,
-    rcp: bool,
+    rcp: Option<RcpThreshold>,
+    detection: &FrontEndParams,
     seed: u64,
     g: &Geometry,
 ) -> Images {
-    if rcp {
+    if let Some(mode) = rcp {
         let thresholds: Vec<f64> = configs
             .par_iter()
-            .map(|c| calibrate_rcp(c, RcpThreshold::NoiseMultiple(20.0), seed, DT))
+            .map(|c| calibrate_rcp(c, mode, seed, DT))
             .collect();
         for (c, t) in configs.iter_mut().zip(thresholds) {
             c.rcp_threshold = Some(t);
@@ -66,12 +68,12 @@ pub fn images(
     let mut array = PhysicsArray::new(configs, environment, &pose_at(path, 0.0, g), seed, DT);
     // With RCP the whisker retracts as soon as |y| reaches its threshold (20 σ of free
     // whisking: tens of counts), so a contact's peak is little above the threshold: the
-    // front end's confirmation and prominence (500 counts, tuned for RCP at saturation in
-    // Ch 4) are lowered to half each whisker's threshold.
+    // front end's confirmation and prominence are lowered to at most half each whisker's
+    // threshold.
     let params: Vec<FrontEndParams> = thresholds
         .iter()
         .map(|t| {
-            let mut p = FrontEndParams::default();
+            let mut p = *detection;
             if let Some(t) = t {
                 p.confirm_counts = p.confirm_counts.min(0.5 * t);
                 p.peaks.min_prominence = p.peaks.min_prominence.min(0.5 * t);
@@ -157,7 +159,16 @@ mod tests {
             Some(8),
             2,
         );
-        let (max, contact) = images(&path, &environment.physics_pieces(), configs, false, 0, &g);
+        let detection = FrontEndParams::default();
+        let (max, contact) = images(
+            &path,
+            &environment.physics_pieces(),
+            configs,
+            None,
+            &detection,
+            0,
+            &g,
+        );
         let target = SweepTarget::new(environment.world_mesh());
         let kinematic = super::super::kinematic_images(&path, &target, ContactNoise::NONE, 0, &g);
         let lit =

@@ -7,7 +7,9 @@
 //! directory is relative to the working directory.
 
 pub mod array;
+pub mod base;
 pub mod environment;
+pub mod maze_slam;
 
 use crate::error::{CliError, CliResult};
 use serde::Deserialize;
@@ -43,6 +45,9 @@ pub struct Scenario {
     /// The whisker array (used with `sensing = "physics"`).
     #[serde(default)]
     pub array: array::ArrayConfig,
+    /// `[maze_slam]`: options of `whisker maze-slam` over the `[maze]`.
+    #[serde(default)]
+    pub maze_slam: maze_slam::MazeSlamConfig,
     /// `[frontend]`: the signal front end of physics runs.
     #[serde(default)]
     pub frontend: FrontEndConfig,
@@ -245,12 +250,21 @@ pub enum Target {
 impl Scenario {
     /// Reads and checks a scenario file (what does not depend on the URDF).
     pub fn load(path: &Path) -> CliResult<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            CliError::Input(format!("{}: cannot read scenario: {e}", path.display()))
-        })?;
-        let scenario: Self = toml::from_str(&text).map_err(|e| {
-            CliError::Input(format!("{}: {}", path.display(), e.to_string().trim_end()))
-        })?;
+        let (text, table) = base::read_table(path)?;
+        let scenario: Self = if table.contains_key("base") {
+            // Merged over its base: errors name the field, no longer the line.
+            base::resolve(path, table, 0)?.try_into().map_err(|e| {
+                CliError::Input(format!(
+                    "{} (merged over its base): {}",
+                    path.display(),
+                    e.to_string().trim_end()
+                ))
+            })?
+        } else {
+            toml::from_str(&text).map_err(|e| {
+                CliError::Input(format!("{}: {}", path.display(), e.to_string().trim_end()))
+            })?
+        };
         scenario.validate(path)?;
         Ok(scenario)
     }
@@ -285,6 +299,7 @@ impl Scenario {
             self.kinematic.noise(file)?;
             self.array.whisker_configs(file)?;
         }
+        self.maze_slam.validate(file)?;
         if self.trajectory.waypoints.is_empty() {
             return bad(
                 "trajectory.waypoints",

@@ -17,7 +17,34 @@ fn malformed_scenarios_exit_2_naming_file_and_field_and_write_nothing() {
         "[arm]\nurdf = {:?}\ninitial_joints_deg = []\n",
         cyclic.display().to_string()
     );
+    // A valid scenario for the `base` cases to build on.
+    let good = with_urdf(&format!("{ARM}{WAYPOINT}[output]\ndir = \"out-good\"\n"));
+    std::fs::write(tmp.path().join("good_base.toml"), good).unwrap();
     let cases: Vec<(&str, String, &str)> = vec![
+        ("base_elsewhere", "base = \"../x.toml\"\n".into(), "base"),
+        ("base_cycle", "base = \"base_cycle.toml\"\n".into(), "base"),
+        (
+            "base_missing",
+            "base = \"nowhere.toml\"\n".into(),
+            "nowhere.toml",
+        ),
+        (
+            "base_merged_unknown",
+            "base = \"good_base.toml\"\ncolour = 1\n".into(),
+            "colour",
+        ),
+        (
+            "base_merged_bad_value",
+            "base = \"good_base.toml\"\n[maze_slam]\nimages = []\n".into(),
+            "maze_slam.images",
+        ),
+        (
+            "maze_slam_bad",
+            format!(
+                "{ARM}{WAYPOINT}{OUTPUT}[maze_slam.ratslam.local_view]\nmatch_threshold = -1.0\n"
+            ),
+            "local_view.match_threshold",
+        ),
         (
             "unknown_field",
             format!("{ARM}colour = \"red\"\n{WAYPOINT}{OUTPUT}"),
@@ -126,7 +153,8 @@ fn malformed_scenarios_exit_2_naming_file_and_field_and_write_nothing() {
         assert_eq!(o.status.code(), Some(2), "{name}: {err}");
         assert!(
             err.contains(path.file_name().unwrap().to_str().unwrap())
-                || err.contains("cyclic.urdf"),
+                || err.contains("cyclic.urdf")
+                || err.contains("nowhere.toml"),
             "{name}: file not named: {err}"
         );
         assert!(err.contains(field), "{name}: {field:?} not named: {err}");

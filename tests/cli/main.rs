@@ -77,18 +77,21 @@ pub fn quickstart_in(dir: &Path) -> PathBuf {
 }
 
 /// Writes a scenario holding `body` (with `URDF` replaced by the project's arm) and runs it.
-pub fn run_bad(dir: &Path, name: &str, body: &str) -> (Output, PathBuf) {
+/// `body` with `URDF` replaced by the quoted path of the repository's UR5 description.
+pub fn with_urdf(body: &str) -> String {
     let urdf = repo("assets/urdf/ur5_whisker_array.urdf");
+    body.replace("URDF", &format!("{:?}", urdf.display().to_string()))
+}
+
+pub fn run_bad(dir: &Path, name: &str, body: &str) -> (Output, PathBuf) {
     let path = dir.join(format!("{name}.toml"));
-    let text = body
-        .replace("URDF", &format!("{:?}", urdf.display().to_string()))
-        .replace(
-            "OUT",
-            &format!(
-                "{:?}",
-                dir.join(format!("out-{name}")).display().to_string()
-            ),
-        );
+    let text = with_urdf(body).replace(
+        "OUT",
+        &format!(
+            "{:?}",
+            dir.join(format!("out-{name}")).display().to_string()
+        ),
+    );
     std::fs::write(&path, text).unwrap();
     (whisker(&["run", path.to_str().unwrap()]), path)
 }

@@ -6,7 +6,7 @@ use super::*;
 fn kidnapping_raises_the_energy_metric_and_runs_are_reproducible() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
-    let scenario = repo("scenarios/maze.toml");
+    let scenario = repo("scenarios/maze_kinematic.toml");
     let args = [
         "maze-slam",
         scenario.to_str().unwrap(),
@@ -23,18 +23,47 @@ fn kidnapping_raises_the_energy_metric_and_runs_are_reproducible() {
     let runs = v["runs"].as_array().unwrap();
     let get = |i: usize, k: &str| runs[i][k].as_f64().unwrap();
     // The kidnapped run's map holds a jump its odometry never saw: the relative poses of
-    // its estimate disagree more with the truth (§3.3.1, Fig 3.5).
+    // its estimate disagree more with the truth, and the broken chain of familiar images
+    // re-localises less (§3.3.1, Fig 3.5).
     assert!(get(1, "energy_metric") > 2.0 * get(0, "energy_metric"));
+    assert!(get(1, "arr") < get(0, "arr"), "{runs:?}");
     for i in 0..2 {
         assert!((0.0..=1.0).contains(&get(i, "arr")) && (0.0..=1.0).contains(&get(i, "arcr")));
     }
-    // The second circuit re-localises onto the first, mostly correctly.
-    assert!(get(0, "arr") > 0.2 && get(0, "arcr") > 0.8, "{}", runs[0]);
+    // Later circuits re-localise onto the first, mostly correctly (ARCR was .74, .99, .99
+    // over seeds 0–2: a wall looks alike all along, so some re-localisations land on
+    // the wrong stretch of it).
+    assert!(get(0, "arr") > 0.2 && get(0, "arcr") > 0.6, "{}", runs[0]);
     let trajectory = rows(&out.join("trajectory-kinematic-normal-0.csv"));
     assert_eq!(trajectory.len() as f64, get(0, "updates"));
+    // The estimate is anchored at the first true pose.
+    let first: Vec<f64> = trajectory[0][1..7]
+        .iter()
+        .map(|v| v.parse().unwrap())
+        .collect();
+    for k in 0..3 {
+        assert!((first[k] - first[k + 3]).abs() < 1e-12, "{first:?}");
+    }
+    // The images: 18 pixels per update, some lit.
+    let images = rows(&out.join("images-kinematic-0.csv"));
+    assert_eq!(images.len() as f64, get(0, "updates"));
+    assert!(images.iter().all(|r| r.len() == 19));
+    assert!(
+        images
+            .iter()
+            .filter(|r| r[1..].iter().any(|p| p != "0"))
+            .count()
+            > 100
+    );
     // Same seed, same bytes.
     let again = whisker(&args);
     assert_eq!(stdout(&again), stdout(&o));
+    // RatSLAM on the recorded images gives the same results; a missing file is refused.
+    let replay = whisker(&[&args[..6], &["--images", out.to_str().unwrap()]].concat());
+    assert_eq!(stdout(&replay), stdout(&o), "{}", stderr(&replay));
+    let missing = whisker(&[&args[..6], &["--images", tmp.path().to_str().unwrap()]].concat());
+    assert_eq!(missing.status.code(), Some(2));
+    assert!(stderr(&missing).contains("images-kinematic-0.csv"));
     // A scenario without a maze is refused, naming the file and the field.
     let bad = whisker(&[
         "maze-slam",

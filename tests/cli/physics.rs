@@ -135,20 +135,7 @@ fn array_overrides_apply_by_precedence() {
         .replacen("[[array.rings]]\nfrequency_hz = 2.0\n[[array.rings]]\nfrequency_hz = 2.0\n", "[[array.rings]]\nfrequency_hz = 2.0\n[[array.rings]]\nfrequency_hz = 3.0\nlength_m = 0.09\n", 1)
         .replace("[[trajectory", "[array.whiskers.C2]\nlength_m = 0.095\nyoungs_modulus_pa = 2.8e9\n[[trajectory");
     let path = tmp.path().join("overrides.toml");
-    std::fs::write(
-        &path,
-        body.replace(
-            "URDF",
-            &format!(
-                "{:?}",
-                repo("assets/urdf/ur5_whisker_array.urdf")
-                    .display()
-                    .to_string()
-            ),
-        )
-        .replace("OUT", "\"out\""),
-    )
-    .unwrap();
+    std::fs::write(&path, with_urdf(&body).replace("OUT", "\"out\"")).unwrap();
     let o = whisker(&["check", path.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);

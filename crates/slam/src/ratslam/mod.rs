@@ -33,6 +33,41 @@ pub struct RatSlamParams {
     pub experience_map: ExperienceMapParams,
 }
 
+impl RatSlamParams {
+    /// Checks every parameter; the message names the field (`pose_cells.dim_xy`, …).
+    pub fn validate(&self) -> Result<(), String> {
+        self.pose_cells
+            .validate()
+            .map_err(|e| format!("pose_cells: {e}"))?;
+        let lv = &self.local_view;
+        let em = &self.experience_map;
+        let checks = [
+            ("local_view.match_threshold", lv.match_threshold, false),
+            ("local_view.inject_energy", lv.inject_energy, true),
+            ("local_view.active_decay", lv.active_decay, false),
+            ("local_view.restore", lv.restore, true),
+            (
+                "experience_map.delta_pc_threshold",
+                em.delta_pc_threshold,
+                false,
+            ),
+        ];
+        for (name, v, zero_ok) in checks {
+            if !(v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0))) {
+                let want = if zero_ok { "≥ 0" } else { "> 0" };
+                return Err(format!("{name} {v}: expected a number {want}"));
+            }
+        }
+        if !(em.correction > 0.0 && em.correction <= 1.0) {
+            return Err(format!(
+                "experience_map.correction {}: expected a fraction in (0, 1]",
+                em.correction
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// What one update did.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Step {

@@ -1,0 +1,84 @@
+//! `[maze_slam]`: the planar RatSLAM experiment of `whisker maze-slam` (thesis Ch 3).
+
+use crate::error::{CliError, CliResult};
+use serde::Deserialize;
+use std::path::Path;
+use whisker_slam::ratslam::RatSlamParams;
+use whisker_slam::ratslam::odometry::OdometryNoise;
+
+/// The front end's estimate of a contact's angle that makes the tactile image (§3.1.1,
+/// §3.3.4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AngleEstimate {
+    /// The largest whisk angle of the contact's whisk (the protraction limit when the
+    /// whisker is not stopped).
+    MaxAngle,
+    /// The angle where the deflection starts to rise fast (|dy/dt| above 5000 counts/s).
+    ContactAngle,
+}
+
+impl AngleEstimate {
+    /// The name used in scenarios and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            AngleEstimate::MaxAngle => "max_angle",
+            AngleEstimate::ContactAngle => "contact_angle",
+        }
+    }
+}
+
+/// `[maze_slam]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MazeSlamConfig {
+    /// Physics sensing: the angle estimates that make images, each its own RatSLAM run on
+    /// the same simulation (default both).
+    #[serde(default = "both")]
+    pub images: Vec<AngleEstimate>,
+    /// Also run the kidnapped variant: the same data with a quarter circuit cut out at the
+    /// start of the 4th circuit (§3.3.1).
+    #[serde(default)]
+    pub kidnap: bool,
+    /// `[maze_slam.ratslam]`: RatSLAM's parameters (`pose_cells`, `local_view`,
+    /// `experience_map`; Table 3.1 by default).
+    #[serde(default)]
+    pub ratslam: RatSlamParams,
+    /// `[maze_slam.odometry]`: the odometry error model (§3.1.2 by default).
+    #[serde(default)]
+    pub odometry: OdometryNoise,
+}
+
+impl Default for MazeSlamConfig {
+    fn default() -> Self {
+        Self {
+            images: both(),
+            kidnap: false,
+            ratslam: RatSlamParams::default(),
+            odometry: OdometryNoise::default(),
+        }
+    }
+}
+
+fn both() -> Vec<AngleEstimate> {
+    vec![AngleEstimate::MaxAngle, AngleEstimate::ContactAngle]
+}
+
+impl MazeSlamConfig {
+    /// Checks the section; errors name the file and the field.
+    pub fn validate(&self, file: &Path) -> CliResult {
+        if self.images.is_empty() {
+            return Err(CliError::field(
+                file,
+                "maze_slam.images",
+                "expected at least one of \"max_angle\", \"contact_angle\"",
+            ));
+        }
+        self.ratslam
+            .validate()
+            .map_err(|e| CliError::field(file, "maze_slam.ratslam", e))?;
+        self.odometry
+            .validate()
+            .map_err(|e| CliError::field(file, "maze_slam.odometry", e))
+    }
+}
