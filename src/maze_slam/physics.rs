@@ -2,7 +2,7 @@
 //! array moves continuously along the path (linearly interpolated between the 1.5 Hz
 //! updates, whose poses are reached at t = k/1.5 s) while its Rapier whiskers whisk at
 //! 1 Hz, open loop or with RCP (threshold 20 × the free-whisking σ, §3.2.2; the front
-//! end's confirmation and prominence then drop to half the threshold). After each
+//! end's levels in counts then scale down to confirm at half the threshold). After each
 //! whisk cycle the signal front end finds each whisker's contact and its angle by both of
 //! §3.1.1's estimators — `max_angle` and `contact_angle` — and each gives a tactile image:
 //! the height above the board of the straight shaft's tip at that angle, with the array
@@ -68,15 +68,21 @@ pub fn images(
     let mut array = PhysicsArray::new(configs, environment, &pose_at(path, 0.0, g), seed, DT);
     // With RCP the whisker retracts as soon as |y| reaches its threshold (20 σ of free
     // whisking: tens of counts), so a contact's peak is little above the threshold: the
-    // front end's confirmation and prominence are lowered to at most half each whisker's
-    // threshold.
+    // front end's levels in counts — confirmation, prominence and contact_angle's |dy/dt|
+    // threshold — are scaled down together so that the confirmation is at most half each
+    // whisker's threshold (5000 counts/s would otherwise never be reached: a third of
+    // the RCP contact_angle images came out blank).
     let params: Vec<FrontEndParams> = thresholds
         .iter()
         .map(|t| {
             let mut p = *detection;
-            if let Some(t) = t {
-                p.confirm_counts = p.confirm_counts.min(0.5 * t);
-                p.peaks.min_prominence = p.peaks.min_prominence.min(0.5 * t);
+            if let Some(t) = t
+                && p.confirm_counts > 0.5 * t
+            {
+                let scale = 0.5 * t / p.confirm_counts;
+                p.confirm_counts *= scale;
+                p.peaks.min_prominence *= scale;
+                p.contact_angle_rate *= scale;
             }
             p
         })

@@ -141,3 +141,40 @@ fn slope_is_the_surface_normals_n_y_over_n_x() {
         }
     }
 }
+
+#[test]
+fn contact_angle_lies_within_the_contact_despite_an_earlier_swing() {
+    // A clean contact at θc = 100° (2500 counts/rad) after a fast swing of free whisking
+    // early in the cycle (a 400-count half sine over 0.12 s, |dy/dt| up to ~10,000
+    // counts/s, smaller than the contact's peak): `contact_angle` is where |dy/dt| first
+    // exceeds 5000 counts/s within the contact — after the onset angle, before the peak —
+    // not in the swing.
+    let theta_c = 100f64.to_radians();
+    let samples: Vec<Sample> = (0..2000)
+        .map(|i| {
+            let t = i as f64 / RATE;
+            let swing = if (0.05..0.17).contains(&t) {
+                400.0 * (std::f64::consts::PI * (t - 0.05) / 0.12).sin()
+            } else {
+                0.0
+            };
+            let contact = (2500.0 * (angle(t) - theta_c)).max(0.0);
+            Sample {
+                angle_rad: angle(t),
+                x: 0.0,
+                y: (swing + contact).min(2047.0),
+            }
+        })
+        .collect();
+    let c = detect(&samples, RATE, 0.1, &FrontEndParams::default()).expect("the contact");
+    let got = c
+        .contact_angle
+        .expect("|dy/dt| crosses 5000 counts/s")
+        .to_degrees();
+    assert!(
+        got >= c.onset_angle.to_degrees() - 3.0 && got <= angle(c.peak as f64 / RATE).to_degrees(),
+        "contact_angle {got}° outside the contact (onset {}°)",
+        c.onset_angle.to_degrees()
+    );
+    assert!((got - 100.0).abs() < 5.0, "contact_angle {got}°");
+}

@@ -17,7 +17,8 @@
 //!    mirrored hinge. `refine = false` keeps the thesis' backtracked samples.
 //!
 //! Contact angles: `max_angle`, the largest whisk angle of the cycle; `contact_angle`,
-//! the angle when |dy/dt| of the smoothed y first crosses a threshold (§3.1.1); and the
+//! the angle when |dy/dt| of the smoothed y first crosses a threshold within the contact
+//! (§3.1.1); and the
 //! angle at the onset, which localisation uses (§5.1.1.1.2).
 
 use super::features::{ContactFeatures, slope};
@@ -172,10 +173,14 @@ pub fn detect(
         );
     }
     let da = derivative(&a, rate);
-    let contact_angle = dy
+    // Searched over the contact only — from half a smoothing span before the onset (the
+    // moving average spreads the rise that far back) to the peak — so that a fast swing
+    // of free whisking elsewhere in the cycle is not taken for it.
+    let from = onset.saturating_sub(params.smoothing_span / 2).min(peak);
+    let contact_angle = dy[from..=peak]
         .iter()
         .position(|d| d.abs() > params.contact_angle_rate)
-        .map(|i| a[i]);
+        .map(|i| a[from + i]);
     let features =
         ContactFeatures::measure(&y, &dy, &da, onset, peak, offset, baseline, rate, length_m);
     Some(ContactEvent {
