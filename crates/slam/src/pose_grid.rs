@@ -68,7 +68,8 @@ pub fn wrapped_distance(a: &[f64], b: &[f64], dims: &[usize]) -> f64 {
         .sqrt()
 }
 
-/// The parameters every pose-cell network shares, for checking.
+/// The parameters every pose-cell network shares: checked, and made into its
+/// [`Attractor`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NetworkShape {
     /// Length of the shortest axis (cells).
@@ -115,13 +116,31 @@ impl NetworkShape {
         Ok(())
     }
 
-    /// The excitation and inhibition kernels ([`gaussian_kernel`] of each width and
-    /// variance).
-    pub fn kernels(&self) -> (Vec<f64>, Vec<f64>) {
-        (
-            gaussian_kernel(self.widths[0], self.positives[1]),
-            gaussian_kernel(self.widths[1], self.positives[2]),
-        )
+    /// The network's attractor dynamics: the excitation and inhibition kernels
+    /// ([`gaussian_kernel`] of each width and variance) and the global inhibition.
+    pub fn attractor(&self) -> Attractor {
+        Attractor {
+            excite: gaussian_kernel(self.widths[0], self.positives[1]),
+            inhibit: gaussian_kernel(self.widths[1], self.positives[2]),
+            global_inhibition: self.global_inhibition,
+        }
+    }
+}
+
+/// The attractor dynamics of a pose-cell network (Alg 3–5; `shared/notes/ratslam.md`
+/// steps 1–4), its kernels built once.
+#[derive(Debug, Clone)]
+pub struct Attractor {
+    excite: Vec<f64>,
+    inhibit: Vec<f64>,
+    global_inhibition: f64,
+}
+
+impl Attractor {
+    /// Excitation, inhibition, global inhibition and normalisation of `grid`
+    /// ([`PoseGrid::excite_inhibit`]).
+    pub fn apply(&self, grid: &mut PoseGrid) {
+        grid.excite_inhibit(&self.excite, &self.inhibit, self.global_inhibition);
     }
 }
 

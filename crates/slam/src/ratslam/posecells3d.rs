@@ -24,7 +24,7 @@
 //! experience map takes its positions from odometry, not from the packet (§2.1.2), so
 //! the pinning only delays experience creation at slow speeds.
 
-use crate::pose_grid::{NetworkShape, PoseGrid, wrapped_distance};
+use crate::pose_grid::{Attractor, NetworkShape, PoseGrid, wrapped_distance};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
@@ -101,19 +101,16 @@ pub struct PoseCells3 {
     pub params: PlanarCellParams,
     /// The activities (x fastest, then y, then θ).
     pub grid: PoseGrid,
-    excite: Vec<f64>,
-    inhibit: Vec<f64>,
+    attractor: Attractor,
 }
 
 impl PoseCells3 {
     /// A network with all activity in the cell nearest `start`.
     pub fn new(params: PlanarCellParams, start: &Cell3) -> Self {
-        let (excite, inhibit) = params.shape().kernels();
         let mut cells = Self {
             params,
             grid: PoseGrid::new(&[params.dim_xy, params.dim_xy, params.dim_th]),
-            excite,
-            inhibit,
+            attractor: params.shape().attractor(),
         };
         cells.inject(start, 1.0);
         cells
@@ -126,8 +123,7 @@ impl PoseCells3 {
 
     /// Local excitation and inhibition, global inhibition, normalisation.
     pub fn excite_inhibit(&mut self) {
-        self.grid
-            .excite_inhibit(&self.excite, &self.inhibit, self.params.global_inhibition);
+        self.attractor.apply(&mut self.grid);
     }
 
     /// Path integration of one update: turn by `dtheta` (rad), then move `distance` (m)

@@ -20,7 +20,7 @@
 //! Cell i of a rotation axis of n cells stands for the angle 360°·i/n (cell 0 is 0°);
 //! cell i of a translation axis for the position i·`cell_size_m` (modulo n cells).
 
-use crate::pose_grid::{NetworkShape, PoseGrid, wrapped_distance};
+use crate::pose_grid::{Attractor, NetworkShape, PoseGrid, wrapped_distance};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
@@ -102,19 +102,16 @@ pub struct PoseCells6 {
     pub params: PoseCellParams,
     /// The activities.
     pub grid: PoseGrid,
-    excite: Vec<f64>,
-    inhibit: Vec<f64>,
+    attractor: Attractor,
 }
 
 impl PoseCells6 {
     /// A network with all activity in `start` (rounded to a cell).
     pub fn new(params: PoseCellParams, start: &Cell6) -> Self {
-        let (excite, inhibit) = params.shape().kernels();
         let mut cells = Self {
             params,
             grid: PoseGrid::new(&params.cells),
-            excite,
-            inhibit,
+            attractor: params.shape().attractor(),
         };
         cells.inject(start, 1.0);
         cells
@@ -127,8 +124,7 @@ impl PoseCells6 {
 
     /// Local excitation, local and global inhibition, normalisation (Alg 3–5).
     pub fn excite_inhibit(&mut self) {
-        self.grid
-            .excite_inhibit(&self.excite, &self.inhibit, self.params.global_inhibition);
+        self.attractor.apply(&mut self.grid);
     }
 
     /// Path integration of one update's motion: `translation` (m) and `rotation` (a
