@@ -266,6 +266,14 @@ impl PoseGrid {
         shift_lines(cells, scratch, n, stride, amount);
     }
 
+    /// A grid of the given axis lengths with all its activity (unit mass) in the cell
+    /// nearest `at`: a network's starting packet.
+    pub fn packet(dims: &[usize], at: &[f64]) -> Self {
+        let mut grid = Self::new(dims);
+        grid.inject_nearest(at, 1.0);
+        grid
+    }
+
     /// Adds `amount` of activity to the cell nearest the fractional coordinates `at`
     /// (wrapped).
     pub fn inject_nearest(&mut self, at: &[f64], amount: f64) {

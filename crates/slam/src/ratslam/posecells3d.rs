@@ -38,7 +38,7 @@ pub struct PlanarCellParams {
     pub dim_th: usize,
     /// Size of an x/y cell (m).
     pub cell_size_m: f64,
-    /// Width and variance of the excitation kernel (cells, cells²).
+    /// Width of the excitation kernel (cells).
     pub excite_width: usize,
     /// Variance of the excitation kernel.
     pub excite_variance: f64,
@@ -107,13 +107,11 @@ pub struct PoseCells3 {
 impl PoseCells3 {
     /// A network with all activity in the cell nearest `start`.
     pub fn new(params: PlanarCellParams, start: &Cell3) -> Self {
-        let mut cells = Self {
+        Self {
             params,
-            grid: PoseGrid::new(&[params.dim_xy, params.dim_xy, params.dim_th]),
+            grid: PoseGrid::packet(&[params.dim_xy, params.dim_xy, params.dim_th], start),
             attractor: params.shape().attractor(),
-        };
-        cells.inject(start, 1.0);
-        cells
+        }
     }
 
     /// Adds `amount` of activity to the cell nearest `at` (view-template injection).

@@ -108,13 +108,11 @@ pub struct PoseCells6 {
 impl PoseCells6 {
     /// A network with all activity in `start` (rounded to a cell).
     pub fn new(params: PoseCellParams, start: &Cell6) -> Self {
-        let mut cells = Self {
+        Self {
             params,
-            grid: PoseGrid::new(&params.cells),
+            grid: PoseGrid::packet(&params.cells, start),
             attractor: params.shape().attractor(),
-        };
-        cells.inject(start, 1.0);
-        cells
+        }
     }
 
     /// Adds `amount` of activity to the cell nearest `at` (Eq 5.9).
