@@ -7,12 +7,11 @@ use crate::output;
 use crate::plan::Plan;
 use crate::recording::Recording;
 use crate::scenario::Scenario;
-use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
 use whisker_sim::environment::Environment;
 use whisker_sim::kinematics::Chain;
-use whisker_sim::sensing::physics::{PhysicsArray, calibrate_rcp};
+use whisker_sim::sensing::physics::{PhysicsArray, calibrate_array_rcp};
 use whisker_sim::whisker::control::RcpThreshold;
 
 /// A description of the array of `scenario` for `whisker check`: one line per whisker.
@@ -104,19 +103,16 @@ impl ArraySimulation {
         let chain = array_chain(scenario, file, plan)?;
         let dt = whisker_sim::sensing::physics::DT;
         if let Some(mode) = scenario.array.rcp_mode() {
-            let thresholds: Vec<f64> = configs
-                .par_iter()
-                .map(|c| calibrate_rcp(c, mode, scenario.seed, dt))
-                .collect();
-            for (c, t) in configs.iter_mut().zip(thresholds) {
-                if matches!(mode, RcpThreshold::NoiseMultiple(_)) && t >= c.sensor.saturation_counts
+            calibrate_array_rcp(&mut configs, mode, scenario.seed, dt);
+            for c in &configs {
+                if let (RcpThreshold::NoiseMultiple(_), Some(t)) = (mode, c.rcp_threshold)
+                    && t >= c.sensor.saturation_counts
                 {
                     eprintln!(
                         "warning    whisker {}: RCP threshold {t:.0} counts (from free whisking) is at or above saturation: RCP cannot fire",
                         c.module.pixel()
                     );
                 }
-                c.rcp_threshold = Some(t);
             }
         }
         let mut csv = String::from("t_s");

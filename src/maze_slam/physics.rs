@@ -12,10 +12,9 @@
 use super::Geometry;
 use super::path::Sample;
 use nalgebra::Isometry3;
-use rayon::prelude::*;
 use whisker_sim::sensing::kinematic::RigidWhisker;
 use whisker_sim::sensing::physics::{
-    DT, EnvironmentPiece, PhysicsArray, WhiskerConfig, calibrate_rcp,
+    DT, EnvironmentPiece, PhysicsArray, WhiskerConfig, calibrate_array_rcp,
 };
 use whisker_sim::whisker::control::RcpThreshold;
 use whisker_slam::frontend::contact::{FrontEndParams, detect};
@@ -51,13 +50,7 @@ pub fn images(
     g: &Geometry,
 ) -> Images {
     if let Some(mode) = rcp {
-        let thresholds: Vec<f64> = configs
-            .par_iter()
-            .map(|c| calibrate_rcp(c, mode, seed, DT))
-            .collect();
-        for (c, t) in configs.iter_mut().zip(thresholds) {
-            c.rcp_threshold = Some(t);
-        }
+        calibrate_array_rcp(&mut configs, mode, seed, DT);
     }
     let thresholds: Vec<Option<f64>> = configs.iter().map(|c| c.rcp_threshold).collect();
     let rigid: Vec<RigidWhisker> = configs.iter().map(WhiskerConfig::rigid).collect();

@@ -271,6 +271,18 @@ pub fn calibrate_rcp(config: &WhiskerConfig, mode: RcpThreshold, seed: u64, dt: 
     }
 }
 
+/// Calibrates every whisker of `configs` by [`calibrate_rcp`] (in parallel) and sets its
+/// `rcp_threshold`.
+pub fn calibrate_array_rcp(configs: &mut [WhiskerConfig], mode: RcpThreshold, seed: u64, dt: f64) {
+    let thresholds: Vec<f64> = configs
+        .par_iter()
+        .map(|c| calibrate_rcp(c, mode, seed, dt))
+        .collect();
+    for (c, t) in configs.iter_mut().zip(thresholds) {
+        c.rcp_threshold = Some(t);
+    }
+}
+
 /// The whole array: one [`WhiskerUnit`] per module, stepped in parallel.
 pub struct PhysicsArray {
     /// The whiskers, in module order.
