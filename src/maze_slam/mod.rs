@@ -23,8 +23,10 @@
 //! update's estimate being the final relaxed map's pose of the experience current then).
 //! `--out` writes each image set and each run's true and estimated trajectory (CSV).
 
+use crate::characterize::BendingArg;
 use crate::error::{CliError, CliResult};
 use crate::object_slam::SensingArg;
+use crate::scenario::array::{BendingConfig, RcpConfig};
 use crate::scenario::maze_slam::AngleEstimate;
 use crate::scenario::{Scenario, Sensing};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
@@ -92,7 +94,7 @@ pub struct Options {
     pub rcp: bool,
     /// Physics: shaft joint model [scenario: `array.bending`].
     #[arg(long, value_enum)]
-    pub bending: Option<crate::characterize::BendingArg>,
+    pub bending: Option<BendingArg>,
     /// Physics: segments per whisker [scenario: `array.segments`].
     #[arg(long)]
     pub segments: Option<usize>,
@@ -139,7 +141,7 @@ impl Geometry {
 }
 
 /// Tactile images of every update from the kinematic sweep (the scenario's detection
-/// probability applies; sub-stream `maze-slam/<variant>/sensing`).
+/// probability applies; sub-stream `maze-slam/sensing` of the seed, as `key`).
 fn kinematic_images(
     truth: &[Sample],
     target: &SweepTarget,
@@ -201,21 +203,12 @@ impl Evaluation {
             .zip(steps)
             .map(|(img, &(d, t))| slam.step(img, d, t).experience)
             .collect();
-        let first = truth[0];
-        let (s, c) = first.th.sin_cos();
         // Relaxation moves the whole map (its links fix only relative poses): anchor it
-        // at the first update's experience.
+        // at the first update's experience, placed at the first true pose.
         let anchor = slam.map.experiences[log[0]].pose;
         let estimate: Vec<Pose2> = log
             .iter()
-            .map(|&e| {
-                let m = anchor.relative(&slam.map.experiences[e].pose);
-                Pose2 {
-                    x: first.x + c * m.x - s * m.y,
-                    y: first.y + s * m.x + c * m.y,
-                    th: wrap(first.th + m.th),
-                }
-            })
+            .map(|&e| truth[0].compose(&anchor.relative(&slam.map.experiences[e].pose)))
             .collect();
         let metric = experience_metric(&log, truth, base_end, 0.1, 25f64.to_radians());
         let energy = energy_metric(&estimate, truth, &consecutive(truth.len())).unwrap_or(f64::NAN);
@@ -307,40 +300,34 @@ fn tunings(base: RatSlamParams, o: &Options) -> CliResult<Vec<RatSlamParams>> {
     Ok(out)
 }
 
-/// The physics whiskers: the scenario's `[array]` with the command line's overrides.
+/// The physics whiskers: the scenario's `[array]` with the command line's overrides,
+/// checked as the scenario's own values are.
 fn physics_configs(
     scenario: &Scenario,
     file: &Path,
     o: &Options,
 ) -> CliResult<(Vec<WhiskerConfig>, Option<RcpThreshold>)> {
-    let mut configs = scenario.array.whisker_configs(file)?;
-    for c in &mut configs {
-        if let Some(b) = o.bending {
-            c.module.beam.bending = b.into();
-        }
-        if let Some(n) = o.segments {
-            c.module.beam.segments = n;
-        }
-        if let Some(n) = o.substeps {
-            c.substeps = n;
-        }
-        c.module
-            .beam
-            .validate()
-            .map_err(|e| CliError::Input(format!("--bending / --segments: {e}")))?;
-        if !(1..=64).contains(&c.substeps) {
-            return Err(CliError::Input(format!(
-                "--substeps: expected 1 to 64, got {}",
-                c.substeps
-            )));
-        }
+    let mut array = scenario.array.clone();
+    if let Some(b) = o.bending {
+        array.bending = match b {
+            BendingArg::Spatial => BendingConfig::Spatial,
+            BendingArg::SweepPlane => BendingConfig::SweepPlane,
+        };
     }
-    let rcp = if o.rcp {
-        Some(RcpThreshold::NoiseMultiple(20.0))
-    } else {
-        scenario.array.rcp_mode()
-    };
-    Ok((configs, rcp))
+    array.segments = o.segments.or(array.segments);
+    array.substeps = o.substeps.or(array.substeps);
+    if o.rcp {
+        array.rcp = RcpConfig::Noise;
+        array.rcp_noise_multiple = Some(20.0);
+    }
+    let overridden = o.bending.is_some() || o.segments.is_some() || o.substeps.is_some();
+    let configs = array.whisker_configs(file).map_err(|e| match e {
+        CliError::Input(m) if overridden => CliError::Input(format!(
+            "{m} (with --bending / --segments / --substeps from the command line)"
+        )),
+        e => e,
+    })?;
+    Ok((configs, array.rcp_mode()))
 }
 
 /// `v` without the items in `cut`.
@@ -398,6 +385,8 @@ pub fn run(o: &Options) -> CliResult {
                 .collect()
         }
     };
+    // The kinematic sweep's target (a BVH of the world mesh), built once for all seeds.
+    let target = std::cell::OnceCell::new();
     let mut results = Vec::new();
     for &seed in &seeds {
         let image_sets: Vec<ImageSet> = match (&o.images, &physics) {
@@ -411,10 +400,10 @@ pub fn run(o: &Options) -> CliResult {
                 })
                 .collect::<CliResult<_>>()?,
             (None, None) => {
-                let target = SweepTarget::new(environment.world_mesh());
+                let target = target.get_or_init(|| SweepTarget::new(environment.world_mesh()));
                 let noise = scenario.kinematic.noise(file)?;
                 let key = substream_key(seed, "maze-slam/sensing");
-                let images = kinematic_images(&truth_path, &target, noise, key, &geometry);
+                let images = kinematic_images(&truth_path, target, noise, key, &geometry);
                 vec![(set_names[0].clone(), images)]
             }
             (None, Some((configs, rcp))) => {

@@ -282,6 +282,30 @@ fn algorithm_1_gives_the_hand_computed_rates() {
 }
 
 #[test]
+fn composing_undoes_the_relative_pose() {
+    // a ⊕ (b ⊖ a) = b, and a hand-computed composition: (1, 2, 90°) ⊕ (3, 0, 90°) is
+    // 3 m along +y from (1, 2), facing 180°.
+    let a = Pose2 {
+        x: 1.0,
+        y: 2.0,
+        th: FRAC_PI_2,
+    };
+    let b = Pose2 {
+        x: -0.4,
+        y: 0.7,
+        th: -2.9,
+    };
+    let back = a.compose(&a.relative(&b));
+    assert!((back.x - b.x).abs() + (back.y - b.y).abs() + (back.th - b.th).abs() < 1e-12);
+    let c = a.compose(&Pose2 {
+        x: 3.0,
+        y: 0.0,
+        th: FRAC_PI_2,
+    });
+    assert!((c.x - 1.0).abs() < 1e-12 && (c.y - 5.0).abs() < 1e-12 && (c.th - PI).abs() < 1e-12);
+}
+
+#[test]
 fn the_energy_metric_sums_squared_relative_errors() {
     let truth = line(4);
     // A perfect estimate, shifted and rotated as a whole: zero energy (relative relations).

@@ -69,6 +69,17 @@ impl Pose2 {
             th: wrap(b.th - self.th),
         }
     }
+
+    /// `b`, given in this pose's frame, in the frame this pose is given in (self ⊕ b: the
+    /// inverse of [`relative`](Self::relative)).
+    pub fn compose(&self, b: &Pose2) -> Pose2 {
+        let (s, c) = self.th.sin_cos();
+        Pose2 {
+            x: self.x + c * b.x - s * b.y,
+            y: self.y + s * b.x + c * b.y,
+            th: wrap(self.th + b.th),
+        }
+    }
 }
 
 /// An experience.
