@@ -154,7 +154,7 @@ mod tests {
         let (near, _) = viewpoints::busiest(&environment, &shape, asset.size).unwrap();
         let far = Isometry3::from_parts(Translation3::new(2.0, 0.0, 0.2), near.rotation);
         let target = SweepTarget::new(environment.world_mesh());
-        let model = serde_json::from_str(crate::frontend::DEFAULT_MODEL).unwrap();
+        let model = crate::frontend::radial_model(None).unwrap();
         let sensing = PhysicsSensing::new(vec![(shape, Isometry3::identity())], model);
         let cycles = sensing.sense(&target, &[far, near], 0, "test");
         assert!(cycles[0].contacts.is_empty());
