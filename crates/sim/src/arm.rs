@@ -165,3 +165,45 @@ impl Arm {
         Some((*world.bodies[*handle].position()).into())
     }
 }
+
+/// The arm's collision shapes in their link frames, for clearance checks without a
+/// physics world (the closed loop checks each goal configuration and the path to it).
+#[derive(Clone)]
+pub struct LinkShapes {
+    /// (link index, shape, pose in the link frame).
+    pub shapes: Vec<(usize, SharedShape, Isometry3<f64>)>,
+}
+
+impl LinkShapes {
+    /// Every collision shape of `model` that can be built (as [`Arm::build`] does).
+    pub fn new(model: &RobotModel) -> Self {
+        let mut shapes = Vec::new();
+        for (i, link) in model.links.iter().enumerate() {
+            for c in &link.collisions {
+                if let Some(b) = collider_for(&c.geometry, &c.origin) {
+                    shapes.push((i, b.shape.clone(), b.position.into()));
+                }
+            }
+        }
+        Self { shapes }
+    }
+
+    /// Names of the links that overlap `solids` with the arm at model joint positions
+    /// `q` (its root at the world origin), each once, in link order.
+    pub fn colliding(
+        &self,
+        model: &RobotModel,
+        q: &[f64],
+        solids: &crate::environment::solids::Solids,
+    ) -> Vec<String> {
+        let poses = model.link_poses(q);
+        let mut out: Vec<String> = Vec::new();
+        for (link, shape, local) in &self.shapes {
+            let name = &model.links[*link].name;
+            if !out.contains(name) && solids.overlaps(shape.as_ref(), &(poses[*link] * local)) {
+                out.push(name.clone());
+            }
+        }
+        out
+    }
+}

@@ -45,6 +45,19 @@ pub fn substream(seed: u64, name: &str) -> StreamRng {
     StreamRng::seed_from_u64(substream_key(seed, name))
 }
 
+/// A draw from N(0, σ); exactly 0, without a draw, when σ = 0 (a noise switched off
+/// consumes nothing from the stream).
+pub fn gauss<R: rand::Rng + ?Sized>(sigma: f64, rng: &mut R) -> f64 {
+    use rand_distr::{Distribution, Normal};
+    if sigma == 0.0 {
+        0.0
+    } else {
+        Normal::new(0.0, sigma)
+            .expect("a finite, non-negative sigma")
+            .sample(rng)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

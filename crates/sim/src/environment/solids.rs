@@ -132,6 +132,19 @@ impl Solids {
             .map(|(s, pose)| depth_in(s, pose, p))
             .fold(0.0, f64::max)
     }
+
+    /// Whether `shape` at `pose` (world) touches or enters any solid: its surface meets
+    /// a solid's, or its local origin lies inside one (a shape wholly inside a solid
+    /// crosses no surface).
+    pub fn overlaps(&self, shape: &dyn parry3d_f64::shape::Shape, pose: &Isometry3<f64>) -> bool {
+        if self.depth(&Point3::from(pose.translation.vector)) > 0.0 {
+            return true;
+        }
+        self.parts.iter().any(|(s, p)| {
+            parry3d_f64::query::intersection_test(&(*p).into(), s.as_ref(), &(*pose).into(), shape)
+                .is_ok_and(|i| i.intersecting)
+        })
+    }
 }
 
 #[cfg(test)]

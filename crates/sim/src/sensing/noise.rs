@@ -7,7 +7,7 @@
 //! point x, y, z, slope.
 
 use rand::RngExt;
-use rand_distr::{Distribution, Normal};
+use whisker_slam::rng::gauss;
 
 /// The contact-feature noise model.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -75,16 +75,5 @@ impl ContactNoise {
         let s = self.point_fraction * length;
         let offset = [gauss(s, rng), gauss(s, rng), gauss(s, rng)];
         Some((offset, slope + gauss(self.slope_sigma, rng)))
-    }
-}
-
-/// A draw from N(0, σ) (0 without a draw when σ = 0).
-fn gauss<R: rand::Rng + ?Sized>(sigma: f64, rng: &mut R) -> f64 {
-    if sigma == 0.0 {
-        0.0
-    } else {
-        Normal::new(0.0, sigma)
-            .expect("validated sigma")
-            .sample(rng)
     }
 }
