@@ -1,24 +1,10 @@
-//! `whisker`: the command line of the whisker-slam testbed (see README.md).
+//! `whisker`: the command line of the whisker-slam testbed (see README.md). Only the
+//! argument parsing lives here; every command is a call into the `whisker` library.
 
-mod assets_cmd;
-mod bench;
-mod bench_sensing;
-mod bench_slam;
-mod characterize;
-mod contacts;
-mod error;
-mod frontend;
-mod maze_slam;
-mod object_slam;
-mod output;
-mod plan;
-mod radial;
-mod recording;
-mod run;
-mod scenario;
-mod soak;
-mod urdf_cmd;
-mod whiskers;
+use whisker::{
+    assets_cmd, bench, bench_sensing, bench_slam, characterize, maze_slam, object_slam, radial,
+    run, soak, urdf_cmd,
+};
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;

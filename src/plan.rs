@@ -10,6 +10,7 @@ use whisker_sim::kinematics::{Chain, JointTrajectory, PackagePaths, RobotModel};
 use whisker_slam::pose;
 
 /// A scenario's arm motion, ready to simulate.
+#[derive(Clone)]
 pub struct Plan {
     /// The robot model.
     pub model: RobotModel,
@@ -147,5 +148,29 @@ impl Plan {
             all[j] = *v;
         }
         all
+    }
+
+    /// The links from the model's root along the chain to its tip (for drawing the arm).
+    pub fn skeleton(&self) -> Vec<usize> {
+        let tip = self.model.link(&self.chain.tip).expect("chain tip exists");
+        std::iter::once(self.model.root)
+            .chain(
+                self.model
+                    .path_from_root(tip)
+                    .iter()
+                    .map(|&j| self.model.joints[j].child),
+            )
+            .collect()
+    }
+
+    /// The poses of the `skeleton` links in the chain's base frame at configuration `q`.
+    pub fn link_frames(&self, q: &[f64], skeleton: &[usize]) -> Vec<nalgebra::Isometry3<f64>> {
+        let base = self
+            .model
+            .link(&self.chain.base)
+            .expect("chain base exists");
+        let poses = self.model.link_poses(&self.model_joints(q));
+        let base_inv = poses[base].inverse();
+        skeleton.iter().map(|&l| base_inv * poses[l]).collect()
     }
 }

@@ -56,6 +56,24 @@ impl Recording {
         })
     }
 
+    /// The recording `DIR/run.rrd` of a scenario (named after the file and the seed), or
+    /// None when the scenario switches recordings off.
+    pub fn for_scenario(
+        file: &Path,
+        scenario: &crate::scenario::Scenario,
+        dir: &Path,
+    ) -> CliResult<Option<Self>> {
+        if !scenario.output.recording {
+            return Ok(None);
+        }
+        let id = format!(
+            "{}-seed{}",
+            file.file_stem().unwrap_or_default().to_string_lossy(),
+            scenario.seed
+        );
+        Self::create(&dir.join("run.rrd"), &id).map(Some)
+    }
+
     /// Logs the waypoint positions of the tip (static).
     pub fn waypoints(&self, tips: &[Isometry3<f64>]) -> CliResult {
         let points: Vec<[f32; 3]> = tips.iter().map(point).collect();

@@ -127,34 +127,20 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
     let dir = out.unwrap_or_else(|| scenario.output.dir.clone());
     output::create_dir(&dir)?;
 
+    if scenario.explore.is_some() {
+        return crate::explore::write(file, &scenario, plan, &environment, &dir);
+    }
     let dt = scenario.output.sample_period_s;
     let chain = &plan.chain;
     let model = &plan.model;
-    let base = model.link(&chain.base).expect("chain base exists");
-    let tip_link = model.link(&chain.tip).expect("chain tip exists");
-    let skeleton_links: Vec<usize> = std::iter::once(model.root)
-        .chain(
-            model
-                .path_from_root(tip_link)
-                .iter()
-                .map(|&j| model.joints[j].child),
-        )
-        .collect();
+    let skeleton_links = plan.skeleton();
 
-    let recording = if scenario.output.recording {
-        let id = format!(
-            "{}-seed{}",
-            file.file_stem().unwrap_or_default().to_string_lossy(),
-            scenario.seed
-        );
-        let rec = Recording::create(&dir.join("run.rrd"), &id)?;
+    let recording = Recording::for_scenario(file, &scenario, &dir)?;
+    if let Some(rec) = &recording {
         let tips: Vec<Isometry3<f64>> = plan.waypoints.iter().map(|q| chain.fk(q)).collect();
         rec.waypoints(&tips)?;
         rec.environment(&environment)?;
-        Some(rec)
-    } else {
-        None
-    };
+    }
 
     let mut whiskers = match scenario.sensing {
         Sensing::Physics => Some(ArraySimulation::new(&scenario, file, &plan, &environment)?),
@@ -232,13 +218,7 @@ pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
             u8::from(collided)
         );
         if let Some(rec) = &recording {
-            let poses = model.link_poses(&all);
-            let base_inv = poses[base].inverse();
-            let links: Vec<Isometry3<f64>> = skeleton_links
-                .iter()
-                .map(|&l| base_inv * poses[l])
-                .collect();
-            rec.arm(t, &links, &tip)?;
+            rec.arm(t, &plan.link_frames(&q, &skeleton_links), &tip)?;
         }
         tip_path.push(tip);
     }

@@ -40,6 +40,17 @@ pub struct ObjectConfig {
     pub up: String,
 }
 
+impl ObjectConfig {
+    /// The object's name: `name`, else the mesh file's stem, else "object `i`".
+    pub fn display_name(&self, i: usize) -> String {
+        self.name.clone().unwrap_or_else(|| {
+            self.mesh
+                .file_stem()
+                .map_or_else(|| format!("object {i}"), |s| s.to_string_lossy().into())
+        })
+    }
+}
+
 /// `[maze]`: the maze board placed in the world.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -219,11 +230,7 @@ pub fn load(
             .mesh
             .shape()
             .map_err(|e| CliError::field(file, &format!("{field}.mesh"), e))?;
-        let name = o.name.clone().unwrap_or_else(|| {
-            o.mesh
-                .file_stem()
-                .map_or_else(|| format!("object {i}"), |s| s.to_string_lossy().into())
-        });
+        let name = o.display_name(i);
         let size = loaded.mesh.size();
         report.push(format!(
             "object     {name}: {} ({} triangles, {} component(s), {:.3} x {:.3} x {:.3} m) at ({:.3}, {:.3}, {:.3}) m{}",

@@ -9,6 +9,7 @@
 pub mod array;
 pub mod base;
 pub mod environment;
+pub mod explore;
 pub mod maze_slam;
 
 use crate::error::{CliError, CliResult};
@@ -51,7 +52,10 @@ pub struct Scenario {
     /// `[frontend]`: the signal front end of physics runs.
     #[serde(default)]
     pub frontend: FrontEndConfig,
-    /// Where the arm goes.
+    /// `[explore]`: the closed loop of Chapter 6 (the robot chooses where to whisk).
+    pub explore: Option<explore::ExploreConfig>,
+    /// Where the arm goes (scripted waypoints; none with `[explore]`).
+    #[serde(default)]
     pub trajectory: TrajectoryConfig,
     /// What is written.
     #[serde(default)]
@@ -168,7 +172,7 @@ pub struct ArmConfig {
 }
 
 /// `[trajectory]`: waypoints visited in order from the initial configuration.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub struct TrajectoryConfig {
     /// The waypoints.
@@ -300,10 +304,25 @@ impl Scenario {
             self.array.whisker_configs(file)?;
         }
         self.maze_slam.validate(file)?;
-        if self.trajectory.waypoints.is_empty() {
+        if let Some(e) = &self.explore {
+            if !self.trajectory.waypoints.is_empty() {
+                return bad(
+                    "trajectory.waypoints",
+                    "with [explore] the loop chooses where the arm goes: expected no waypoints"
+                        .into(),
+                );
+            }
+            if !matches!(self.sensing, Sensing::Kinematic | Sensing::Physics) {
+                return bad(
+                    "sensing",
+                    "[explore] needs sensing = \"kinematic\" or \"physics\"".into(),
+                );
+            }
+            e.validate(file, &self.object_names())?;
+        } else if self.trajectory.waypoints.is_empty() {
             return bad(
                 "trajectory.waypoints",
-                "expected at least one waypoint".into(),
+                "expected at least one waypoint (or an [explore] section)".into(),
             );
         }
         for (k, w) in self.trajectory.waypoints.iter().enumerate() {
@@ -317,6 +336,15 @@ impl Scenario {
             }
         }
         Ok(())
+    }
+
+    /// The names of the `[[objects]]`, in order.
+    pub fn object_names(&self) -> Vec<String> {
+        self.objects
+            .iter()
+            .enumerate()
+            .map(|(i, o)| o.display_name(i))
+            .collect()
     }
 
     /// The URDF path, resolved against the scenario file's directory.

@@ -1,0 +1,601 @@
+//! The closed loop of thesis Chapter 6: the robot decides where to whisk next, moves there
+//! with the arm, whisks, runs WhiskerRatSLAM, updates its confidence in each known object
+//! and either builds an object map (§6.1.3) or stops once it has recognised the object
+//! (§6.2). This is a library API: `whisker run` with an `[explore]` section, the tests and
+//! batch trials all call [`run`].
+//!
+//! One iteration (one whisk, one SLAM step):
+//! 1. the goal: the surface placement controller's correction when the last region is not
+//!    settled (SPC on, at most K per region), otherwise the strategy's next goal — the
+//!    ellipsoid's next face (map building), the sphere's next face (default), or the next
+//!    segment of a step to an experience (FEH, LSR);
+//! 2. the arm: IK from the current joints, a joint move at the speed limit, checked for
+//!    collisions; a goal that is unreachable or would touch the object is dropped (the
+//!    arm stays; counted) and the strategy's next goal tried, up to 8 times;
+//! 3. one whisk cycle at the reached pose (kinematic sensing with the §6.1.3.1.2 contact
+//!    noise, sub-streams `kinematic/whisker/NN`);
+//! 4. odometry since the last whisk with the Eq 6.4–6.11 noise (sub-stream
+//!    `explore/odometry`), features (PFH + SDA), one WhiskerRatSLAM step (Alg 2);
+//! 5. recognition: a re-localisation into an experience of a loaded map feeds that
+//!    object's raw confidence; IC integrates it (§6.2);
+//! 6. the SPC's decision on this whisk's contacts (world points: the robot knows its own
+//!    arm) and the strategy's bookkeeping (re-planning on re-localisation).
+//!
+//! Fallbacks, all counted in `summary.json`: `unreachable` and `collision` goals (dropped),
+//! `lost_contact` (a whisk with no contact: FEH/LSR give way to the default trajectory),
+//! `spc_limit` (a region left unsettled after K adjustments).
+
+mod log;
+mod policy;
+pub mod robot;
+
+use crate::error::{CliError, CliResult};
+use crate::plan::Plan;
+use crate::scenario::explore::{ExploreConfig, Strategy, Task};
+use crate::scenario::{Scenario, Sensing};
+use log::{Row, Summary};
+use nalgebra::{Isometry3, Point3, Vector3};
+use policy::FaceTour;
+use rand::RngExt;
+use robot::{Motion, Robot};
+use std::collections::{BTreeMap, VecDeque};
+use std::path::Path;
+use whisker_sim::environment::Environment;
+use whisker_sim::sensing::kinematic::{KinematicArray, SweepTarget};
+use whisker_slam::exploration::feh::Follower;
+use whisker_slam::exploration::goal_mesh::GoalMesh;
+use whisker_slam::exploration::lsr;
+use whisker_slam::exploration::placement::{self, Placement};
+use whisker_slam::recognition::Recognition;
+use whisker_slam::rng::substream;
+use whisker_slam::whisker_ratslam::object_map::ObjectMap;
+use whisker_slam::whisker_ratslam::slam::WhiskerRatSlam;
+
+pub use log::{CSV_NAME, SUMMARY_NAME};
+
+/// Attempts at a goal per iteration before the array whisks where it is.
+const GOAL_ATTEMPTS: usize = 8;
+/// RC below this counts as zero (§6.1.3.2's "zero confidence").
+const ZERO_RC: f64 = 1e-3;
+
+/// What a closed-loop run produced.
+pub struct Outcome {
+    /// `explore.csv`'s text.
+    pub csv: String,
+    /// `summary.json`'s value.
+    pub summary: serde_json::Value,
+    /// Map building: the object map built.
+    pub map: Option<ObjectMap>,
+    /// The true array pose at every whisk, for the recording.
+    pub poses: Vec<Isometry3<f64>>,
+    /// Each whisk's contact points (world), for the recording.
+    pub contacts: Vec<Vec<[f64; 3]>>,
+    /// Each whisk's time (s).
+    pub times: Vec<f64>,
+    /// The chain configuration at every whisk.
+    pub joints: Vec<Vec<f64>>,
+}
+
+/// Where FEH or LSR is heading.
+enum Heading {
+    /// The default trajectory's faces.
+    Default,
+    /// Following a history (FEH).
+    Feh(Follower),
+    /// Along an LSR path: the remaining nodes after the one being stepped to.
+    Lsr {
+        path: VecDeque<usize>,
+        leader: String,
+    },
+}
+
+/// The state of a run.
+struct Loop<'a> {
+    config: &'a ExploreConfig,
+    truth: String,
+    robot: Robot,
+    sensing: KinematicArray,
+    target: SweepTarget,
+    slam: WhiskerRatSlam,
+    recognition: Option<Recognition>,
+    tour: FaceTour,
+    start_face: usize,
+    /// Pending SPC correction and the adjustments made in this region.
+    spc: Option<Isometry3<f64>>,
+    adjustments: usize,
+    /// FEH/LSR: segments still to go of the current step, and the step's target.
+    segments: VecDeque<Isometry3<f64>>,
+    stepping_to: Option<usize>,
+    heading: Heading,
+    /// The last experience of a loaded map re-localised into and the true pose then.
+    anchor: Option<(usize, Isometry3<f64>)>,
+    fallbacks: BTreeMap<&'static str, usize>,
+    time: f64,
+}
+
+/// Runs the closed loop of `scenario` (read from `file`) in `environment`.
+pub fn run(
+    scenario: &Scenario,
+    file: &Path,
+    plan: Plan,
+    environment: &Environment,
+) -> CliResult<Outcome> {
+    let config = scenario
+        .explore
+        .as_ref()
+        .ok_or_else(|| CliError::field(file, "explore", "the scenario has no [explore] section"))?;
+    if scenario.sensing != Sensing::Kinematic {
+        return Err(CliError::field(
+            file,
+            "sensing",
+            "the closed loop runs with sensing = \"kinematic\" for now (physics sensing in the loop is not built yet)",
+        ));
+    }
+    let names = scenario.object_names();
+    let truth = config.object_name(file, &names)?;
+    let index = names.iter().position(|n| *n == truth).expect("validated");
+    let piece = &environment.pieces[index];
+    let world: Vec<Point3<f64>> = piece.mesh.vertices.iter().map(|v| piece.pose * v).collect();
+    let (centre, half) = policy::bounding_box(&world);
+    let chain = crate::whiskers::array_chain(scenario, file, &plan)?;
+    let robot = Robot::new(plan, chain, environment, scenario.seed)?;
+    let start_pose = robot.array_pose();
+    let hits = robot.colliding(&robot.q);
+    if !hits.is_empty() {
+        return Err(CliError::field(
+            file,
+            "arm.initial_joints_deg",
+            format!(
+                "the arm starts inside the environment ({})",
+                hits.join(", ")
+            ),
+        ));
+    }
+    let configs = scenario.array.whisker_configs(file)?;
+    let whiskers = configs.iter().map(|c| c.rigid()).collect();
+    let patterns = configs.iter().map(|c| c.pattern).collect();
+    let sensing = KinematicArray::new(
+        whiskers,
+        patterns,
+        scenario.kinematic.noise(file)?,
+        scenario.seed,
+    );
+    let (map, recognition, mesh) = match config.task {
+        Task::Map => {
+            let semi = half * 3f64.sqrt() + Vector3::repeat(config.standoff_m);
+            (
+                ObjectMap::default(),
+                None,
+                GoalMesh::ellipsoid(centre, semi, config.mesh_faces),
+            )
+        }
+        Task::Recognise => {
+            let mut appended = ObjectMap::default();
+            for (name, path) in config.map_files(file) {
+                let m = ObjectMap::load(&path)
+                    .map_err(|e| CliError::field(file, &format!("explore.maps.{name}"), e))?;
+                appended.append(&m, &name);
+            }
+            let radius = config
+                .sphere_radius_m
+                .unwrap_or(half.norm() + config.placement.near_m);
+            let objects: Vec<String> = config.maps.keys().cloned().collect();
+            (
+                appended,
+                Some(Recognition::new(objects, config.recognition)),
+                GoalMesh::sphere(centre, radius, config.mesh_faces),
+            )
+        }
+    };
+    let tour = FaceTour::new(mesh, config.min_height_m);
+    if tour.usable() == 0 {
+        return Err(CliError::field(
+            file,
+            "explore.min_height_m",
+            "every goal face lies below it",
+        ));
+    }
+    let start_face = match config.task {
+        // Map building starts at the face nearest the arm's base.
+        Task::Map => tour.nearest_usable(&Point3::origin()),
+        // The default trajectory's start face comes from the seed (§6.3).
+        Task::Recognise => {
+            let mut rng = substream(scenario.seed, "explore/start-face");
+            let usable = tour.usable_faces();
+            usable[rng.random_range(0..usable.len())]
+        }
+    };
+    let mut state = Loop {
+        config,
+        truth,
+        robot,
+        sensing,
+        target: SweepTarget::new(environment.world_mesh()),
+        slam: WhiskerRatSlam::new(config.slam, map),
+        recognition,
+        tour,
+        start_face,
+        spc: None,
+        adjustments: 0,
+        segments: VecDeque::new(),
+        stepping_to: None,
+        heading: Heading::Default,
+        anchor: None,
+        fallbacks: BTreeMap::new(),
+        time: 0.0,
+    };
+    state.run(scenario.seed, start_pose)
+}
+
+/// `whisker run` of a scenario with `[explore]`: runs the loop and writes `explore.csv`,
+/// `summary.json`, the object map (`map.json`, map building) and `run.rrd` into `dir`.
+pub fn write(
+    file: &Path,
+    scenario: &Scenario,
+    plan: Plan,
+    environment: &Environment,
+    dir: &Path,
+) -> CliResult {
+    let recording = crate::recording::Recording::for_scenario(file, scenario, dir)?;
+    let skeleton = plan.skeleton();
+    let frames = plan.clone();
+    let started = std::time::Instant::now();
+    let out = run(scenario, file, plan, environment)?;
+    let wall = started.elapsed().as_secs_f64();
+    crate::output::write_atomic(&dir.join(CSV_NAME), out.csv.as_bytes())?;
+    let text = serde_json::to_string_pretty(&out.summary).expect("plain JSON") + "\n";
+    crate::output::write_atomic(&dir.join(SUMMARY_NAME), text.as_bytes())?;
+    if let Some(map) = &out.map {
+        map.save(&dir.join("map.json")).map_err(CliError::Failure)?;
+    }
+    if let Some(rec) = recording {
+        rec.environment(environment)?;
+        for (k, q) in out.joints.iter().enumerate() {
+            rec.arm(
+                out.times[k],
+                &frames.link_frames(q, &skeleton),
+                &out.poses[k],
+            )?;
+            rec.contacts("contacts", out.times[k], &out.contacts[k])?;
+        }
+        rec.finish(&out.poses)?;
+    }
+    let s = &out.summary;
+    println!(
+        "explored   {} whisks ({:.0} s simulated, {wall:.1} s wall): {} experiences, {} re-localisations into the loaded maps",
+        s["iterations"],
+        s["simulated_time_s"].as_f64().unwrap_or(0.0),
+        s["experiences"],
+        s["relocalisations"]
+    );
+    println!("fallbacks  {}", s["fallbacks"]);
+    if let Some(r) = s["recognition"].as_object() {
+        println!(
+            "recognised {} (true object {}): outcome {}, SRT {}, IM {}",
+            r["identified"], s["object"], r["outcome"], r["srt"], r["im"]
+        );
+    }
+    if let Some(m) = s["map_accuracy"].as_object() {
+        println!(
+            "map        {} experiences checked: max error {:.4} m, median {:.4} m, {} over 2 cm",
+            m["experiences_checked"],
+            m["max_error_m"].as_f64().unwrap_or(f64::NAN),
+            m["median_error_m"].as_f64().unwrap_or(f64::NAN),
+            m["over_2cm"]
+        );
+    }
+    let map = if out.map.is_some() { ", map.json" } else { "" };
+    let rrd = if scenario.output.recording {
+        ", run.rrd"
+    } else {
+        ""
+    };
+    println!(
+        "wrote      {}/{{{CSV_NAME}, {SUMMARY_NAME}{map}{rrd}}}",
+        dir.display()
+    );
+    Ok(())
+}
+
+impl Loop<'_> {
+    fn count(&mut self, what: &'static str) {
+        *self.fallbacks.entry(what).or_default() += 1;
+    }
+
+    /// The strategy's next goal (not the SPC's), and its kind for the log.
+    fn strategy_goal(&mut self) -> Option<(Isometry3<f64>, String)> {
+        if let Some(seg) = self.segments.pop_front() {
+            let to = self.stepping_to.map_or(String::new(), |e| e.to_string());
+            return Some((seg, format!("step:{to}")));
+        }
+        let level = self.robot.array_pose().rotation * Vector3::y();
+        let face = self.tour.next(self.start_face)?;
+        Some((self.tour.goal(face, &level), format!("face:{face}")))
+    }
+
+    fn done(&self) -> bool {
+        match (&self.recognition, self.config.task) {
+            (_, Task::Map) => self.tour.loops >= self.config.map_loops,
+            (Some(r), Task::Recognise) => r.all_reached(self.config.stop_ic),
+            (None, Task::Recognise) => true,
+        }
+    }
+
+    fn run(&mut self, seed: u64, start: Isometry3<f64>) -> CliResult<Outcome> {
+        let mut odometry_rng = substream(seed, "explore/odometry");
+        let objects: Vec<String> = self.config.maps.keys().cloned().collect();
+        let mut csv = log::header(&objects, self.robot.chain.dof());
+        let mut previous = start;
+        let mut out = Outcome {
+            csv: String::new(),
+            summary: serde_json::Value::Null,
+            map: None,
+            poses: Vec::new(),
+            contacts: Vec::new(),
+            times: Vec::new(),
+            joints: Vec::new(),
+        };
+        let mut relocalisations = 0usize;
+        let mut truth_at_creation: Vec<(usize, Isometry3<f64>)> = Vec::new();
+        let mut rc_sums: BTreeMap<String, f64> = objects.iter().map(|o| (o.clone(), 0.0)).collect();
+        for iteration in 0..self.config.max_iterations {
+            if self.done() {
+                break;
+            }
+            // 1–2. Goal and move.
+            let mut goal = None;
+            let mut status = "none";
+            for _ in 0..GOAL_ATTEMPTS {
+                let (pose, kind) = match self.spc.take() {
+                    Some(p) => (p, "spc".to_string()),
+                    None => match self.strategy_goal() {
+                        Some(g) => g,
+                        None => break,
+                    },
+                };
+                let motion = self.robot.move_to(&pose);
+                status = motion.status();
+                match motion {
+                    Motion::Reached { duration } => {
+                        self.time += duration;
+                        goal = Some((pose, kind));
+                        break;
+                    }
+                    Motion::Unreachable => self.count("unreachable"),
+                    Motion::Collision(_) => self.count("collision"),
+                }
+                // A refused SPC correction ends the region; a refused segment the step.
+                self.adjustments = 0;
+                if kind.starts_with("step") {
+                    self.segments.clear();
+                    self.stepping_to = None;
+                    self.heading = Heading::Default;
+                }
+                goal = Some((pose, kind));
+            }
+            if self.done() {
+                break;
+            }
+            // 3. Whisk where the array is.
+            let pose = self.robot.array_pose();
+            let cycle = self
+                .sensing
+                .sense(&self.target, iteration as u64, self.time, &pose);
+            self.time += 1.0 / self.sensing.patterns[0].frequency;
+            let points: Vec<Point3<f64>> = cycle.contacts.iter().map(|c| c.point).collect();
+            let world: Vec<Point3<f64>> = points.iter().map(|p| pose * p).collect();
+            // 4. Odometry and SLAM.
+            let odometry = self
+                .config
+                .odometry
+                .apply(&(previous.inverse() * pose), &mut odometry_rng);
+            previous = pose;
+            let features = crate::object_slam::whisk_features(&cycle, &points);
+            let before = self.slam.map.experiences.len();
+            let step = self.slam.step(&features, &odometry);
+            if step.created {
+                truth_at_creation.push((step.experience, pose));
+            }
+            // 5. Recognition: re-localisations into a loaded map's experiences.
+            let onto = (step.relocalised && step.experience < before)
+                .then(|| self.slam.map.experiences[step.experience].object.clone())
+                .flatten();
+            if onto.is_some() {
+                relocalisations += 1;
+                self.anchor = Some((step.experience, pose));
+            }
+            if let Some(r) = &mut self.recognition {
+                r.update(onto.as_deref());
+                for (o, s) in rc_sums.iter_mut() {
+                    *s += r.raw.confidence[o];
+                }
+            }
+            // 6. SPC and the strategy.
+            let decision = if self.config.spc {
+                self.place(&pose, &world)
+            } else {
+                "off"
+            };
+            if world.is_empty() {
+                self.count("lost_contact");
+                self.segments.clear();
+                self.stepping_to = None;
+                self.heading = Heading::Default;
+            } else if let Some(r) = &self.recognition {
+                self.replan(
+                    r.clone(),
+                    onto.as_deref(),
+                    step.experience,
+                    &features,
+                    &pose,
+                );
+            }
+            let row = Row {
+                iteration,
+                time: self.time,
+                goal: goal.as_ref(),
+                status,
+                reached: &pose,
+                joints: &self.robot.q,
+                contacts: world.len(),
+                step: &step,
+                onto: onto.as_deref(),
+                recognition: self.recognition.as_ref(),
+                heading: match &self.heading {
+                    Heading::Default => "default",
+                    Heading::Feh(_) => "feh",
+                    Heading::Lsr { .. } => "lsr",
+                },
+                spc: decision,
+            };
+            log::row(&mut csv, &row, &objects);
+            out.poses.push(pose);
+            out.contacts
+                .push(world.iter().map(|p| [p.x, p.y, p.z]).collect());
+            out.times.push(self.time);
+            out.joints.push(self.robot.q.clone());
+        }
+        let iterations = out.poses.len();
+        let map_error = log::map_error(&self.slam.map, &truth_at_creation);
+        let summary = Summary {
+            task: self.config.task,
+            truth: &self.truth,
+            strategy: self.config.strategy,
+            spc: self.config.spc,
+            iterations,
+            relocalisations,
+            experiences: self.slam.map.experiences.len(),
+            faces_per_loop: self.tour.usable(),
+            loops: self.tour.loops,
+            recognition: self.recognition.as_ref(),
+            mean_rc: rc_sums
+                .iter()
+                .map(|(o, s)| (o.clone(), s / iterations.max(1) as f64))
+                .collect(),
+            fallbacks: &self.fallbacks,
+            map_error,
+            time: self.time,
+        };
+        out.summary = summary.json();
+        out.csv = csv;
+        if self.config.task == Task::Map {
+            out.map = Some(self.slam.map.clone());
+        }
+        Ok(out)
+    }
+
+    /// Runs the SPC on this whisk's contacts; returns its decision's name.
+    fn place(&mut self, pose: &Isometry3<f64>, world: &[Point3<f64>]) -> &'static str {
+        let p = &self.config.placement;
+        let decision = placement::correct(p, pose, world);
+        let name = match decision {
+            Placement::Approach(_) => "approach",
+            Placement::Turn(_) => "turn",
+            Placement::Move(_) => "move",
+            Placement::BackOff(_) => "back_off",
+            Placement::Done(_) => "done",
+        };
+        if matches!(decision, Placement::Done(_)) {
+            self.adjustments = 0;
+        } else if self.adjustments >= p.max_adjustments {
+            self.count("spc_limit");
+            self.adjustments = 0;
+        } else {
+            self.adjustments += 1;
+            self.spc = decision.pose();
+        }
+        name
+    }
+
+    /// FEH/LSR bookkeeping after a whisk (§6.1.2, §6.1.3.2): the default trajectory while
+    /// no object is likely; otherwise follow or re-plan.
+    fn replan(
+        &mut self,
+        r: Recognition,
+        onto: Option<&str>,
+        current: usize,
+        features: &whisker_slam::features::similarity::Features,
+        pose: &Isometry3<f64>,
+    ) {
+        let likely = r.raw.confidence.values().any(|&c| c >= ZERO_RC);
+        let strategy = self.config.strategy;
+        if strategy == Strategy::Default || !likely {
+            if !matches!(self.heading, Heading::Default) {
+                self.segments.clear();
+                self.heading = Heading::Default;
+            }
+            return;
+        }
+        let leader = r.raw.best().map(|(o, _)| o.to_string()).unwrap_or_default();
+        // A step whose segments are all done (and settled) reached its target.
+        let reached = self.segments.is_empty() && self.spc.is_none() && self.stepping_to.is_some();
+        if reached && let Some(t) = self.stepping_to.take() {
+            self.anchor = Some((t, *pose));
+        }
+        let next = match strategy {
+            Strategy::Feh => {
+                let following = matches!(self.heading, Heading::Feh(_));
+                match onto {
+                    Some(o) if o == leader => {
+                        let after = match &self.heading {
+                            Heading::Feh(f) if f.object == o => Some(f.index),
+                            _ => None,
+                        };
+                        Follower::start(&self.slam.map, o, current, after).map(|f| {
+                            let t = f.target();
+                            self.heading = Heading::Feh(f);
+                            t
+                        })
+                    }
+                    _ if following && reached => match &mut self.heading {
+                        Heading::Feh(f) => Some(f.advance()),
+                        _ => None,
+                    },
+                    _ => None,
+                }
+            }
+            Strategy::Lsr => {
+                let continuing =
+                    matches!(&self.heading, Heading::Lsr { leader: l, .. } if *l == leader);
+                let stepping = self.stepping_to.is_some() || !self.segments.is_empty();
+                match &mut self.heading {
+                    Heading::Lsr { path, .. } if continuing && reached && !path.is_empty() => {
+                        path.pop_front()
+                    }
+                    _ if continuing && stepping => None,
+                    _ => {
+                        let likely_objects: Vec<String> = r
+                            .raw
+                            .confidence
+                            .iter()
+                            .filter(|(_, c)| **c >= ZERO_RC)
+                            .map(|(o, _)| o.clone())
+                            .collect();
+                        lsr::plan(
+                            &self.slam.map,
+                            features,
+                            current,
+                            |o| o.is_some_and(|o| likely_objects.iter().any(|l| l == o)),
+                            &self.config.lsr,
+                        )
+                        .and_then(|plan| {
+                            let mut path: VecDeque<usize> = plan.path.into_iter().skip(1).collect();
+                            let first = path.pop_front();
+                            self.heading = Heading::Lsr { path, leader };
+                            first
+                        })
+                    }
+                }
+            }
+            Strategy::Default => None,
+        };
+        if let Some(target) = next
+            && let Some(anchor) = self.anchor
+            && let Some(goal) =
+                policy::step_goal(&self.slam.map, anchor, target, self.config.step_pose)
+        {
+            self.segments = policy::segments(pose, &goal, self.config.segment_m);
+            self.stepping_to = Some(target);
+        }
+    }
+}

@@ -1,0 +1,27 @@
+//! # whisker
+//!
+//! The experiments of the whisker-slam testbed as a library: the scenario format, runs of
+//! the arm and the whiskers, the closed loop of Chapter 6, the object-SLAM, maze-SLAM and
+//! radial-distance experiments, recording to Rerun, and benchmarks. The `whisker` binary
+//! is a thin command line over it; tests and batch runs call it directly.
+
+pub mod assets_cmd;
+pub mod bench;
+pub mod bench_sensing;
+pub mod bench_slam;
+pub mod characterize;
+pub mod contacts;
+pub mod error;
+pub mod explore;
+pub mod frontend;
+pub mod maze_slam;
+pub mod object_slam;
+pub mod output;
+pub mod plan;
+pub mod radial;
+pub mod recording;
+pub mod run;
+pub mod scenario;
+pub mod soak;
+pub mod urdf_cmd;
+pub mod whiskers;

@@ -1,0 +1,258 @@
+//! `[explore]`: the closed loop of thesis Chapter 6 — the robot chooses where to whisk,
+//! moves there with the arm and either builds an object map (§6.1.3) or recognises the
+//! object against loaded maps (§6.1.2, §6.2). Documented field by field in
+//! `scenarios/README.md`; the readings of the thesis' gaps are in
+//! `shared/notes/chapter6.md`.
+
+use super::relative_to;
+use crate::error::{CliError, CliResult};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use whisker_slam::exploration::lsr::LsrParams;
+use whisker_slam::exploration::odometry_noise::OdometryNoise;
+use whisker_slam::exploration::placement::PlacementParams;
+use whisker_slam::recognition::RecognitionParams;
+
+/// What the loop is for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Task {
+    /// Build an object map of the object (§6.1.3): the ellipsoid's faces, `map_loops` times.
+    Map,
+    /// Recognise the object against `maps` (§6.2).
+    Recognise,
+}
+
+/// How the next region is chosen once an object is likely (§6.1.2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Strategy {
+    /// The sphere around the object, face by face (§6.1.3.2).
+    #[default]
+    Default,
+    /// Follow experience history (§6.1.2.2).
+    Feh,
+    /// Least similar region (§6.1.2.3).
+    Lsr,
+}
+
+impl Strategy {
+    /// The name used in scenarios and outputs.
+    pub fn name(self) -> &'static str {
+        match self {
+            Strategy::Default => "default",
+            Strategy::Feh => "feh",
+            Strategy::Lsr => "lsr",
+        }
+    }
+}
+
+/// Which relative pose a step between experiences uses (§6.1.2.1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum StepPose {
+    /// The experiences' map poses (corrected by re-localisations).
+    #[default]
+    Map,
+    /// The odometry recorded on the link between them.
+    Odometry,
+}
+
+/// `[explore]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExploreConfig {
+    /// `"map"` or `"recognise"`.
+    pub task: Task,
+    /// The `[[objects]]` entry explored, by name [default: the only object].
+    pub object: Option<String>,
+    /// Recognise: the object maps loaded and appended, name → file (relative to the
+    /// scenario), e.g. `{ box = "../assets/maps/box.json" }`.
+    #[serde(default)]
+    pub maps: BTreeMap<String, PathBuf>,
+    /// Recognise: `"default"`, `"feh"` or `"lsr"`.
+    #[serde(default)]
+    pub strategy: Strategy,
+    /// Surface placement control after every move (§6.1.1).
+    #[serde(default = "yes")]
+    pub spc: bool,
+    /// The most whisks (iterations) of a run: the time limit T_max.
+    #[serde(default = "max_iterations")]
+    pub max_iterations: usize,
+    /// Recognise: a run stops early once every object's IC has reached this (900: one run
+    /// serves the thresholds 100–900 of Fig 6.7).
+    #[serde(default = "stop_ic")]
+    pub stop_ic: f64,
+    /// Map: passes over the ellipsoid's faces (2, §6.1.3.1).
+    #[serde(default = "two")]
+    pub map_loops: usize,
+    /// Bands and sectors of the goal meshes (20, as MATLAB's `ellipsoid`/`sphere`).
+    #[serde(default = "twenty")]
+    pub mesh_faces: usize,
+    /// Map: the ellipsoid's semi-axes are √3 × the object's half extents plus this (m).
+    #[serde(default = "standoff")]
+    pub standoff_m: f64,
+    /// Recognise: radius of the default trajectory's sphere (m) [default: the object's
+    /// bounding sphere + `placement.near_m`].
+    pub sphere_radius_m: Option<f64>,
+    /// Goal faces whose centroid lies lower than this above the table are skipped (m).
+    #[serde(default = "min_height")]
+    pub min_height_m: f64,
+    /// FEH/LSR: the longest segment of a step between experiences (m; 3 cm, §6.1.2.2).
+    #[serde(default = "segment")]
+    pub segment_m: f64,
+    /// FEH/LSR: which relative pose a step uses.
+    #[serde(default)]
+    pub step_pose: StepPose,
+    /// `[explore.placement]`: the SPC's parameters.
+    #[serde(default)]
+    pub placement: PlacementParams,
+    /// `[explore.odometry]`: the odometry noise (Eq 6.4–6.11).
+    #[serde(default)]
+    pub odometry: OdometryNoise,
+    /// `[explore.recognition]`: RC and IC (§6.2).
+    #[serde(default)]
+    pub recognition: RecognitionParams,
+    /// `[explore.lsr]`: Eq 6.3's weights.
+    #[serde(default)]
+    pub lsr: LsrParams,
+    /// `[explore.slam]`: WhiskerRatSLAM's parameters (the §5.2 defaults).
+    #[serde(default)]
+    pub slam: whisker_slam::whisker_ratslam::slam::Params,
+}
+
+fn yes() -> bool {
+    true
+}
+fn max_iterations() -> usize {
+    1000
+}
+fn stop_ic() -> f64 {
+    900.0
+}
+fn two() -> usize {
+    2
+}
+fn twenty() -> usize {
+    20
+}
+fn standoff() -> f64 {
+    0.04
+}
+fn min_height() -> f64 {
+    0.02
+}
+fn segment() -> f64 {
+    0.03
+}
+
+impl ExploreConfig {
+    /// Checks the section; errors name the file and the field.
+    pub fn validate(&self, file: &Path, objects: &[String]) -> CliResult {
+        let bad =
+            |field: &str, msg: String| Err(CliError::field(file, &format!("explore.{field}"), msg));
+        self.object_name(file, objects)?;
+        if self.task == Task::Recognise {
+            if self.maps.is_empty() {
+                return bad(
+                    "maps",
+                    "task = \"recognise\" needs at least one object map".into(),
+                );
+            }
+            for (name, path) in &self.maps {
+                let p = relative_to(file, path);
+                if !p.is_file() {
+                    return bad(
+                        &format!("maps.{name}"),
+                        format!("no such file: {}", p.display()),
+                    );
+                }
+            }
+        } else if !self.maps.is_empty() {
+            return bad("maps", "only used with task = \"recognise\"".into());
+        }
+        if self.max_iterations == 0 {
+            return bad("max_iterations", "expected at least 1".into());
+        }
+        if self.map_loops == 0 {
+            return bad("map_loops", "expected at least 1".into());
+        }
+        if !(3..=200).contains(&self.mesh_faces) {
+            return bad(
+                "mesh_faces",
+                format!("expected 3 to 200, got {}", self.mesh_faces),
+            );
+        }
+        for (f, v) in [("stop_ic", self.stop_ic), ("segment_m", self.segment_m)] {
+            if !(v.is_finite() && v > 0.0) {
+                return bad(f, format!("expected a positive number, got {v}"));
+            }
+        }
+        for (f, v) in [
+            ("standoff_m", self.standoff_m),
+            ("min_height_m", self.min_height_m),
+        ] {
+            if !v.is_finite() {
+                return bad(f, format!("expected a finite number, got {v}"));
+            }
+        }
+        if let Some(r) = self.sphere_radius_m
+            && !(r.is_finite() && r > 0.0)
+        {
+            return bad(
+                "sphere_radius_m",
+                format!("expected a positive number, got {r}"),
+            );
+        }
+        let sub = |name: &str, r: Result<(), (String, String)>| {
+            r.map_err(|(f, m)| CliError::field(file, &format!("explore.{name}.{f}"), m))
+        };
+        sub("placement", self.placement.validate())?;
+        sub("odometry", self.odometry.validate())?;
+        sub("recognition", self.recognition.validate())?;
+        for (f, v) in [
+            ("translation_per_m", self.lsr.translation_per_m),
+            ("rotation_per_rad", self.lsr.rotation_per_rad),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return bad(
+                    &format!("lsr.{f}"),
+                    format!("expected a finite number ≥ 0, got {v}"),
+                );
+            }
+        }
+        self.slam
+            .pose_cells
+            .validate()
+            .map_err(|m| CliError::field(file, "explore.slam.pose_cells", m))
+    }
+
+    /// The explored object's name among the scenario's `objects`.
+    pub fn object_name(&self, file: &Path, objects: &[String]) -> CliResult<String> {
+        match (&self.object, objects) {
+            (Some(o), _) if objects.contains(o) => Ok(o.clone()),
+            (Some(o), _) => Err(CliError::field(
+                file,
+                "explore.object",
+                format!("no [[objects]] entry is named {o:?}; the objects are {objects:?}"),
+            )),
+            (None, [one]) => Ok(one.clone()),
+            (None, _) => Err(CliError::field(
+                file,
+                "explore.object",
+                format!(
+                    "expected the name of one of the [[objects]] ({objects:?}): the loop explores one object"
+                ),
+            )),
+        }
+    }
+
+    /// The map files, resolved against the scenario file.
+    pub fn map_files(&self, file: &Path) -> Vec<(String, PathBuf)> {
+        self.maps
+            .iter()
+            .map(|(k, p)| (k.clone(), relative_to(file, p)))
+            .collect()
+    }
+}
