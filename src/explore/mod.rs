@@ -12,8 +12,9 @@
 //! 2. the arm: IK from the current joints, a joint move at the speed limit, checked for
 //!    collisions; a goal that is unreachable or would touch the object is dropped (the
 //!    arm stays; counted) and the strategy's next goal tried, up to 8 times;
-//! 3. one whisk cycle at the reached pose (kinematic sensing with the §6.1.3.1.2 contact
-//!    noise, sub-streams `kinematic/whisker/NN`);
+//! 3. one whisk cycle at the reached pose: kinematic sensing with the §6.1.3.1.2 contact
+//!    noise (sub-streams `kinematic/whisker/NN`), or physics whiskers through the signal
+//!    front end ([`Sensor`]);
 //! 4. odometry since the last whisk with the Eq 6.4–6.11 noise (sub-stream
 //!    `explore/odometry`), features (PFH + SDA), one WhiskerRatSLAM step (Alg 2);
 //! 5. recognition: a re-localisation into an experience of a loaded map feeds that
@@ -30,6 +31,7 @@ mod policy;
 pub mod robot;
 
 use crate::error::{CliError, CliResult};
+use crate::object_slam::physics::PhysicsSensing;
 use crate::plan::Plan;
 use crate::scenario::explore::{ExploreConfig, Strategy, Task};
 use crate::scenario::{Scenario, Sensing};
@@ -42,6 +44,7 @@ use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
 use whisker_sim::environment::Environment;
 use whisker_sim::sensing::kinematic::{KinematicArray, SweepTarget};
+use whisker_slam::contact::ContactCycle;
 use whisker_slam::exploration::feh::Follower;
 use whisker_slam::exploration::goal_mesh::GoalMesh;
 use whisker_slam::exploration::lsr;
@@ -89,12 +92,51 @@ enum Heading {
     },
 }
 
+/// How a whisk is sensed.
+enum Sensor {
+    /// The anticipated intersect with the §6.1.3.1.2 noise (sub-streams
+    /// `kinematic/whisker/NN`).
+    Kinematic(KinematicArray),
+    /// Physics whiskers held still for one 1 Hz whisk with RCP at saturation, the signal
+    /// front end and the radial-distance model of `[frontend]` (as `whisker object-slam
+    /// --sensing physics`; sub-streams `explore/physics/<whisk>`).
+    Physics(Box<PhysicsSensing>),
+}
+
+impl Sensor {
+    /// One whisk cycle (number `k`, at time `t`) with the array held at `pose`, and the
+    /// cycle's duration (s).
+    fn whisk(
+        &mut self,
+        target: &SweepTarget,
+        k: u64,
+        t: f64,
+        pose: &Isometry3<f64>,
+        seed: u64,
+    ) -> (ContactCycle, f64) {
+        match self {
+            Sensor::Kinematic(a) => (a.sense(target, k, t, pose), 1.0 / a.patterns[0].frequency),
+            Sensor::Physics(p) => {
+                let mut c = p.whisk(
+                    target,
+                    k as usize,
+                    pose,
+                    seed,
+                    &format!("explore/physics/{k}"),
+                );
+                c.start_s = t;
+                (c, 1.0)
+            }
+        }
+    }
+}
+
 /// The state of a run.
 struct Loop<'a> {
     config: &'a ExploreConfig,
     truth: String,
     robot: Robot,
-    sensing: KinematicArray,
+    sensing: Sensor,
     target: SweepTarget,
     slam: WhiskerRatSlam,
     recognition: Option<Recognition>,
@@ -124,13 +166,6 @@ pub fn run(
         .explore
         .as_ref()
         .ok_or_else(|| CliError::field(file, "explore", "the scenario has no [explore] section"))?;
-    if scenario.sensing != Sensing::Kinematic {
-        return Err(CliError::field(
-            file,
-            "sensing",
-            "the closed loop runs with sensing = \"kinematic\" for now (physics sensing in the loop is not built yet)",
-        ));
-    }
     let names = scenario.object_names();
     let truth = config.object_name(file, &names)?;
     let index = names.iter().position(|n| *n == truth).expect("validated");
@@ -151,15 +186,24 @@ pub fn run(
             ),
         ));
     }
-    let configs = scenario.array.whisker_configs(file)?;
-    let whiskers = configs.iter().map(|c| c.rigid()).collect();
-    let patterns = configs.iter().map(|c| c.pattern).collect();
-    let sensing = KinematicArray::new(
-        whiskers,
-        patterns,
-        scenario.kinematic.noise(file)?,
-        scenario.seed,
-    );
+    let sensing = match scenario.sensing {
+        Sensing::Physics => Sensor::Physics(Box::new(PhysicsSensing::new(
+            environment.physics_pieces(),
+            scenario.frontend.model(file)?,
+        ))),
+        _ => {
+            let configs = scenario.array.whisker_configs(file)?;
+            let whiskers = configs.iter().map(|c| c.rigid()).collect();
+            let patterns = configs.iter().map(|c| c.pattern).collect();
+            let noise = scenario.kinematic.noise(file)?;
+            Sensor::Kinematic(KinematicArray::new(
+                whiskers,
+                patterns,
+                noise,
+                scenario.seed,
+            ))
+        }
+    };
     let (map, recognition, mesh) = match config.task {
         Task::Map => {
             let semi = half * 3f64.sqrt() + Vector3::repeat(config.standoff_m);
@@ -176,9 +220,11 @@ pub fn run(
                     .map_err(|e| CliError::field(file, &format!("explore.maps.{name}"), e))?;
                 appended.append(&m, &name);
             }
-            let radius = config
-                .sphere_radius_m
-                .unwrap_or(half.norm() + config.placement.near_m);
+            // The thesis' "bounding sphere + standoff" keeps a box's faces out of reach
+            // (15 cm for the Box); the mean half extent + the SPC band's middle puts the
+            // side faces in reach, so the default trajectory touches without the SPC too.
+            let band = 0.5 * (config.placement.near_m + config.placement.far_m);
+            let radius = config.sphere_radius_m.unwrap_or(half.mean() + band);
             let objects: Vec<String> = config.maps.keys().cloned().collect();
             (
                 appended,
@@ -378,10 +424,10 @@ impl Loop<'_> {
             }
             // 3. Whisk where the array is.
             let pose = self.robot.array_pose();
-            let cycle = self
-                .sensing
-                .sense(&self.target, iteration as u64, self.time, &pose);
-            self.time += 1.0 / self.sensing.patterns[0].frequency;
+            let (cycle, period) =
+                self.sensing
+                    .whisk(&self.target, iteration as u64, self.time, &pose, seed);
+            self.time += period;
             let points: Vec<Point3<f64>> = cycle.contacts.iter().map(|c| c.point).collect();
             let world: Vec<Point3<f64>> = points.iter().map(|p| pose * p).collect();
             // 4. Odometry and SLAM.

@@ -23,7 +23,7 @@
 //! each object, Skull included, is explored for one lap of A and of B while a leaky
 //! integrator per mapped object (decay 0.9 per whisk) is fed by re-localisations.
 
-mod physics;
+pub mod physics;
 mod trajectory;
 
 use crate::error::{CliError, CliResult};

@@ -78,7 +78,9 @@ impl PhysicsSensing {
             .collect()
     }
 
-    fn whisk(
+    /// One whisk (number `k`, starting at k s) at `pose`, with noise from sub-stream
+    /// `stream` of `seed`.
+    pub fn whisk(
         &self,
         target: &SweepTarget,
         k: usize,

@@ -17,6 +17,10 @@ fn malformed_scenarios_exit_2_naming_file_and_field_and_write_nothing() {
         "[arm]\nurdf = {:?}\ninitial_joints_deg = []\n",
         cyclic.display().to_string()
     );
+    let box_object = format!(
+        "[[objects]]\nmesh = {:?}\nname = \"box\"\nposition_m = [0.55, 0, 0]\n",
+        repo("assets/meshes/box.obj").display().to_string()
+    );
     // A valid scenario for the `base` cases to build on.
     let good = with_urdf(&format!("{ARM}{WAYPOINT}[output]\ndir = \"out-good\"\n"));
     std::fs::write(tmp.path().join("good_base.toml"), good).unwrap();
@@ -146,6 +150,53 @@ fn malformed_scenarios_exit_2_naming_file_and_field_and_write_nothing() {
             "cycle",
         ),
         ("not_toml", "[arm\nurdf = ".to_string(), "line 1"),
+        (
+            "explore_with_waypoints",
+            format!(
+                "sensing = \"kinematic\"\n{ARM}{box_object}[explore]\ntask = \"map\"\n{WAYPOINT}{OUTPUT}"
+            ),
+            "trajectory.waypoints",
+        ),
+        (
+            "explore_without_sensing",
+            format!("{ARM}{box_object}[explore]\ntask = \"map\"\n{OUTPUT}"),
+            "sensing",
+        ),
+        (
+            "explore_bad_strategy",
+            format!(
+                "sensing = \"kinematic\"\n{ARM}{box_object}[explore]\ntask = \"map\"\nstrategy = \"random\"\n{OUTPUT}"
+            ),
+            "strategy",
+        ),
+        (
+            "explore_missing_map",
+            format!(
+                "sensing = \"kinematic\"\n{ARM}{box_object}[explore]\ntask = \"recognise\"\nmaps = {{ box = \"nowhere.json\" }}\n{OUTPUT}"
+            ),
+            "explore.maps.box",
+        ),
+        (
+            "explore_unknown_object",
+            format!(
+                "sensing = \"kinematic\"\n{ARM}{box_object}[explore]\ntask = \"map\"\nobject = \"mug\"\n{OUTPUT}"
+            ),
+            "explore.object",
+        ),
+        (
+            "explore_bad_cone",
+            format!(
+                "sensing = \"kinematic\"\n{ARM}{box_object}[explore]\ntask = \"map\"\n[explore.placement]\ncone_deg = 120\n{OUTPUT}"
+            ),
+            "explore.placement.cone_deg",
+        ),
+        (
+            "explore_bad_decay",
+            format!(
+                "sensing = \"kinematic\"\n{ARM}{box_object}[explore]\ntask = \"map\"\n[explore.recognition]\ndecay = 1.5\n{OUTPUT}"
+            ),
+            "explore.recognition.decay",
+        ),
     ];
     for (name, body, field) in &cases {
         let (o, path) = run_bad(tmp.path(), name, body);

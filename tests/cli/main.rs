@@ -3,6 +3,7 @@
 //! 2, file and field named, nothing written).
 
 mod environment;
+mod explore;
 mod inputs;
 mod maze_slam;
 mod object_slam;

@@ -1,0 +1,185 @@
+//! The closed loop of Chapter 6 (`whisker::explore`), called as a library: a full
+//! map-building run of the Box checked independently (every goal reached or counted, no
+//! collision by Rapier's own contact detection along every move), the loop's bookkeeping
+//! against the truth, and byte-identical results whatever the thread count.
+
+use super::*;
+use nalgebra::Isometry3;
+use rapier3d_f64::prelude::ColliderBuilder;
+use whisker::plan::Plan;
+use whisker::scenario::Scenario;
+use whisker_sim::world::World;
+use whisker_slam::exploration::odometry_noise::OdometryNoise;
+
+fn load(name: &str) -> (Scenario, PathBuf) {
+    let file = repo(&format!("scenarios/{name}"));
+    (Scenario::load(&file).unwrap(), file)
+}
+
+fn run(scenario: &Scenario, file: &Path) -> whisker::explore::Outcome {
+    let plan = Plan::new(scenario, file).unwrap();
+    let env = scenario.environment(file).unwrap().environment;
+    whisker::explore::run(scenario, file, plan, &env).unwrap()
+}
+
+/// Column `name` of every row of a CSV text.
+fn column(csv: &str, name: &str) -> Vec<String> {
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let i = header.iter().position(|h| *h == name).unwrap();
+    lines
+        .map(|l| l.split(',').nth(i).unwrap().to_string())
+        .collect()
+}
+
+#[test]
+fn map_building_of_the_box_reaches_or_counts_every_goal_and_never_collides() {
+    let (scenario, file) = load("explore_map_box.toml");
+    let out = run(&scenario, &file);
+    let s = &out.summary;
+    assert_eq!(s["loops_completed"], 2, "{s}");
+    let status = column(&out.csv, "ik_status");
+    let kinds = column(&out.csv, "goal_kind");
+    // Every whisk's goal was reached, or refused and counted, and a refused goal left the
+    // array where it was.
+    let fallbacks = &s["fallbacks"];
+    let refused = status.iter().filter(|v| *v != "reached").count() as u64;
+    assert!(
+        refused
+            <= fallbacks["unreachable"].as_u64().unwrap()
+                + fallbacks["collision"].as_u64().unwrap()
+    );
+    let goal = |k: usize| -> Option<[f64; 3]> {
+        let g: Vec<f64> = ["goal_x_m", "goal_y_m", "goal_z_m"]
+            .iter()
+            .map(|c| column(&out.csv, c)[k].parse().ok())
+            .collect::<Option<_>>()?;
+        Some([g[0], g[1], g[2]])
+    };
+    for (k, p) in out.poses.iter().enumerate() {
+        match status[k].as_str() {
+            "reached" => {
+                let g = goal(k).unwrap();
+                let d = (p.translation.vector - nalgebra::Vector3::from(g)).norm();
+                assert!(d < 1e-6, "whisk {k} ({}) is {d} m from its goal", kinds[k]);
+            }
+            "unreachable" | "collision" | "none" => {
+                if k > 0 {
+                    assert_eq!(out.joints[k], out.joints[k - 1], "whisk {k}: the arm moved");
+                }
+            }
+            other => panic!("unknown ik_status {other}"),
+        }
+    }
+    // Rapier's own narrow phase along every move (each straight joint-space move in ten
+    // steps): no arm link and not the array's housing touches the Box.
+    let plan = Plan::new(&scenario, &file).unwrap();
+    let env = scenario.environment(&file).unwrap().environment;
+    let mut world = World::new(
+        plan.model.clone(),
+        plan.model_joints(&plan.waypoints[0]),
+        0.01,
+    );
+    for piece in &env.pieces {
+        world.add_fixed(ColliderBuilder::new(piece.shape.clone()).position(piece.pose.into()));
+    }
+    let mut previous = plan.waypoints[0].clone();
+    let mut checked = 0;
+    for q in &out.joints {
+        for s in 1..=10 {
+            let t = s as f64 / 10.0;
+            let at: Vec<f64> = previous
+                .iter()
+                .zip(q)
+                .map(|(a, b)| a + t * (b - a))
+                .collect();
+            world.step(&plan.model_joints(&at));
+            let hits = world.arm_collisions();
+            assert!(hits.is_empty(), "the arm touches the Box: {hits:?}");
+            checked += 1;
+        }
+        previous = q.clone();
+    }
+    assert!(checked > 5000, "{checked}");
+    // The map: written, and as large as the run says.
+    let map = out.map.unwrap();
+    assert_eq!(
+        map.experiences.len() as u64,
+        s["experiences"].as_u64().unwrap()
+    );
+    map.validate().unwrap();
+}
+
+/// With exact odometry and no feature matches the map is pure dead reckoning: every
+/// experience's map pose is (to rounding over 300 compositions) where the array was when it was made (relative to the
+/// first), so the loop's frames and its odometry agree with the arm's forward kinematics.
+#[test]
+fn without_noise_or_matches_the_map_is_where_the_array_was() {
+    let (mut scenario, file) = load("explore_map_box.toml");
+    let e = scenario.explore.as_mut().unwrap();
+    e.odometry = OdometryNoise::NONE;
+    e.slam.matching.t_pfh = 0.0;
+    e.max_iterations = 300;
+    let out = run(&scenario, &file);
+    let m = &out.summary["map_accuracy"];
+    assert_eq!(m["experiences_checked"].as_u64().unwrap(), 300);
+    assert!(m["max_error_m"].as_f64().unwrap() < 1e-6, "{m}");
+    // And so the map poses equal the whisk poses relative to the first.
+    let map = out.map.unwrap();
+    let w0: Isometry3<f64> = out.poses[0].inverse();
+    for (k, p) in out.poses.iter().enumerate().take(50) {
+        let (d, r) = whisker_slam::pose::distance(&map.pose(k), &(w0 * p));
+        assert!(d < 1e-6 && r < 1e-6, "whisk {k}: {d} m, {r} rad");
+    }
+}
+
+#[test]
+fn same_seed_same_bytes_whatever_the_thread_count() {
+    let (mut scenario, file) = load("recognise_box_stack_lsr.toml");
+    scenario.explore.as_mut().unwrap().max_iterations = 250;
+    let outputs: Vec<(String, String)> = [1, 2]
+        .iter()
+        .map(|&threads| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let out = run(&scenario, &file);
+                (out.csv, out.summary.to_string())
+            })
+        })
+        .collect();
+    assert_eq!(outputs[0], outputs[1]);
+    assert_eq!(column(&outputs[0].0, "iteration").len(), 250);
+    // The seed matters: another seed explores differently.
+    scenario.seed = 1;
+    let other = run(&scenario, &file);
+    assert_ne!(other.csv, outputs[0].0);
+}
+
+#[test]
+fn run_writes_the_closed_loop_outputs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(repo("scenarios/recognise_box.toml")).unwrap();
+    assert!(text.contains("base = \"recognise_box_stack.toml\""));
+    let out = run_into(&repo("scenarios/recognise_box.toml"), tmp.path());
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let r = &summary["recognition"];
+    assert!(["correct", "wrong", "none"].contains(&r["outcome"].as_str().unwrap()));
+    let rows = rows(&out.join("explore.csv"));
+    assert_eq!(rows.len() as u64, summary["iterations"].as_u64().unwrap());
+    // IC is the running sum of RC, per object (columns rc_box, rc_box_stack, ic_box, …).
+    let text = std::fs::read_to_string(out.join("explore.csv")).unwrap();
+    for o in ["box", "box_stack"] {
+        let rc = column(&text, &format!("rc_{o}"));
+        let ic = column(&text, &format!("ic_{o}"));
+        let mut sum = 0.0;
+        for (a, b) in rc.iter().zip(&ic) {
+            sum += a.parse::<f64>().unwrap();
+            assert!((sum - b.parse::<f64>().unwrap()).abs() < 1e-6 * sum.max(1.0));
+        }
+    }
+    assert!(out.join("run.rrd").is_file());
+}
