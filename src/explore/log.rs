@@ -142,7 +142,13 @@ impl Summary<'_> {
     /// The JSON value.
     pub fn json(&self) -> serde_json::Value {
         let mut fallbacks = serde_json::Map::new();
-        for k in ["unreachable", "collision", "lost_contact", "spc_limit"] {
+        for k in [
+            "unreachable",
+            "collision",
+            "pushed_back",
+            "lost_contact",
+            "spc_limit",
+        ] {
             fallbacks.insert(k.into(), json!(self.fallbacks.get(k).copied().unwrap_or(0)));
         }
         let recognition = self.recognition.map(|r| {

@@ -22,32 +22,34 @@
 //! 6. the SPC's decision on this whisk's contacts (world points: the robot knows its own
 //!    arm) and the strategy's bookkeeping (re-planning on re-localisation).
 //!
-//! Fallbacks, all counted in `summary.json`: `unreachable` and `collision` goals (dropped),
+//! Fallbacks, all counted in `summary.json`: `unreachable` and `collision` goals (dropped;
+//! a face goal that would touch the object is first pushed back along its axis, 2 cm at a
+//! time up to 10 cm: `pushed_back`),
 //! `lost_contact` (a whisk with no contact: FEH/LSR give way to the default trajectory),
 //! `spc_limit` (a region left unsettled after K adjustments).
 
 mod log;
 mod policy;
 pub mod robot;
+mod strategy;
 
 use crate::error::{CliError, CliResult};
 use crate::object_slam::physics::PhysicsSensing;
 use crate::plan::Plan;
-use crate::scenario::explore::{ExploreConfig, Strategy, Task};
+use crate::scenario::explore::{ExploreConfig, Task};
 use crate::scenario::{Scenario, Sensing};
 use log::{Row, Summary};
-use nalgebra::{Isometry3, Point3, Vector3};
+use nalgebra::{Isometry3, Point3, Translation3, Vector3};
 use policy::FaceTour;
 use rand::RngExt;
 use robot::{Motion, Robot};
 use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
+use strategy::Heading;
 use whisker_sim::environment::Environment;
 use whisker_sim::sensing::kinematic::{KinematicArray, SweepTarget};
 use whisker_slam::contact::ContactCycle;
-use whisker_slam::exploration::feh::Follower;
 use whisker_slam::exploration::goal_mesh::GoalMesh;
-use whisker_slam::exploration::lsr;
 use whisker_slam::exploration::placement::{self, Placement};
 use whisker_slam::recognition::Recognition;
 use whisker_slam::rng::substream;
@@ -58,8 +60,10 @@ pub use log::{CSV_NAME, SUMMARY_NAME};
 
 /// Attempts at a goal per iteration before the array whisks where it is.
 const GOAL_ATTEMPTS: usize = 8;
-/// RC below this counts as zero (§6.1.3.2's "zero confidence").
-const ZERO_RC: f64 = 1e-3;
+/// A face goal that would touch the object is pushed back this far (m) …
+const RETREAT_M: f64 = 0.02;
+/// … at most this many times.
+const RETREATS: usize = 5;
 
 /// What a closed-loop run produced.
 pub struct Outcome {
@@ -77,19 +81,6 @@ pub struct Outcome {
     pub times: Vec<f64>,
     /// The chain configuration at every whisk.
     pub joints: Vec<Vec<f64>>,
-}
-
-/// Where FEH or LSR is heading.
-enum Heading {
-    /// The default trajectory's faces.
-    Default,
-    /// Following a history (FEH).
-    Feh(Follower),
-    /// Along an LSR path: the remaining nodes after the one being stepped to.
-    Lsr {
-        path: VecDeque<usize>,
-        leader: String,
-    },
 }
 
 /// How a whisk is sensed.
@@ -389,36 +380,7 @@ impl Loop<'_> {
                 break;
             }
             // 1–2. Goal and move.
-            let mut goal = None;
-            let mut status = "none";
-            for _ in 0..GOAL_ATTEMPTS {
-                let (pose, kind) = match self.spc.take() {
-                    Some(p) => (p, "spc".to_string()),
-                    None => match self.strategy_goal() {
-                        Some(g) => g,
-                        None => break,
-                    },
-                };
-                let motion = self.robot.move_to(&pose);
-                status = motion.status();
-                match motion {
-                    Motion::Reached { duration } => {
-                        self.time += duration;
-                        goal = Some((pose, kind));
-                        break;
-                    }
-                    Motion::Unreachable => self.count("unreachable"),
-                    Motion::Collision(_) => self.count("collision"),
-                }
-                // A refused SPC correction ends the region; a refused segment the step.
-                self.adjustments = 0;
-                if kind.starts_with("step") {
-                    self.segments.clear();
-                    self.stepping_to = None;
-                    self.heading = Heading::Default;
-                }
-                goal = Some((pose, kind));
-            }
+            let (goal, status) = self.go();
             if self.done() {
                 break;
             }
@@ -500,6 +462,13 @@ impl Loop<'_> {
                 .push(world.iter().map(|p| [p.x, p.y, p.z]).collect());
             out.times.push(self.time);
             out.joints.push(self.robot.q.clone());
+            if matches!(self.sensing, Sensor::Physics(_)) && (iteration + 1) % 10 == 0 {
+                eprintln!(
+                    "  explore: {}/{} whisks (physics), {relocalisations} re-localisations",
+                    iteration + 1,
+                    self.config.max_iterations
+                );
+            }
         }
         let iterations = out.poses.len();
         let map_error = log::map_error(&self.slam.map, &truth_at_creation);
@@ -530,6 +499,57 @@ impl Loop<'_> {
         Ok(out)
     }
 
+    /// Step 2: the next goal (the SPC's pending correction, else the strategy's), and the
+    /// move there; a refused goal is counted and the next one tried, up to
+    /// [`GOAL_ATTEMPTS`]. Returns the last goal tried and the move's status.
+    fn go(&mut self) -> (Option<(Isometry3<f64>, String)>, &'static str) {
+        let mut goal = None;
+        let mut status = "none";
+        for _ in 0..GOAL_ATTEMPTS {
+            let (mut pose, kind) = match self.spc.take() {
+                Some(p) => (p, "spc".to_string()),
+                None => match self.strategy_goal() {
+                    Some(g) => g,
+                    None => break,
+                },
+            };
+            let mut motion = self.robot.move_to(&pose);
+            // A face goal inside the object (a sphere cuts a box's corners) is pushed back
+            // along its pointing axis, 2 cm at a time, up to 10 cm.
+            if kind.starts_with("face") {
+                for k in 1..=RETREATS {
+                    if !matches!(motion, Motion::Collision(_)) {
+                        break;
+                    }
+                    let back = pose * Translation3::new(0.0, 0.0, -RETREAT_M * k as f64);
+                    motion = self.robot.move_to(&back);
+                    if matches!(motion, Motion::Reached { .. }) {
+                        self.count("pushed_back");
+                        pose = back;
+                    }
+                }
+            }
+            status = motion.status();
+            match motion {
+                Motion::Reached { duration } => {
+                    self.time += duration;
+                    return (Some((pose, kind)), status);
+                }
+                Motion::Unreachable => self.count("unreachable"),
+                Motion::Collision(_) => self.count("collision"),
+            }
+            // A refused SPC correction ends the region; a refused segment the step.
+            self.adjustments = 0;
+            if kind.starts_with("step") {
+                self.segments.clear();
+                self.stepping_to = None;
+                self.heading = Heading::Default;
+            }
+            goal = Some((pose, kind));
+        }
+        (goal, status)
+    }
+
     /// Runs the SPC on this whisk's contacts; returns its decision's name.
     fn place(&mut self, pose: &Isometry3<f64>, world: &[Point3<f64>]) -> &'static str {
         let p = &self.config.placement;
@@ -551,97 +571,5 @@ impl Loop<'_> {
             self.spc = decision.pose();
         }
         name
-    }
-
-    /// FEH/LSR bookkeeping after a whisk (§6.1.2, §6.1.3.2): the default trajectory while
-    /// no object is likely; otherwise follow or re-plan.
-    fn replan(
-        &mut self,
-        r: Recognition,
-        onto: Option<&str>,
-        current: usize,
-        features: &whisker_slam::features::similarity::Features,
-        pose: &Isometry3<f64>,
-    ) {
-        let likely = r.raw.confidence.values().any(|&c| c >= ZERO_RC);
-        let strategy = self.config.strategy;
-        if strategy == Strategy::Default || !likely {
-            if !matches!(self.heading, Heading::Default) {
-                self.segments.clear();
-                self.heading = Heading::Default;
-            }
-            return;
-        }
-        let leader = r.raw.best().map(|(o, _)| o.to_string()).unwrap_or_default();
-        // A step whose segments are all done (and settled) reached its target.
-        let reached = self.segments.is_empty() && self.spc.is_none() && self.stepping_to.is_some();
-        if reached && let Some(t) = self.stepping_to.take() {
-            self.anchor = Some((t, *pose));
-        }
-        let next = match strategy {
-            Strategy::Feh => {
-                let following = matches!(self.heading, Heading::Feh(_));
-                match onto {
-                    Some(o) if o == leader => {
-                        let after = match &self.heading {
-                            Heading::Feh(f) if f.object == o => Some(f.index),
-                            _ => None,
-                        };
-                        Follower::start(&self.slam.map, o, current, after).map(|f| {
-                            let t = f.target();
-                            self.heading = Heading::Feh(f);
-                            t
-                        })
-                    }
-                    _ if following && reached => match &mut self.heading {
-                        Heading::Feh(f) => Some(f.advance()),
-                        _ => None,
-                    },
-                    _ => None,
-                }
-            }
-            Strategy::Lsr => {
-                let continuing =
-                    matches!(&self.heading, Heading::Lsr { leader: l, .. } if *l == leader);
-                let stepping = self.stepping_to.is_some() || !self.segments.is_empty();
-                match &mut self.heading {
-                    Heading::Lsr { path, .. } if continuing && reached && !path.is_empty() => {
-                        path.pop_front()
-                    }
-                    _ if continuing && stepping => None,
-                    _ => {
-                        let likely_objects: Vec<String> = r
-                            .raw
-                            .confidence
-                            .iter()
-                            .filter(|(_, c)| **c >= ZERO_RC)
-                            .map(|(o, _)| o.clone())
-                            .collect();
-                        lsr::plan(
-                            &self.slam.map,
-                            features,
-                            current,
-                            |o| o.is_some_and(|o| likely_objects.iter().any(|l| l == o)),
-                            &self.config.lsr,
-                        )
-                        .and_then(|plan| {
-                            let mut path: VecDeque<usize> = plan.path.into_iter().skip(1).collect();
-                            let first = path.pop_front();
-                            self.heading = Heading::Lsr { path, leader };
-                            first
-                        })
-                    }
-                }
-            }
-            Strategy::Default => None,
-        };
-        if let Some(target) = next
-            && let Some(anchor) = self.anchor
-            && let Some(goal) =
-                policy::step_goal(&self.slam.map, anchor, target, self.config.step_pose)
-        {
-            self.segments = policy::segments(pose, &goal, self.config.segment_m);
-            self.stepping_to = Some(target);
-        }
     }
 }

@@ -1,4 +1,4 @@
-//! The closed loop of Chapter 6 (`whisker::explore`), called as a library: a full
+//! The closed loop of Chapter 6 (`whisker::explore`), called as a library and by the quickstart: a full
 //! map-building run of the Box checked independently (every goal reached or counted, no
 //! collision by Rapier's own contact detection along every move), the loop's bookkeeping
 //! against the truth, and byte-identical results whatever the thread count.
@@ -158,12 +158,20 @@ fn same_seed_same_bytes_whatever_the_thread_count() {
     assert_ne!(other.csv, outputs[0].0);
 }
 
+/// The README's first command: the quickstart recognises the Box against the committed
+/// maps and writes its outputs.
 #[test]
-fn run_writes_the_closed_loop_outputs() {
+fn the_quickstart_runs_the_closed_loop_and_writes_its_outputs() {
     let tmp = tempfile::tempdir().unwrap();
-    let text = std::fs::read_to_string(repo("scenarios/recognise_box.toml")).unwrap();
-    assert!(text.contains("base = \"recognise_box_stack.toml\""));
-    let out = run_into(&repo("scenarios/recognise_box.toml"), tmp.path());
+    let o = whisker(&[
+        "run",
+        repo("scenarios/quickstart.toml").to_str().unwrap(),
+        "--out",
+        tmp.path().to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("recognised"), "{}", stdout(&o));
+    let out = tmp.path().to_path_buf();
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     let r = &summary["recognition"];

@@ -1,14 +1,14 @@
-//! End-to-end tests of the `whisker` binary: the quickstart run, `check`, `urdf fk` on
+//! End-to-end tests of the `whisker` binary and library: the closed loop (quickstart), the arm tour, `check`, `urdf fk` on
 //! any standard UR5 description, `characterize`, physics runs, and bad input (exit code
 //! 2, file and field named, nothing written).
 
+mod arm_tour;
 mod environment;
 mod explore;
 mod inputs;
 mod maze_slam;
 mod object_slam;
 mod physics;
-mod quickstart;
 mod radial;
 mod urdf;
 
@@ -58,10 +58,10 @@ pub fn run_into(scenario: &Path, out: &Path) -> PathBuf {
     out.to_path_buf()
 }
 
-/// The quickstart scenario's text with its output directory and URDF made absolute, so
+/// The arm tour scenario's text with its output directory and URDF made absolute, so
 /// it can be run from a temporary directory.
-pub fn quickstart_in(dir: &Path) -> PathBuf {
-    let text = std::fs::read_to_string(repo("scenarios/quickstart.toml")).unwrap();
+pub fn arm_tour_in(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(repo("scenarios/arm_tour.toml")).unwrap();
     let urdf = repo("assets/urdf/ur5_whisker_array.urdf");
     let text = text
         .replace(
@@ -69,10 +69,10 @@ pub fn quickstart_in(dir: &Path) -> PathBuf {
             &format!("{:?}", urdf.display().to_string()),
         )
         .replace(
-            "\"out/quickstart\"",
+            "\"out/arm-tour\"",
             &format!("{:?}", dir.join("out").display().to_string()),
         );
-    let path = dir.join("quickstart.toml");
+    let path = dir.join("arm_tour.toml");
     std::fs::write(&path, text).unwrap();
     path
 }

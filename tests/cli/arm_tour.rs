@@ -1,12 +1,12 @@
-//! The quickstart run and `check`.
+//! The scripted arm tour (`scenarios/arm_tour.toml`) and `check`.
 
 use super::*;
 use std::path::Path;
 
 #[test]
-fn quickstart_reaches_its_waypoints_within_the_joint_speed_limit() {
+fn the_arm_tour_reaches_its_waypoints_within_the_joint_speed_limit() {
     let tmp = tempfile::tempdir().unwrap();
-    let scenario = quickstart_in(tmp.path());
+    let scenario = arm_tour_in(tmp.path());
     let o = whisker(&["run", scenario.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = tmp.path().join("out");
@@ -137,7 +137,7 @@ fn check_recording(path: &Path, samples: usize) {
 #[test]
 fn check_validates_and_writes_nothing() {
     let tmp = tempfile::tempdir().unwrap();
-    let scenario = quickstart_in(tmp.path());
+    let scenario = arm_tour_in(tmp.path());
     let o = whisker(&["check", scenario.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);

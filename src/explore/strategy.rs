@@ -1,0 +1,123 @@
+//! The strategies' bookkeeping after each whisk (thesis §6.1.2, §6.1.3.2): the default
+//! trajectory while no object is likely or contact is lost; otherwise follow experience
+//! history (FEH) or the least similar region (LSR), re-planning on re-localisation, and
+//! each step to an experience cut into segments (`policy::segments`).
+
+use super::{Loop, policy};
+use crate::scenario::explore::Strategy;
+use nalgebra::Isometry3;
+use std::collections::VecDeque;
+use whisker_slam::exploration::feh::Follower;
+use whisker_slam::exploration::lsr;
+use whisker_slam::features::similarity::Features;
+use whisker_slam::recognition::Recognition;
+
+/// RC below this counts as zero (§6.1.3.2's "zero confidence").
+pub const ZERO_RC: f64 = 1e-3;
+
+/// Where FEH or LSR is heading.
+pub enum Heading {
+    /// The default trajectory's faces.
+    Default,
+    /// Following a history (FEH).
+    Feh(Follower),
+    /// Along an LSR path: the remaining nodes after the one being stepped to.
+    Lsr {
+        path: VecDeque<usize>,
+        leader: String,
+    },
+}
+
+impl Loop<'_> {
+    /// FEH/LSR bookkeeping after a whisk (§6.1.2, §6.1.3.2): the default trajectory while
+    /// no object is likely; otherwise follow or re-plan.
+    pub(super) fn replan(
+        &mut self,
+        r: Recognition,
+        onto: Option<&str>,
+        current: usize,
+        features: &Features,
+        pose: &Isometry3<f64>,
+    ) {
+        let likely = r.raw.confidence.values().any(|&c| c >= ZERO_RC);
+        let strategy = self.config.strategy;
+        if strategy == Strategy::Default || !likely {
+            if !matches!(self.heading, Heading::Default) {
+                self.segments.clear();
+                self.heading = Heading::Default;
+            }
+            return;
+        }
+        let leader = r.raw.best().map(|(o, _)| o.to_string()).unwrap_or_default();
+        // A step whose segments are all done (and settled) reached its target.
+        let reached = self.segments.is_empty() && self.spc.is_none() && self.stepping_to.is_some();
+        if reached && let Some(t) = self.stepping_to.take() {
+            self.anchor = Some((t, *pose));
+        }
+        let next = match strategy {
+            Strategy::Feh => {
+                let following = matches!(self.heading, Heading::Feh(_));
+                match onto {
+                    Some(o) if o == leader => {
+                        let after = match &self.heading {
+                            Heading::Feh(f) if f.object == o => Some(f.index),
+                            _ => None,
+                        };
+                        Follower::start(&self.slam.map, o, current, after).map(|f| {
+                            let t = f.target();
+                            self.heading = Heading::Feh(f);
+                            t
+                        })
+                    }
+                    _ if following && reached => match &mut self.heading {
+                        Heading::Feh(f) => Some(f.advance()),
+                        _ => None,
+                    },
+                    _ => None,
+                }
+            }
+            Strategy::Lsr => {
+                let continuing =
+                    matches!(&self.heading, Heading::Lsr { leader: l, .. } if *l == leader);
+                let stepping = self.stepping_to.is_some() || !self.segments.is_empty();
+                match &mut self.heading {
+                    Heading::Lsr { path, .. } if continuing && reached && !path.is_empty() => {
+                        path.pop_front()
+                    }
+                    _ if continuing && stepping => None,
+                    _ => {
+                        let likely_objects: Vec<String> = r
+                            .raw
+                            .confidence
+                            .iter()
+                            .filter(|(_, c)| **c >= ZERO_RC)
+                            .map(|(o, _)| o.clone())
+                            .collect();
+                        lsr::plan(
+                            &self.slam.map,
+                            features,
+                            current,
+                            |o| o.is_some_and(|o| likely_objects.iter().any(|l| l == o)),
+                            &self.config.lsr,
+                        )
+                        .and_then(|plan| {
+                            let mut path: VecDeque<usize> = plan.path.into_iter().skip(1).collect();
+                            let first = path.pop_front();
+                            self.heading = Heading::Lsr { path, leader };
+                            first
+                        })
+                    }
+                }
+            }
+            Strategy::Default => None,
+        };
+        if let Some(target) = next
+            && let Some(anchor) = self.anchor
+            && let Some(goal) =
+                policy::step_goal(&self.slam.map, anchor, target, self.config.step_pose)
+        {
+            self.segments = policy::segments(pose, &goal, self.config.segment_m);
+            self.stepping_to = Some(target);
+        }
+    }
+}
