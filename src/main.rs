@@ -28,6 +28,9 @@ enum Command {
         /// Output directory (overrides `output.dir` of the scenario).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Seed of every random sub-stream (overrides `seed` of the scenario).
+        #[arg(long)]
+        seed: Option<u64>,
     },
     /// Validate a scenario and print what would run; writes nothing.
     Check {
@@ -119,7 +122,11 @@ enum UrdfCommand {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { scenario, out } => run::run(&scenario, out),
+        Command::Run {
+            scenario,
+            out,
+            seed,
+        } => run::run(&scenario, out, seed),
         Command::Check { scenario } => run::check(&scenario),
         Command::Characterize(options) => characterize::run(&options),
         Command::Bench {

@@ -114,9 +114,12 @@ pub fn check(file: &Path) -> CliResult {
     Ok(())
 }
 
-/// `whisker run`: simulate and write the outputs.
-pub fn run(file: &Path, out: Option<PathBuf>) -> CliResult {
-    let scenario = Scenario::load(file)?;
+/// `whisker run`: simulate and write the outputs; `seed` replaces the scenario's seed.
+pub fn run(file: &Path, out: Option<PathBuf>, seed: Option<u64>) -> CliResult {
+    let mut scenario = Scenario::load(file)?;
+    if let Some(seed) = seed {
+        scenario.seed = seed;
+    }
     let plan = Plan::new(&scenario, file)?;
     print!("{}", describe(file, &scenario, &plan));
     let loaded = scenario.environment(file)?;

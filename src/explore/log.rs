@@ -114,7 +114,7 @@ pub fn map_error(
     let over = errors.iter().filter(|&&e| e > 0.02).count();
     Some((
         max,
-        crate::object_slam::median(errors.clone()),
+        whisker_slam::stats::median(errors.clone()),
         over,
         errors.len(),
     ))

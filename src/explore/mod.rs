@@ -88,9 +88,10 @@ enum Sensor {
     /// The anticipated intersect with the §6.1.3.1.2 noise (sub-streams
     /// `kinematic/whisker/NN`).
     Kinematic(KinematicArray),
-    /// Physics whiskers held still for one 1 Hz whisk with RCP at saturation, the signal
-    /// front end and the radial-distance model of `[frontend]` (as `whisker object-slam
-    /// --sensing physics`; sub-streams `explore/physics/<whisk>`).
+    /// Physics whiskers of `[array]` held still for one whisk (RCP at the sensor's
+    /// saturation unless `[array]` sets it), the signal front end and the radial-distance
+    /// model of `[frontend]` (as `whisker object-slam --sensing physics`; sub-streams
+    /// `explore/physics/<whisk>`).
     Physics(Box<PhysicsSensing>),
 }
 
@@ -178,9 +179,10 @@ pub fn run(
         ));
     }
     let sensing = match scenario.sensing {
-        Sensing::Physics => Sensor::Physics(Box::new(PhysicsSensing::new(
+        Sensing::Physics => Sensor::Physics(Box::new(PhysicsSensing::with_configs(
             environment.physics_pieces(),
             scenario.frontend.model(file)?,
+            scenario.array.whisker_configs(file)?,
         ))),
         _ => {
             let configs = scenario.array.whisker_configs(file)?;

@@ -291,20 +291,6 @@ fn params(combo: Combo) -> Params {
     p
 }
 
-/// Median of a list (NaN when empty).
-pub(crate) fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        (v[n / 2 - 1] + v[n / 2]) / 2.0
-    }
-}
-
 /// `whisker object-slam`.
 pub fn run(o: &Options) -> CliResult {
     let assets: Vec<&Asset> = if o.objects.is_empty() {

@@ -37,14 +37,23 @@ pub struct PhysicsSensing {
 impl PhysicsSensing {
     /// The default array (1 Hz, RCP at the sensor's saturation) against `environment`.
     pub fn new(environment: Vec<EnvironmentPiece>, model: RadialEstimator) -> Self {
-        let configs: Vec<WhiskerConfig> = array::modules()
+        let configs = array::modules()
             .into_iter()
-            .map(|m| {
-                let mut c = WhiskerConfig::with_defaults(m);
-                c.rcp_threshold = Some(c.sensor.saturation_counts);
-                c
-            })
+            .map(WhiskerConfig::with_defaults)
             .collect();
+        Self::with_configs(environment, model, configs)
+    }
+
+    /// The array of `configs` against `environment`; a whisker without RCP gets RCP at
+    /// its sensor's saturation (the radial-distance models' training condition, §4.1.1).
+    pub fn with_configs(
+        environment: Vec<EnvironmentPiece>,
+        model: RadialEstimator,
+        mut configs: Vec<WhiskerConfig>,
+    ) -> Self {
+        for c in &mut configs {
+            c.rcp_threshold.get_or_insert(c.sensor.saturation_counts);
+        }
         let rigid = configs.iter().map(WhiskerConfig::rigid).collect();
         Self {
             environment,

@@ -1,8 +1,9 @@
 //! Reports of `whisker object-slam`: tables (or JSON values), CSV files and object maps.
 
-use super::{Combo, IdentificationRun, LocalisationRun, Options, Sensed, median};
+use super::{Combo, IdentificationRun, LocalisationRun, Options, Sensed};
 use crate::error::{CliError, CliResult};
 use serde_json::{Value, json};
+use whisker_slam::stats::median;
 
 /// Percentile `p` (0–100) of a list, by nearest rank (NaN when empty).
 fn percentile(mut v: Vec<f64>, p: f64) -> f64 {

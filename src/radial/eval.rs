@@ -11,7 +11,6 @@
 
 use super::{Label, feature_names, load_model, read_set};
 use crate::error::{CliError, CliResult};
-use crate::object_slam::median;
 use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::shape::SharedShape;
 use serde_json::json;
@@ -21,6 +20,7 @@ use whisker_sim::environment::assets::{CATALOGUE, generate};
 use whisker_slam::radial::RadialEstimator;
 use whisker_slam::radial::dataset::RadialSample;
 use whisker_slam::radial::kolmogorov_smirnov::two_sample;
+use whisker_slam::stats::median;
 
 /// Options of `whisker radial eval`.
 #[derive(clap::Args, Debug)]

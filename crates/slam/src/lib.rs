@@ -22,4 +22,5 @@ pub mod ratslam;
 pub mod recognition;
 pub mod rng;
 pub mod sensor;
+pub mod stats;
 pub mod whisker_ratslam;
