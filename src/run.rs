@@ -98,11 +98,26 @@ pub fn check(file: &Path) -> CliResult {
     } else {
         ""
     };
-    println!(
-        "output     {} (path.csv every {} s, summary.json{rrd})",
-        dir.display(),
-        scenario.output.sample_period_s
-    );
+    if let Some(e) = &scenario.explore {
+        print!("{}", crate::explore::describe(file, &scenario, e)?);
+        println!(
+            "output     {} ({}, {}{}{rrd})",
+            dir.display(),
+            crate::explore::CSV_NAME,
+            crate::explore::SUMMARY_NAME,
+            if e.task == crate::scenario::explore::Task::Map {
+                ", map.json"
+            } else {
+                ""
+            }
+        );
+    } else {
+        println!(
+            "output     {} (path.csv every {} s, summary.json{rrd})",
+            dir.display(),
+            scenario.output.sample_period_s
+        );
+    }
     let skipped = whisker_sim::arm::links_without_colliders(&plan.model);
     if !skipped.is_empty() {
         println!(
@@ -127,6 +142,10 @@ pub fn run(file: &Path, out: Option<PathBuf>, seed: Option<u64>) -> CliResult {
         println!("{line}");
     }
     let environment = loaded.environment;
+    if let Some(e) = &scenario.explore {
+        // Loads the object maps: a bad one stops the run before anything is written.
+        print!("{}", crate::explore::describe(file, &scenario, e)?);
+    }
     let dir = out.unwrap_or_else(|| scenario.output.dir.clone());
     output::create_dir(&dir)?;
 

@@ -266,6 +266,40 @@ pub fn run(
     state.run(scenario.seed, start_pose)
 }
 
+/// What `whisker check` says of an `[explore]` section: the task, the object, the
+/// strategy, and each map loaded (a map that does not load is an input error).
+pub fn describe(file: &Path, scenario: &Scenario, e: &ExploreConfig) -> CliResult<String> {
+    let object = e.object_name(file, &scenario.object_names())?;
+    let mut s = match e.task {
+        Task::Map => format!(
+            "explore    build the object map of {object}: {} loops over a {n}×{n} ellipsoid, SPC {}, at most {} whisks\n",
+            e.map_loops,
+            if e.spc { "on" } else { "off" },
+            e.max_iterations,
+            n = e.mesh_faces
+        ),
+        Task::Recognise => format!(
+            "explore    recognise {object} with the {} strategy, SPC {}, IC threshold {}, until every IC ≥ {} or {} whisks\n",
+            e.strategy.name(),
+            if e.spc { "on" } else { "off" },
+            e.recognition.threshold,
+            e.stop_ic,
+            e.max_iterations
+        ),
+    };
+    for (name, path) in e.map_files(file) {
+        let m = ObjectMap::load(&path)
+            .map_err(|err| CliError::field(file, &format!("explore.maps.{name}"), err))?;
+        s.push_str(&format!(
+            "map        {name}: {} ({} experiences, {} links)\n",
+            path.display(),
+            m.experiences.len(),
+            m.links.len()
+        ));
+    }
+    Ok(s)
+}
+
 /// `whisker run` of a scenario with `[explore]`: runs the loop and writes `explore.csv`,
 /// `summary.json`, the object map (`map.json`, map building) and `run.rrd` into `dir`.
 pub fn write(

@@ -177,6 +177,14 @@ fn malformed_scenarios_exit_2_naming_file_and_field_and_write_nothing() {
             "explore.maps.box",
         ),
         (
+            "explore_corrupt_map",
+            format!(
+                "sensing = \"kinematic\"\n{ARM}{box_object}[explore]\ntask = \"recognise\"\nmaps = {{ box = {:?} }}\n{OUTPUT}",
+                repo("scenarios/quickstart.toml").display().to_string()
+            ),
+            "explore.maps.box",
+        ),
+        (
             "explore_unknown_object",
             format!(
                 "sensing = \"kinematic\"\n{ARM}{box_object}[explore]\ntask = \"map\"\nobject = \"mug\"\n{OUTPUT}"
