@@ -145,3 +145,91 @@ pub fn segments(
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::UnitQuaternion;
+    use whisker_slam::whisker_ratslam::object_map::Link;
+
+    fn level(at: [f64; 3], pointing: Vector3<f64>) -> Isometry3<f64> {
+        maintain_yaw(Vector3::from(at), &pointing, &UP)
+    }
+
+    /// A step is cut into equal segments of at most `segment`, in the array's tangent
+    /// plane: the pointing component of the offset is dropped, the orientation kept.
+    #[test]
+    fn segments_stay_in_the_tangent_plane_and_are_short() {
+        let now = level([0.3, 0.0, 0.2], Vector3::x());
+        // 10 cm sideways (world y = array −x), 4 cm up, 5 cm further along the axis.
+        let goal = level([0.35, 0.1, 0.24], Vector3::y());
+        let s = segments(&now, &goal, 0.03);
+        let planar = (0.1f64.powi(2) + 0.04f64.powi(2)).sqrt();
+        assert_eq!(s.len(), (planar / 0.03).ceil() as usize);
+        let mut previous = now;
+        for p in &s {
+            let step = p.translation.vector - previous.translation.vector;
+            assert!(step.norm() <= 0.03 + 1e-12);
+            assert!(
+                step.x.abs() < 1e-12,
+                "moved along the pointing axis: {step}"
+            );
+            assert!((p.rotation.angle_to(&now.rotation)) < 1e-12);
+            previous = *p;
+        }
+        let last = s.back().unwrap().translation.vector;
+        assert!((last - Vector3::new(0.3, 0.1, 0.24)).norm() < 1e-12);
+        assert!(segments(&now, &now, 0.03).is_empty());
+    }
+
+    /// A step's goal is the anchor's true pose composed with the relative pose between the
+    /// two experiences, from their map poses or from the link's odometry.
+    #[test]
+    fn step_goals_compose_the_anchor_with_the_relative_pose() {
+        let mut map = ObjectMap::default();
+        let a = Isometry3::new(Vector3::new(0.1, 0.2, 0.0), Vector3::z() * 0.3);
+        let b = Isometry3::new(Vector3::new(0.15, 0.1, 0.05), Vector3::y() * -0.2);
+        map.add(Default::default(), [0.0; 6], &a, None);
+        map.add(Default::default(), [0.0; 6], &b, None);
+        let odometry = Isometry3::new(Vector3::new(0.01, 0.0, 0.0), Vector3::zeros());
+        map.links.push(Link::new(0, 1, &odometry));
+        let truth = Isometry3::from_parts(
+            Translation3::new(0.5, 0.0, 0.2),
+            UnitQuaternion::from_euler_angles(0.1, 0.2, 0.3),
+        );
+        let by_map = step_goal(&map, (0, truth), 1, StepPose::Map).unwrap();
+        let expected = truth * a.inverse() * b;
+        assert!((by_map.to_homogeneous() - expected.to_homogeneous()).norm() < 1e-12);
+        let by_odometry = step_goal(&map, (0, truth), 1, StepPose::Odometry).unwrap();
+        assert!(
+            (by_odometry.to_homogeneous() - (truth * odometry).to_homogeneous()).norm() < 1e-12
+        );
+        // Backwards along the link: its inverse; no link: no odometry step.
+        let back = step_goal(&map, (1, truth), 0, StepPose::Odometry).unwrap();
+        assert!(
+            (back.to_homogeneous() - (truth * odometry.inverse()).to_homogeneous()).norm() < 1e-12
+        );
+        map.links.clear();
+        assert!(step_goal(&map, (0, truth), 1, StepPose::Odometry).is_none());
+    }
+
+    /// A tour visits every usable face once per loop, skipping faces below the floor.
+    #[test]
+    fn a_tour_visits_each_usable_face_once_per_loop() {
+        let mesh = GoalMesh::sphere(Point3::new(0.5, 0.0, 0.1), 0.2, 8);
+        let mut tour = FaceTour::new(mesh, 0.0);
+        let usable = tour.usable();
+        assert!(usable < 64 && usable > 0);
+        let mut seen = vec![0usize; 64];
+        for _ in 0..usable {
+            let f = tour.next(40).unwrap();
+            assert!(tour.mesh.faces[f].centroid.z >= 0.0);
+            seen[f] += 1;
+        }
+        assert_eq!(tour.loops, 0);
+        assert!(seen.iter().all(|&n| n <= 1));
+        assert_eq!(seen.iter().sum::<usize>(), usable);
+        tour.next(40).unwrap();
+        assert_eq!(tour.loops, 1);
+    }
+}
