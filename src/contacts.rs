@@ -12,6 +12,7 @@ use crate::output;
 use crate::plan::Plan;
 use crate::recording::Recording;
 use crate::scenario::Scenario;
+use nalgebra::Isometry3;
 use std::fmt::Write as _;
 use std::path::Path;
 use whisker_sim::environment::Environment;
@@ -19,10 +20,46 @@ use whisker_sim::kinematics::Chain;
 use whisker_sim::sensing::kinematic::{KinematicArray, SweepTarget};
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::whisker::control::WhiskingPattern;
+use whisker_slam::contact::ContactCycle;
 
 /// Header of `contacts.csv` / `anticipated.csv`.
 pub const HEADER: &str = "cycle,t_cycle_s,whisker,pixel,t_contact_s,angle_deg,radial_distance_m,\
                           x_m,y_m,z_m,world_x_m,world_y_m,world_z_m,slope\n";
+
+/// Appends the rows of one whisk cycle's contacts, made with the array at `pose`, to a
+/// `contacts.csv` text (`pixels`: each whisker's tactile-image label); returns the contact
+/// points in the world.
+pub fn append_cycle(
+    csv: &mut String,
+    cycle: &ContactCycle,
+    pose: &Isometry3<f64>,
+    pixels: &[String],
+) -> Vec<[f64; 3]> {
+    let mut world = Vec::with_capacity(cycle.contacts.len());
+    for c in &cycle.contacts {
+        let w = pose * c.point;
+        world.push([w.x, w.y, w.z]);
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            cycle.index,
+            cycle.start_s,
+            c.whisker,
+            pixels[c.whisker],
+            c.time_s,
+            c.angle_rad.to_degrees(),
+            c.radial_distance,
+            c.point.x,
+            c.point.y,
+            c.point.z,
+            w.x,
+            w.y,
+            w.z,
+            c.slope
+        );
+    }
+    world
+}
 
 /// Anticipated-intersect sensing along a run.
 pub struct ContactSensing {
@@ -31,6 +68,7 @@ pub struct ContactSensing {
     chain: Chain,
     pattern: WhiskingPattern,
     next_cycle: i64,
+    pixels: Vec<String>,
     csv: String,
     /// Output file name (`contacts.csv` or `anticipated.csv`) and recording entity.
     name: &'static str,
@@ -68,6 +106,7 @@ impl ContactSensing {
             chain,
             pattern,
             next_cycle: pattern.cycle(0.0) + i64::from(pattern.phase != 0.0),
+            pixels: configs.iter().map(|c| c.module.pixel()).collect(),
             csv: HEADER.to_string(),
             name,
             cycles: 0,
@@ -88,28 +127,7 @@ impl ContactSensing {
             let cycle = self
                 .array
                 .sense(&self.target, self.next_cycle as u64, start, &pose);
-            let mut world = Vec::with_capacity(cycle.contacts.len());
-            for c in &cycle.contacts {
-                let w = pose * c.point;
-                world.push([w.x, w.y, w.z]);
-                let pixel = self.array.whiskers[c.whisker].module.pixel();
-                let _ = writeln!(
-                    self.csv,
-                    "{},{start},{},{pixel},{},{},{},{},{},{},{},{},{},{}",
-                    cycle.index,
-                    c.whisker,
-                    c.time_s,
-                    c.angle_rad.to_degrees(),
-                    c.radial_distance,
-                    c.point.x,
-                    c.point.y,
-                    c.point.z,
-                    w.x,
-                    w.y,
-                    w.z,
-                    c.slope
-                );
-            }
+            let world = append_cycle(&mut self.csv, &cycle, &pose, &self.pixels);
             if let Some(rec) = recording {
                 rec.contacts(self.entity(), start, &world)?;
             }

@@ -101,7 +101,7 @@ pub fn check(file: &Path) -> CliResult {
     if let Some(e) = &scenario.explore {
         print!("{}", crate::explore::describe(file, &scenario, e)?);
         println!(
-            "output     {} ({}, {}{}{rrd})",
+            "output     {} ({}, {}, contacts.csv{}{rrd})",
             dir.display(),
             crate::explore::CSV_NAME,
             crate::explore::SUMMARY_NAME,

@@ -77,6 +77,8 @@ pub struct Outcome {
     pub poses: Vec<Isometry3<f64>>,
     /// Each whisk's contact points (world), for the recording.
     pub contacts: Vec<Vec<[f64; 3]>>,
+    /// `contacts.csv`'s text: every registered contact of every whisk.
+    pub contacts_csv: String,
     /// Each whisk's time (s).
     pub times: Vec<f64>,
     /// The chain configuration at every whisk.
@@ -301,7 +303,8 @@ pub fn describe(file: &Path, scenario: &Scenario, e: &ExploreConfig) -> CliResul
 }
 
 /// `whisker run` of a scenario with `[explore]`: runs the loop and writes `explore.csv`,
-/// `summary.json`, the object map (`map.json`, map building) and `run.rrd` into `dir`.
+/// `summary.json`, `contacts.csv` (every registered contact, in a kinematic run's columns),
+/// the object map (`map.json`, map building) and `run.rrd` into `dir`.
 pub fn write(
     file: &Path,
     scenario: &Scenario,
@@ -316,6 +319,7 @@ pub fn write(
     let out = run(scenario, file, plan, environment)?;
     let wall = started.elapsed().as_secs_f64();
     crate::output::write_atomic(&dir.join(CSV_NAME), out.csv.as_bytes())?;
+    crate::output::write_atomic(&dir.join("contacts.csv"), out.contacts_csv.as_bytes())?;
     let text = serde_json::to_string_pretty(&out.summary).expect("plain JSON") + "\n";
     crate::output::write_atomic(&dir.join(SUMMARY_NAME), text.as_bytes())?;
     if let Some(map) = &out.map {
@@ -364,7 +368,7 @@ pub fn write(
         ""
     };
     println!(
-        "wrote      {}/{{{CSV_NAME}, {SUMMARY_NAME}{map}{rrd}}}",
+        "wrote      {}/{{{CSV_NAME}, {SUMMARY_NAME}, contacts.csv{map}{rrd}}}",
         dir.display()
     );
     Ok(())
@@ -405,12 +409,17 @@ impl Loop<'_> {
             map: None,
             poses: Vec::new(),
             contacts: Vec::new(),
+            contacts_csv: crate::contacts::HEADER.to_string(),
             times: Vec::new(),
             joints: Vec::new(),
         };
         let mut relocalisations = 0usize;
         let mut truth_at_creation: Vec<(usize, Isometry3<f64>)> = Vec::new();
         let mut rc_sums: BTreeMap<String, f64> = objects.iter().map(|o| (o.clone(), 0.0)).collect();
+        let pixels: Vec<String> = whisker_sim::whisker::array::modules()
+            .iter()
+            .map(|m| m.pixel())
+            .collect();
         for iteration in 0..self.config.max_iterations {
             if self.done() {
                 break;
@@ -494,8 +503,12 @@ impl Loop<'_> {
             };
             log::row(&mut csv, &row, &objects);
             out.poses.push(pose);
-            out.contacts
-                .push(world.iter().map(|p| [p.x, p.y, p.z]).collect());
+            out.contacts.push(crate::contacts::append_cycle(
+                &mut out.contacts_csv,
+                &cycle,
+                &pose,
+                &pixels,
+            ));
             out.times.push(self.time);
             out.joints.push(self.robot.q.clone());
             if matches!(self.sensing, Sensor::Physics(_)) && (iteration + 1) % 10 == 0 {

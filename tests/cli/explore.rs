@@ -190,4 +190,11 @@ fn the_quickstart_runs_the_closed_loop_and_writes_its_outputs() {
         }
     }
     assert!(out.join("run.rrd").is_file());
+    // contacts.csv holds as many contacts per whisk as explore.csv counts.
+    let contacts = super::rows(&out.join("contacts.csv"));
+    let per_row: u64 = column(&text, "contacts")
+        .iter()
+        .map(|c| c.parse::<u64>().unwrap())
+        .sum();
+    assert_eq!(contacts.len() as u64, per_row);
 }
