@@ -30,6 +30,7 @@
 
 mod log;
 mod policy;
+mod report;
 pub mod robot;
 mod strategy;
 
@@ -57,6 +58,7 @@ use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 use whisker_slam::whisker_ratslam::slam::WhiskerRatSlam;
 
 pub use log::{CSV_NAME, SUMMARY_NAME};
+pub use report::{describe, write};
 
 /// Attempts at a goal per iteration before the array whisks where it is.
 const GOAL_ATTEMPTS: usize = 8;
@@ -266,112 +268,6 @@ pub fn run(
         time: 0.0,
     };
     state.run(scenario.seed, start_pose)
-}
-
-/// What `whisker check` says of an `[explore]` section: the task, the object, the
-/// strategy, and each map loaded (a map that does not load is an input error).
-pub fn describe(file: &Path, scenario: &Scenario, e: &ExploreConfig) -> CliResult<String> {
-    let object = e.object_name(file, &scenario.object_names())?;
-    let mut s = match e.task {
-        Task::Map => format!(
-            "explore    build the object map of {object}: {} loops over a {n}×{n} ellipsoid, SPC {}, at most {} whisks\n",
-            e.map_loops,
-            if e.spc { "on" } else { "off" },
-            e.max_iterations,
-            n = e.mesh_faces
-        ),
-        Task::Recognise => format!(
-            "explore    recognise {object} with the {} strategy, SPC {}, IC threshold {}, until every IC ≥ {} or {} whisks\n",
-            e.strategy.name(),
-            if e.spc { "on" } else { "off" },
-            e.recognition.threshold,
-            e.stop_ic,
-            e.max_iterations
-        ),
-    };
-    for (name, path) in e.map_files(file) {
-        let m = ObjectMap::load(&path)
-            .map_err(|err| CliError::field(file, &format!("explore.maps.{name}"), err))?;
-        s.push_str(&format!(
-            "map        {name}: {} ({} experiences, {} links)\n",
-            path.display(),
-            m.experiences.len(),
-            m.links.len()
-        ));
-    }
-    Ok(s)
-}
-
-/// `whisker run` of a scenario with `[explore]`: runs the loop and writes `explore.csv`,
-/// `summary.json`, `contacts.csv` (every registered contact, in a kinematic run's columns),
-/// the object map (`map.json`, map building) and `run.rrd` into `dir`.
-pub fn write(
-    file: &Path,
-    scenario: &Scenario,
-    plan: Plan,
-    environment: &Environment,
-    dir: &Path,
-) -> CliResult {
-    let recording = crate::recording::Recording::for_scenario(file, scenario, dir)?;
-    let skeleton = plan.skeleton();
-    let frames = plan.clone();
-    let started = std::time::Instant::now();
-    let out = run(scenario, file, plan, environment)?;
-    let wall = started.elapsed().as_secs_f64();
-    crate::output::write_atomic(&dir.join(CSV_NAME), out.csv.as_bytes())?;
-    crate::output::write_atomic(&dir.join("contacts.csv"), out.contacts_csv.as_bytes())?;
-    let text = serde_json::to_string_pretty(&out.summary).expect("plain JSON") + "\n";
-    crate::output::write_atomic(&dir.join(SUMMARY_NAME), text.as_bytes())?;
-    if let Some(map) = &out.map {
-        map.save(&dir.join("map.json")).map_err(CliError::Failure)?;
-    }
-    if let Some(rec) = recording {
-        rec.environment(environment)?;
-        for (k, q) in out.joints.iter().enumerate() {
-            rec.arm(
-                out.times[k],
-                &frames.link_frames(q, &skeleton),
-                &out.poses[k],
-            )?;
-            rec.contacts("contacts", out.times[k], &out.contacts[k])?;
-        }
-        rec.finish(&out.poses)?;
-    }
-    let s = &out.summary;
-    println!(
-        "explored   {} whisks ({:.0} s simulated, {wall:.1} s wall): {} experiences, {} re-localisations into the loaded maps",
-        s["iterations"],
-        s["simulated_time_s"].as_f64().unwrap_or(0.0),
-        s["experiences"],
-        s["relocalisations"]
-    );
-    println!("fallbacks  {}", s["fallbacks"]);
-    if let Some(r) = s["recognition"].as_object() {
-        println!(
-            "recognised {} (true object {}): outcome {}, SRT {}, IM {}",
-            r["identified"], s["object"], r["outcome"], r["srt"], r["im"]
-        );
-    }
-    if let Some(m) = s["map_accuracy"].as_object() {
-        println!(
-            "map        {} experiences checked: max error {:.4} m, median {:.4} m, {} over 2 cm",
-            m["experiences_checked"],
-            m["max_error_m"].as_f64().unwrap_or(f64::NAN),
-            m["median_error_m"].as_f64().unwrap_or(f64::NAN),
-            m["over_2cm"]
-        );
-    }
-    let map = if out.map.is_some() { ", map.json" } else { "" };
-    let rrd = if scenario.output.recording {
-        ", run.rrd"
-    } else {
-        ""
-    };
-    println!(
-        "wrote      {}/{{{CSV_NAME}, {SUMMARY_NAME}, contacts.csv{map}{rrd}}}",
-        dir.display()
-    );
-    Ok(())
 }
 
 impl Loop<'_> {
