@@ -112,12 +112,8 @@ pub fn map_error(
         .collect();
     let max = errors.iter().cloned().fold(0.0, f64::max);
     let over = errors.iter().filter(|&&e| e > 0.02).count();
-    Some((
-        max,
-        whisker_slam::stats::median(errors.clone()),
-        over,
-        errors.len(),
-    ))
+    let n = errors.len();
+    Some((max, whisker_slam::stats::median(errors), over, n))
 }
 
 /// The figures of `summary.json`.

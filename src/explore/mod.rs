@@ -297,10 +297,9 @@ impl Loop<'_> {
     fn run(&mut self, seed: u64, start: Isometry3<f64>) -> CliResult<Outcome> {
         let mut odometry_rng = substream(seed, "explore/odometry");
         let objects: Vec<String> = self.config.maps.keys().cloned().collect();
-        let mut csv = log::header(&objects, self.robot.chain.dof());
         let mut previous = start;
         let mut out = Outcome {
-            csv: String::new(),
+            csv: log::header(&objects, self.robot.chain.dof()),
             summary: serde_json::Value::Null,
             map: None,
             poses: Vec::new(),
@@ -370,14 +369,9 @@ impl Loop<'_> {
                 self.segments.clear();
                 self.stepping_to = None;
                 self.heading = Heading::Default;
-            } else if let Some(r) = &self.recognition {
-                self.replan(
-                    r.clone(),
-                    onto.as_deref(),
-                    step.experience,
-                    &features,
-                    &pose,
-                );
+            } else if let Some(r) = self.recognition.take() {
+                self.replan(&r, onto.as_deref(), step.experience, &features, &pose);
+                self.recognition = Some(r);
             }
             let row = Row {
                 iteration,
@@ -390,14 +384,10 @@ impl Loop<'_> {
                 step: &step,
                 onto: onto.as_deref(),
                 recognition: self.recognition.as_ref(),
-                heading: match &self.heading {
-                    Heading::Default => "default",
-                    Heading::Feh(_) => "feh",
-                    Heading::Lsr { .. } => "lsr",
-                },
+                heading: self.heading.name(),
                 spc: decision,
             };
-            log::row(&mut csv, &row, &objects);
+            log::row(&mut out.csv, &row, &objects);
             out.poses.push(pose);
             out.contacts.push(crate::contacts::append_cycle(
                 &mut out.contacts_csv,
@@ -437,7 +427,6 @@ impl Loop<'_> {
             time: self.time,
         };
         out.summary = summary.json();
-        out.csv = csv;
         if self.config.task == Task::Map {
             out.map = Some(self.slam.map.clone());
         }

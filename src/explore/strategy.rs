@@ -28,12 +28,23 @@ pub enum Heading {
     },
 }
 
+impl Heading {
+    /// The `strategy_state` column of `explore.csv`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Heading::Default => "default",
+            Heading::Feh(_) => "feh",
+            Heading::Lsr { .. } => "lsr",
+        }
+    }
+}
+
 impl Loop<'_> {
     /// FEH/LSR bookkeeping after a whisk (§6.1.2, §6.1.3.2): the default trajectory while
     /// no object is likely; otherwise follow or re-plan.
     pub(super) fn replan(
         &mut self,
-        r: Recognition,
+        r: &Recognition,
         onto: Option<&str>,
         current: usize,
         features: &Features,
