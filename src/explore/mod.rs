@@ -366,9 +366,7 @@ impl Loop<'_> {
             };
             if world.is_empty() {
                 self.count("lost_contact");
-                self.segments.clear();
-                self.stepping_to = None;
-                self.heading = Heading::Default;
+                self.abandon_step();
             } else if let Some(r) = self.recognition.take() {
                 self.replan(&r, onto.as_deref(), step.experience, &features, &pose);
                 self.recognition = Some(r);
@@ -475,9 +473,7 @@ impl Loop<'_> {
             // A refused SPC correction ends the region; a refused segment the step.
             self.adjustments = 0;
             if kind.starts_with("step") {
-                self.segments.clear();
-                self.stepping_to = None;
-                self.heading = Heading::Default;
+                self.abandon_step();
             }
             goal = Some((pose, kind));
         }

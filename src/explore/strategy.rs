@@ -40,6 +40,14 @@ impl Heading {
 }
 
 impl Loop<'_> {
+    /// Drops the step under way (its segments, its target) and returns to the default
+    /// trajectory.
+    pub(super) fn abandon_step(&mut self) {
+        self.segments.clear();
+        self.stepping_to = None;
+        self.heading = Heading::Default;
+    }
+
     /// FEH/LSR bookkeeping after a whisk (§6.1.2, §6.1.3.2): the default trajectory while
     /// no object is likely; otherwise follow or re-plan.
     pub(super) fn replan(
@@ -54,8 +62,7 @@ impl Loop<'_> {
         let strategy = self.config.strategy;
         if strategy == Strategy::Default || !likely {
             if !matches!(self.heading, Heading::Default) {
-                self.segments.clear();
-                self.heading = Heading::Default;
+                self.abandon_step();
             }
             return;
         }
