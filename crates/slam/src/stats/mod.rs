@@ -1,4 +1,9 @@
-//! Small statistics shared by the algorithms and the experiments.
+//! Small statistics shared by the algorithms and the experiments: the median, the
+//! figures of notched box plots ([`boxplot`]) and rank tests between groups of trials
+//! ([`rank_tests`]).
+
+pub mod boxplot;
+pub mod rank_tests;
 
 /// The median of a list (the mean of the middle two for an even count; NaN when empty).
 pub fn median(mut v: Vec<f64>) -> f64 {
