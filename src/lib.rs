@@ -23,5 +23,6 @@ pub mod recording;
 pub mod run;
 pub mod scenario;
 pub mod soak;
+pub mod trials;
 pub mod urdf_cmd;
 pub mod whiskers;

@@ -9,6 +9,7 @@ use whisker::{
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use whisker::scenario::overrides::Override;
 
 /// Tactile SLAM and object recognition testbed for an actively whisked artificial
 /// whisker array on a UR5 arm.
@@ -31,6 +32,10 @@ enum Command {
         /// Seed of every random sub-stream (overrides `seed` of the scenario).
         #[arg(long)]
         seed: Option<u64>,
+        /// Change a scenario field by its dotted path, e.g. `--set explore.strategy=feh`
+        /// (VALUE is TOML; a bare word is a string). Repeatable.
+        #[arg(long = "set", value_name = "PATH=VALUE", value_parser = parse_override)]
+        set: Vec<Override>,
     },
     /// Validate a scenario and print what would run; writes nothing.
     Check {
@@ -44,6 +49,9 @@ enum Command {
         #[command(subcommand)]
         command: BenchCommand,
     },
+    /// Batch trials: a scenario's `[trials]` over seeds and factors, resumable, sharded,
+    /// with statistics and plots.
+    Trials(whisker::trials::command::Args),
     /// Long physics runs against every object and the maze: no tunnelling, no NaN.
     Soak(soak::Options),
     /// WhiskerRatSLAM on the catalogue objects (thesis §5.2): localisation and identification.
@@ -75,6 +83,8 @@ enum BenchCommand {
     Sensing(bench_sensing::Options),
     /// WhiskerRatSLAM's core: one 6-D pose-cell update against a naive dense convolution.
     Slam(bench_slam::Options),
+    /// Batch trials on 1 against 2 worker threads (speed-up; same trials.csv).
+    Trials(whisker::trials::command::BenchOptions),
 }
 
 #[derive(Subcommand)]
@@ -119,6 +129,10 @@ enum UrdfCommand {
     },
 }
 
+fn parse_override(arg: &str) -> Result<Override, String> {
+    Override::parse(arg)
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -126,7 +140,8 @@ fn main() -> ExitCode {
             scenario,
             out,
             seed,
-        } => run::run(&scenario, out, seed),
+            set,
+        } => run::run(&scenario, out, seed, &set),
         Command::Check { scenario } => run::check(&scenario),
         Command::Characterize(options) => characterize::run(&options),
         Command::Bench {
@@ -138,6 +153,10 @@ fn main() -> ExitCode {
         Command::Bench {
             command: BenchCommand::Slam(options),
         } => bench_slam::slam(&options),
+        Command::Bench {
+            command: BenchCommand::Trials(options),
+        } => whisker::trials::command::bench(&options),
+        Command::Trials(args) => whisker::trials::command::run(&args),
         Command::Soak(options) => soak::soak(&options),
         Command::ObjectSlam(options) => object_slam::run(&options),
         Command::Radial { command } => radial::run(&command),

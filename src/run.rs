@@ -16,12 +16,14 @@ use crate::error::CliResult;
 use crate::output;
 use crate::plan::Plan;
 use crate::recording::Recording;
+use crate::scenario::overrides::Override;
 use crate::scenario::{Scenario, Sensing};
 use crate::whiskers::ArraySimulation;
 use nalgebra::Isometry3;
 use rapier3d_f64::prelude::ColliderBuilder;
 use serde_json::json;
 use std::fmt::Write as _;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::world::World;
@@ -129,35 +131,47 @@ pub fn check(file: &Path) -> CliResult {
     Ok(())
 }
 
-/// `whisker run`: simulate and write the outputs; `seed` replaces the scenario's seed.
-pub fn run(file: &Path, out: Option<PathBuf>, seed: Option<u64>) -> CliResult {
-    let mut scenario = Scenario::load(file)?;
+/// `whisker run`: simulate and write the outputs; `seed` replaces the scenario's seed,
+/// `overrides` change fields (`--set`), `out` the output directory.
+pub fn run(
+    file: &Path,
+    out: Option<PathBuf>,
+    seed: Option<u64>,
+    overrides: &[Override],
+) -> CliResult {
+    let mut scenario = Scenario::load_with(file, overrides)?;
     if let Some(seed) = seed {
         scenario.seed = seed;
     }
-    let plan = Plan::new(&scenario, file)?;
-    print!("{}", describe(file, &scenario, &plan));
+    let dir = out.unwrap_or_else(|| scenario.output.dir.clone());
+    execute(file, &scenario, &dir, &mut std::io::stdout())
+}
+
+/// Runs `scenario` (read from `file`) into `dir` (created), saying what it does to
+/// `say`: `whisker run` and each trial of `whisker trials`.
+pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, say: &mut dyn Write) -> CliResult {
+    let plan = Plan::new(scenario, file)?;
+    let _ = write!(say, "{}", describe(file, scenario, &plan));
     let loaded = scenario.environment(file)?;
     for line in &loaded.report {
-        println!("{line}");
+        let _ = writeln!(say, "{line}");
     }
     let environment = loaded.environment;
     if let Some(e) = &scenario.explore {
         // Loads the object maps: a bad one stops the run before anything is written.
-        print!("{}", crate::explore::describe(file, &scenario, e)?);
+        let _ = write!(say, "{}", crate::explore::describe(file, scenario, e)?);
     }
-    let dir = out.unwrap_or_else(|| scenario.output.dir.clone());
-    output::create_dir(&dir)?;
+    output::create_dir(dir)?;
 
     if scenario.explore.is_some() {
-        return crate::explore::write(file, &scenario, plan, &environment, &dir);
+        return crate::explore::write(file, scenario, plan, &environment, dir, say);
     }
     let dt = scenario.output.sample_period_s;
     let chain = &plan.chain;
     let model = &plan.model;
     let skeleton_links = plan.skeleton();
 
-    let recording = Recording::for_scenario(file, &scenario, &dir)?;
+    let recording = Recording::for_scenario(file, scenario, dir)?;
     if let Some(rec) = &recording {
         let tips: Vec<Isometry3<f64>> = plan.waypoints.iter().map(|q| chain.fk(q)).collect();
         rec.waypoints(&tips)?;
@@ -165,12 +179,12 @@ pub fn run(file: &Path, out: Option<PathBuf>, seed: Option<u64>) -> CliResult {
     }
 
     let mut whiskers = match scenario.sensing {
-        Sensing::Physics => Some(ArraySimulation::new(&scenario, file, &plan, &environment)?),
+        Sensing::Physics => Some(ArraySimulation::new(scenario, file, &plan, &environment)?),
         _ => None,
     };
     let mut contacts = match scenario.sensing {
         Sensing::Kinematic => Some(ContactSensing::new(
-            &scenario,
+            scenario,
             file,
             &plan,
             &environment,
@@ -178,7 +192,7 @@ pub fn run(file: &Path, out: Option<PathBuf>, seed: Option<u64>) -> CliResult {
             "contacts.csv",
         )?),
         Sensing::Physics if !environment.pieces.is_empty() => Some(ContactSensing::new(
-            &scenario,
+            scenario,
             file,
             &plan,
             &environment,
@@ -289,16 +303,17 @@ pub fn run(file: &Path, out: Option<PathBuf>, seed: Option<u64>) -> CliResult {
     let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
     output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
     if let Some(w) = whiskers {
-        w.finish(&dir)?;
+        w.finish(dir)?;
     }
     let contacts_file = contacts.as_ref().map(|c| c.counts());
     if let Some(c) = contacts {
-        c.finish(&dir)?;
+        c.finish(dir)?;
     }
     if let Some(rec) = recording {
         rec.finish(&tip_path)?;
     }
-    println!(
+    let _ = writeln!(
+        say,
         "simulated  {} samples every {dt} s; tip travelled {length:.3} m; arm–environment collisions: {}",
         steps + 1,
         if collision_samples == 0 {
@@ -322,12 +337,16 @@ pub fn run(file: &Path, out: Option<PathBuf>, seed: Option<u64>) -> CliResult {
         (Sensing::None, _) => "",
     };
     if let (Some((cycles, n)), Sensing::Kinematic) = (contacts_file, scenario.sensing) {
-        println!("sensed     {n} contacts in {cycles} whisk cycles");
+        let _ = writeln!(say, "sensed     {n} contacts in {cycles} whisk cycles");
     }
     if let Some(n) = frontend_contacts {
-        println!("front end  {n} contacts detected in the whisker streams");
+        let _ = writeln!(
+            say,
+            "front end  {n} contacts detected in the whisker streams"
+        );
     }
-    println!(
+    let _ = writeln!(
+        say,
         "wrote      {}/{{path.csv, summary.json{csv}{rrd}}}",
         dir.display()
     );

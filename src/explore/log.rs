@@ -164,6 +164,8 @@ impl Summary<'_> {
                 "final_rc": r.raw.confidence,
                 "final_ic": r.integrated,
                 "mean_rc": self.mean_rc,
+                // The thesis' "mean RC of the correct object" (§6.3).
+                "true_mean_rc": self.mean_rc.get(self.truth),
             })
         });
         let map = self.map_error.map(|(max, median, over, n)| {

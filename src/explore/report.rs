@@ -52,6 +52,7 @@ pub fn write(
     plan: Plan,
     environment: &Environment,
     dir: &Path,
+    say: &mut dyn std::io::Write,
 ) -> CliResult {
     let recording = crate::recording::Recording::for_scenario(file, scenario, dir)?;
     let skeleton = plan.skeleton();
@@ -79,22 +80,25 @@ pub fn write(
         rec.finish(&out.poses)?;
     }
     let s = &out.summary;
-    println!(
+    let _ = writeln!(
+        say,
         "explored   {} whisks ({:.0} s simulated, {wall:.1} s wall): {} experiences, {} re-localisations into the loaded maps",
         s["iterations"],
         s["simulated_time_s"].as_f64().unwrap_or(0.0),
         s["experiences"],
         s["relocalisations"]
     );
-    println!("fallbacks  {}", s["fallbacks"]);
+    let _ = writeln!(say, "fallbacks  {}", s["fallbacks"]);
     if let Some(r) = s["recognition"].as_object() {
-        println!(
+        let _ = writeln!(
+            say,
             "recognised {} (true object {}): outcome {}, SRT {}, IM {}",
             r["identified"], s["object"], r["outcome"], r["srt"], r["im"]
         );
     }
     if let Some(m) = s["map_accuracy"].as_object() {
-        println!(
+        let _ = writeln!(
+            say,
             "map        {} experiences checked: max error {:.4} m, median {:.4} m, {} over 2 cm",
             m["experiences_checked"],
             m["max_error_m"].as_f64().unwrap_or(f64::NAN),
@@ -108,7 +112,8 @@ pub fn write(
     } else {
         ""
     };
-    println!(
+    let _ = writeln!(
+        say,
         "wrote      {}/{{{CSV_NAME}, {SUMMARY_NAME}, contacts.csv{map}{rrd}}}",
         dir.display()
     );

@@ -344,13 +344,66 @@ type ImageSet = (String, Vec<TactileImage>);
 /// `whisker maze-slam`.
 pub fn run(o: &Options) -> CliResult {
     let scenario = Scenario::load(&o.scenario)?;
+    let results = evaluate(o, &scenario)?;
+    report(&results, o.json);
+    Ok(())
+}
+
+/// One trial of a batch (`trials.experiment = "maze-slam"`): `whisker maze-slam` of the
+/// scenario's seed with `--out dir`, and `summary.json`: each run's figures under
+/// `<variant>.<images>` (e.g. `normal.kinematic.arr`).
+pub fn trial(
+    file: &Path,
+    scenario: &Scenario,
+    dir: &Path,
+    say: &mut dyn std::io::Write,
+) -> CliResult {
+    let o = Options {
+        scenario: file.to_path_buf(),
+        seeds: Some(vec![scenario.seed]),
+        kidnap: false,
+        match_threshold: None,
+        inject_energy: None,
+        out: Some(dir.to_path_buf()),
+        images: None,
+        json: true,
+        sensing: None,
+        rcp: false,
+        bending: None,
+        segments: None,
+        substeps: None,
+    };
+    let results = evaluate(&o, scenario)?;
+    let mut summary = serde_json::Map::new();
+    summary.insert("seed".into(), json!(scenario.seed));
+    for r in &results {
+        let name = format!(
+            "{}.{}",
+            r["variant"].as_str().unwrap_or(""),
+            r["images"].as_str().unwrap_or("")
+        );
+        let mut figures = r.as_object().cloned().unwrap_or_default();
+        for k in ["seed", "variant", "images"] {
+            figures.remove(k);
+        }
+        summary.insert(name, serde_json::Value::Object(figures));
+    }
+    let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
+    crate::output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
+    let _ = writeln!(say, "{}", json!({ "runs": results }));
+    Ok(())
+}
+
+/// The runs of `whisker maze-slam` with options `o` on `scenario` (read from `o.scenario`):
+/// one JSON object per seed, variant, image set and tuning.
+pub fn evaluate(o: &Options, scenario: &Scenario) -> CliResult<Vec<serde_json::Value>> {
     let file = o.scenario.as_path();
     let maze = scenario
         .maze
         .as_ref()
         .ok_or_else(|| CliError::field(file, "maze", "maze-slam needs a [maze] section"))?;
     let config = &scenario.maze_slam;
-    let (loop_corners, geometry) = corners(&scenario, file, maze.position_m[2])?;
+    let (loop_corners, geometry) = corners(scenario, file, maze.position_m[2])?;
     let sensing = match (o.sensing, scenario.sensing) {
         (Some(s), _) => s,
         (None, Sensing::Physics) => SensingArg::Physics,
@@ -367,7 +420,7 @@ pub fn run(o: &Options) -> CliResult {
     let tunings = tunings(config.ratslam, o)?;
     let sweep = tunings.len() > 1;
     let physics = match sensing {
-        SensingArg::Physics => Some(physics_configs(&scenario, file, o)?),
+        SensingArg::Physics => Some(physics_configs(scenario, file, o)?),
         SensingArg::Kinematic => None,
     };
     let (truth_path, starts) = path::path(&loop_corners);
@@ -498,8 +551,7 @@ pub fn run(o: &Options) -> CliResult {
             }
         }
     }
-    report(&results, o.json);
-    Ok(())
+    Ok(results)
 }
 
 /// Prints the runs: one JSON object, or a table.

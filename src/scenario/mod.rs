@@ -11,6 +11,8 @@ pub mod base;
 pub mod environment;
 pub mod explore;
 pub mod maze_slam;
+pub mod overrides;
+pub mod trials;
 
 use crate::error::{CliError, CliResult};
 use serde::Deserialize;
@@ -60,6 +62,9 @@ pub struct Scenario {
     /// What is written.
     #[serde(default)]
     pub output: OutputConfig,
+    /// `[trials]`: a batch of runs over seeds and factors (`whisker trials`); `whisker run`
+    /// ignores it.
+    pub trials: Option<trials::TrialsConfig>,
 }
 
 /// `[frontend]`: the signal front end of `sensing = "physics"` (thesis Ch 4).
@@ -252,6 +257,40 @@ pub enum Target {
 }
 
 impl Scenario {
+    /// The scenario file's TOML table merged over its base (if any).
+    pub fn resolved_table(path: &Path) -> CliResult<toml::Table> {
+        let (_, table) = base::read_table(path)?;
+        base::resolve(path, table, 0)
+    }
+
+    /// Reads and checks a scenario file with `overrides` applied (`whisker run --set`).
+    pub fn load_with(path: &Path, overrides: &[overrides::Override]) -> CliResult<Self> {
+        if overrides.is_empty() {
+            return Self::load(path);
+        }
+        let mut table = Self::resolved_table(path)?;
+        for o in overrides {
+            o.apply(&mut table).map_err(|e| {
+                CliError::Input(format!("{}: --set {}: {e}", path.display(), o.dotted()))
+            })?;
+        }
+        Self::from_table(path, table, "with --set")
+    }
+
+    /// The scenario of `table` (read from `path`, base merged in, then changed as
+    /// `context` says), checked.
+    pub fn from_table(path: &Path, table: toml::Table, context: &str) -> CliResult<Self> {
+        let scenario: Self = table.try_into().map_err(|e: toml::de::Error| {
+            CliError::Input(format!(
+                "{} ({context}): {}",
+                path.display(),
+                e.to_string().trim_end()
+            ))
+        })?;
+        scenario.validate(path)?;
+        Ok(scenario)
+    }
+
     /// Reads and checks a scenario file (what does not depend on the URDF).
     pub fn load(path: &Path) -> CliResult<Self> {
         let (text, table) = base::read_table(path)?;

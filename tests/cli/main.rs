@@ -10,6 +10,7 @@ mod maze_slam;
 mod object_slam;
 mod physics;
 mod radial;
+mod trials;
 mod urdf;
 
 // Helpers shared by the test modules.

@@ -1,0 +1,81 @@
+//! `[trials]`: a batch of runs of the scenario over seeds and factors (scenarios/README.md,
+//! "Batch trials"; run by `whisker trials`, see `crate::trials`).
+
+use serde::Deserialize;
+use toml::Table;
+
+/// `[trials]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrialsConfig {
+    /// The seeds: a list (`[0, 1, 2]`) or an inclusive range (`{ from = 0, to = 9 }`).
+    pub seeds: Seeds,
+    /// `[trials.factors]`: for any scenario field by its dotted path, the list of values
+    /// it takes (`explore.strategy = ["default", "feh", "lsr"]`); the trials are the
+    /// product of all the lists and the seeds.
+    #[serde(default)]
+    pub factors: Table,
+    /// What one trial runs: `"run"` (what `whisker run` does) or `"maze-slam"` (one seed of
+    /// `whisker maze-slam`).
+    #[serde(default)]
+    pub experiment: Experiment,
+    /// Whether each trial writes its Rerun recording (`run.rrd`; heavy).
+    #[serde(default)]
+    pub recordings: bool,
+    /// The summary metrics the report analyses, by their flattened names
+    /// (`recognition.srt`); default: every metric that varies.
+    #[serde(default)]
+    pub report: Vec<String>,
+}
+
+/// `trials.seeds`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum Seeds {
+    /// `[0, 1, 2]`.
+    List(Vec<u64>),
+    /// `{ from = 0, to = 9 }`: both ends included.
+    Range {
+        /// The first seed.
+        from: u64,
+        /// The last seed.
+        to: u64,
+    },
+}
+
+impl Seeds {
+    /// The seeds in order; an error for an empty, reversed or repeating list.
+    pub fn list(&self) -> Result<Vec<u64>, String> {
+        let v = match self {
+            Seeds::List(v) => v.clone(),
+            Seeds::Range { from, to } if from <= to && to - from < 1_000_000 => {
+                (*from..=*to).collect()
+            }
+            Seeds::Range { from, to } => {
+                return Err(format!(
+                    "expected from ≤ to and fewer than a million seeds, got from = {from}, to = {to}"
+                ));
+            }
+        };
+        if v.is_empty() {
+            return Err("expected at least one seed".into());
+        }
+        let mut sorted = v.clone();
+        sorted.sort_unstable();
+        if let Some(w) = sorted.windows(2).find(|w| w[0] == w[1]) {
+            return Err(format!("seed {} is listed twice", w[0]));
+        }
+        Ok(v)
+    }
+}
+
+/// `trials.experiment`.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Experiment {
+    /// One `whisker run` of the scenario (scripted trajectory or closed loop).
+    #[default]
+    Run,
+    /// One seed of `whisker maze-slam` (thesis §3.3).
+    MazeSlam,
+}

@@ -1,0 +1,316 @@
+//! Running a batch: `whisker trials SCENARIO --out DIR [--jobs N] [--shard I/K]
+//! [--resume [--force]]`.
+//!
+//! N worker threads take the trials in order; each trial runs on one thread (its own
+//! one-thread rayon pool) so that N workers keep N cores busy and no trial's result depends
+//! on how many there are. As a trial ends its entry is appended to the journal and synced,
+//! `trials.csv` is rewritten, and the log says so; a failing trial (an error, or a panic)
+//! is recorded as failed and the batch goes on. Resuming reads the journal, deletes the
+//! half-written outputs of trials that were running when the process died, and runs each
+//! missing trial once.
+
+use super::journal::{self, CSV, Entry, Journal, Meta, RUNS, Status};
+use super::{Batch, Shard, Trial};
+use crate::error::{CliError, CliResult};
+use crate::scenario::trials::Experiment;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+/// `whisker trials SCENARIO …`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct Options {
+    /// Output directory (created): trials.json, journal.jsonl, trials.csv, log.txt,
+    /// runs/<key>/, report.md and figures/.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Worker threads, one trial each [default: the available cores].
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// Run only part I of K (from 0): trials I, I+K, I+2K… of the fixed order.
+    #[arg(long, value_parser = Shard::parse)]
+    pub shard: Option<Shard>,
+    /// Finish a batch in an existing directory: run each trial its journal lacks.
+    #[arg(long)]
+    pub resume: bool,
+    /// With --resume: continue although the scenario changed since the batch began.
+    #[arg(long, requires = "resume")]
+    pub force: bool,
+    /// Do not write report.md and the figures at the end.
+    #[arg(long)]
+    pub no_report: bool,
+}
+
+/// What a batch did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Outcome {
+    /// Trials run now.
+    pub ran: usize,
+    /// Trials finished earlier (resume).
+    pub already: usize,
+    /// Failed trials in the directory's journal (earlier ones included).
+    pub failed: usize,
+}
+
+/// Runs (or resumes) `batch` into `o.out`.
+pub fn run(batch: &Batch, o: &Options) -> CliResult<Outcome> {
+    let dir = &o.out;
+    crate::output::create_dir(dir)?;
+    let meta = Meta::of(batch, o.shard);
+    prepare(dir, &meta, o)?;
+    let mut entries = journal::read(dir)?;
+    let done: std::collections::BTreeSet<String> = entries.iter().map(|e| e.key.clone()).collect();
+    let todo: Vec<&Trial> = batch
+        .shard(o.shard)
+        .into_iter()
+        .filter(|t| !done.contains(&t.key))
+        .collect();
+    let already = batch.shard(o.shard).len() - todo.len();
+    for t in &todo {
+        // Outputs of a trial that was running when the batch was killed.
+        let half = dir.join(RUNS).join(&t.key);
+        if half.exists() {
+            std::fs::remove_dir_all(&half)
+                .map_err(|e| CliError::Failure(format!("cannot clear {}: {e}", half.display())))?;
+        }
+    }
+    let jobs = o
+        .jobs
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .max(1);
+    eprintln!(
+        "trials     {} of {} trials{} to run on {jobs} worker{} ({already} finished before) into {}",
+        todo.len(),
+        batch.trials.len(),
+        o.shard.map_or(String::new(), |s| format!(" (shard {s})")),
+        if jobs == 1 { "" } else { "s" },
+        dir.display()
+    );
+    let progress = Progress::new(todo.len());
+    let shared = Mutex::new((Journal::open(dir)?, std::mem::take(&mut entries)));
+    let next = AtomicUsize::new(0);
+    let first_error: Mutex<Option<CliError>> = Mutex::new(None);
+    std::thread::scope(|scope| {
+        for _ in 0..jobs.min(todo.len()) {
+            scope.spawn(|| {
+                loop {
+                    let i = next.fetch_add(1, Ordering::SeqCst);
+                    let Some(&trial) = todo.get(i) else { break };
+                    if let Err(e) = one(batch, dir, trial, &meta, &shared, &progress) {
+                        // The batch's own files cannot be written: stop taking trials.
+                        first_error
+                            .lock()
+                            .expect("no panic holds it")
+                            .get_or_insert(e);
+                        next.store(todo.len(), Ordering::SeqCst);
+                        break;
+                    }
+                }
+            });
+        }
+    });
+    progress.finish();
+    if let Some(e) = first_error.into_inner().expect("no panic holds it") {
+        return Err(e);
+    }
+    let (_, entries) = shared.into_inner().expect("no panic holds it");
+    let failed = entries
+        .iter()
+        .filter(|e| e.status == Status::Failed)
+        .count();
+    if !o.no_report {
+        let written = super::report::write(dir)?;
+        eprintln!("report     {}", written.display());
+    }
+    Ok(Outcome {
+        ran: todo.len(),
+        already,
+        failed,
+    })
+}
+
+/// Checks (resume) or writes (new batch) the directory's metadata.
+fn prepare(dir: &Path, meta: &Meta, o: &Options) -> CliResult {
+    let exists = dir.join(journal::META).exists();
+    match (exists, o.resume) {
+        (false, _) => meta.write(dir),
+        (true, false) => Err(CliError::Input(format!(
+            "{} already holds a batch ({}): add --resume to finish it, or choose another --out",
+            dir.display(),
+            journal::META
+        ))),
+        (true, true) => {
+            let old = Meta::read(dir)?;
+            if old.shard != meta.shard {
+                return Err(CliError::Input(format!(
+                    "--shard: {} holds shard {} of the batch, not {}",
+                    dir.display(),
+                    old.shard.map_or("none".into(), |s| s.to_string()),
+                    meta.shard.map_or("none".into(), |s| s.to_string())
+                )));
+            }
+            if old.scenario_hash != meta.scenario_hash {
+                if !o.force {
+                    return Err(CliError::Input(format!(
+                        "{}: the scenario changed since the batch in {} began (hash {} then, {} now): \
+                         its finished rows would not match new ones. Use another --out, or add --force \
+                         to keep the finished rows and run the rest with the scenario as it is now",
+                        meta.scenario,
+                        dir.display(),
+                        &old.scenario_hash[..12],
+                        &meta.scenario_hash[..12]
+                    )));
+                }
+                meta.write(dir)?;
+            }
+            Ok(())
+        }
+    }
+}
+
+/// Runs one trial and records it.
+fn one(
+    batch: &Batch,
+    dir: &Path,
+    trial: &Trial,
+    meta: &Meta,
+    shared: &Mutex<(Journal, Vec<Entry>)>,
+    progress: &Progress,
+) -> CliResult {
+    shared
+        .lock()
+        .expect("no panic holds it")
+        .0
+        .log("start", &trial.key)?;
+    let started = Instant::now();
+    let result = run_trial(batch, trial, &dir.join(RUNS).join(&trial.key));
+    let entry = Entry::new(batch, trial, result, started.elapsed().as_secs_f64());
+    let mut guard = shared.lock().expect("no panic holds it");
+    let (journal, entries) = &mut *guard;
+    journal.append(&entry)?;
+    let status = match entry.status {
+        Status::Ok => "ok",
+        Status::Failed => "failed",
+    };
+    journal.log(status, &trial.key)?;
+    progress.tick(&entry);
+    entries.push(entry);
+    crate::output::write_atomic(
+        &dir.join(CSV),
+        journal::csv(&meta.factors, entries).as_bytes(),
+    )
+}
+
+/// Runs `trial` into `dir` on one thread; its summary, or the error (a panic included).
+pub fn run_trial(batch: &Batch, trial: &Trial, dir: &Path) -> Result<serde_json::Value, String> {
+    let work = || -> CliResult<serde_json::Value> {
+        let scenario = batch.scenario(trial)?;
+        crate::output::create_dir(dir)?;
+        let path = dir.join("stdout.txt");
+        let mut say = std::fs::File::create(&path)
+            .map_err(|e| CliError::Failure(format!("{}: {e}", path.display())))?;
+        use std::io::Write;
+        let _ = writeln!(say, "# trial {}: {}", trial.key, batch.command(trial));
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .map_err(|e| CliError::Failure(format!("thread pool: {e}")))?;
+        pool.install(|| match batch.config.experiment {
+            Experiment::Run => crate::run::execute(&batch.file, &scenario, dir, &mut say),
+            Experiment::MazeSlam => crate::maze_slam::trial(&batch.file, &scenario, dir, &mut say),
+        })?;
+        let summary = dir.join("summary.json");
+        let text = std::fs::read_to_string(&summary)
+            .map_err(|e| CliError::Failure(format!("{}: {e}", summary.display())))?;
+        serde_json::from_str(&text)
+            .map_err(|e| CliError::Failure(format!("{}: {e}", summary.display())))
+    };
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)) {
+        Ok(r) => r.map_err(|e| e.to_string()),
+        Err(panic) => Err(format!(
+            "panicked: {}",
+            panic
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_default()
+        )),
+    }
+}
+
+/// Progress: a bar with ETA on a terminal, a line per trial otherwise.
+struct Progress {
+    bar: Option<ProgressBar>,
+    total: usize,
+    done: AtomicUsize,
+    started: Instant,
+}
+
+impl Progress {
+    fn new(total: usize) -> Self {
+        let bar = std::io::stderr().is_terminal().then(|| {
+            let bar = ProgressBar::new(total as u64);
+            bar.set_style(
+                ProgressStyle::with_template(
+                    "{bar:40} {pos}/{len} trials  {elapsed_precise} elapsed, ETA {eta_precise}  {msg}",
+                )
+                .expect("a valid template"),
+            );
+            bar
+        });
+        Self {
+            bar,
+            total,
+            done: AtomicUsize::new(0),
+            started: Instant::now(),
+        }
+    }
+
+    fn tick(&self, e: &Entry) {
+        let done = self.done.fetch_add(1, Ordering::SeqCst) + 1;
+        let status = match e.status {
+            Status::Ok => "ok",
+            Status::Failed => "FAILED",
+        };
+        if let Some(bar) = &self.bar {
+            bar.set_message(format!("{status} {}", e.key));
+            bar.inc(1);
+            if let Some(err) = &e.error {
+                bar.println(format!("trial {} failed: {err}", e.key));
+            }
+            return;
+        }
+        let elapsed = self.started.elapsed().as_secs_f64();
+        let eta = elapsed / done as f64 * (self.total - done) as f64;
+        eprintln!(
+            "trials     {done}/{} {status} {} ({:.1} s; elapsed {}, ETA {}){}",
+            self.total,
+            e.key,
+            e.wall_s,
+            clock(elapsed),
+            clock(eta),
+            e.error
+                .as_ref()
+                .map_or(String::new(), |err| format!(": {err}"))
+        );
+    }
+
+    fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish();
+        }
+    }
+}
+
+/// Seconds as `1h02m03s`, `2m03s` or `3s`.
+fn clock(s: f64) -> String {
+    let s = s.round() as u64;
+    match (s / 3600, s / 60 % 60, s % 60) {
+        (0, 0, sec) => format!("{sec}s"),
+        (0, m, sec) => format!("{m}m{sec:02}s"),
+        (h, m, sec) => format!("{h}h{m:02}m{sec:02}s"),
+    }
+}

@@ -1,0 +1,169 @@
+//! `whisker trials merge DIR... --out DIR`: the shards of a batch (each a `--shard I/K`
+//! directory) made into the directory one unsharded run would have written: the same
+//! `trials.csv` bytes, the journal in trial order, every trial's outputs, the report.
+//! Refused, naming them, when trials are missing (and which shards were not given) or
+//! present twice, or when the directories come from different scenarios.
+
+use super::journal::{self, Entry, Meta, RUNS};
+use crate::error::{CliError, CliResult};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// `whisker trials merge`.
+#[derive(clap::Args, Debug)]
+pub struct Options {
+    /// The shard directories.
+    #[arg(required = true)]
+    pub dirs: Vec<PathBuf>,
+    /// The merged batch's directory (created; not one of the shards).
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Merges; returns the number of trials.
+pub fn merge(o: &Options) -> CliResult<usize> {
+    let metas: Vec<Meta> = o
+        .dirs
+        .iter()
+        .map(|d| Meta::read(d))
+        .collect::<CliResult<_>>()?;
+    let first = &metas[0];
+    for (d, m) in o.dirs.iter().zip(&metas) {
+        if m.scenario_hash != first.scenario_hash
+            || m.keys != first.keys
+            || m.factors != first.factors
+        {
+            return Err(CliError::Input(format!(
+                "{} and {} hold different batches (scenario {} vs {}, hash {} vs {})",
+                o.dirs[0].display(),
+                d.display(),
+                first.scenario,
+                m.scenario,
+                &first.scenario_hash[..12],
+                &m.scenario_hash[..12]
+            )));
+        }
+        if m.shard.map(|s| s.count) != first.shard.map(|s| s.count) {
+            return Err(CliError::Input(format!(
+                "{} is shard {} but {} is shard {}: not parts of one split",
+                d.display(),
+                m.shard.map_or("none".into(), |s| s.to_string()),
+                o.dirs[0].display(),
+                first.shard.map_or("none".into(), |s| s.to_string())
+            )));
+        }
+        if o.out
+            .canonicalize()
+            .ok()
+            .is_some_and(|out| d.canonicalize().ok() == Some(out))
+        {
+            return Err(CliError::Input(format!(
+                "--out {} is one of the shards: choose another directory",
+                o.out.display()
+            )));
+        }
+    }
+    let mut found: BTreeMap<String, Vec<(&Path, Entry)>> = BTreeMap::new();
+    for d in &o.dirs {
+        for e in journal::read(d)? {
+            found
+                .entry(e.key.clone())
+                .or_default()
+                .push((d.as_path(), e));
+        }
+    }
+    let mut problems = Vec::new();
+    if let Some(count) = first.shard.map(|s| s.count) {
+        let given: Vec<usize> = metas
+            .iter()
+            .filter_map(|m| m.shard.map(|s| s.index))
+            .collect();
+        let missing: Vec<String> = (0..count)
+            .filter(|i| !given.contains(i))
+            .map(|i| format!("{i}/{count}"))
+            .collect();
+        if !missing.is_empty() {
+            problems.push(format!("shards not given: {}", missing.join(", ")));
+        }
+    }
+    let missing: Vec<&String> = first
+        .keys
+        .iter()
+        .filter(|k| !found.contains_key(*k))
+        .collect();
+    if !missing.is_empty() {
+        problems.push(format!(
+            "{} trials missing: {}{}",
+            missing.len(),
+            missing
+                .iter()
+                .take(10)
+                .map(|k| k.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+            if missing.len() > 10 { ", …" } else { "" }
+        ));
+    }
+    for (key, copies) in &found {
+        if copies.len() > 1 {
+            let dirs: Vec<String> = copies
+                .iter()
+                .map(|(d, _)| d.display().to_string())
+                .collect();
+            problems.push(format!("trial {key} is in {}", dirs.join(" and ")));
+        }
+        if !first.keys.contains(key) {
+            problems.push(format!("trial {key} is not part of the batch"));
+        }
+    }
+    if !problems.is_empty() {
+        return Err(CliError::Input(format!(
+            "cannot merge into {}: {}",
+            o.out.display(),
+            problems.join("; ")
+        )));
+    }
+    crate::output::create_dir(&o.out)?;
+    let mut entries: Vec<(&Path, Entry)> = found.into_values().flatten().collect();
+    entries.sort_by_key(|(_, e)| e.index);
+    for (d, e) in &entries {
+        let from = d.join(RUNS).join(&e.key);
+        if from.is_dir() {
+            copy_dir(&from, &o.out.join(RUNS).join(&e.key))?;
+        }
+    }
+    let mut meta = first.clone();
+    meta.shard = None;
+    meta.write(&o.out)?;
+    let journal: String = entries
+        .iter()
+        .map(|(_, e)| serde_json::to_string(e).expect("plain JSON") + "\n")
+        .collect();
+    crate::output::write_atomic(&o.out.join(journal::JOURNAL), journal.as_bytes())?;
+    let entries: Vec<Entry> = entries.into_iter().map(|(_, e)| e).collect();
+    crate::output::write_atomic(
+        &o.out.join(journal::CSV),
+        journal::csv(&meta.factors, &entries).as_bytes(),
+    )?;
+    super::report::write(&o.out)?;
+    Ok(entries.len())
+}
+
+/// Copies the directory tree `from` to `to` (replacing what is there).
+fn copy_dir(from: &Path, to: &Path) -> CliResult {
+    let fail = |p: &Path, e: std::io::Error| CliError::Failure(format!("{}: {e}", p.display()));
+    if to.exists() {
+        std::fs::remove_dir_all(to).map_err(|e| fail(to, e))?;
+    }
+    std::fs::create_dir_all(to).map_err(|e| fail(to, e))?;
+    for item in std::fs::read_dir(from).map_err(|e| fail(from, e))? {
+        let item = item.map_err(|e| fail(from, e))?;
+        let target = to.join(item.file_name());
+        if item.path().is_dir() {
+            copy_dir(&item.path(), &target)?;
+        } else {
+            std::fs::copy(item.path(), &target).map_err(|e| fail(&item.path(), e))?;
+        }
+    }
+    Ok(())
+}

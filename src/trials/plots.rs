@@ -1,0 +1,225 @@
+//! The figures of a batch report, as SVG (plotters): notched box plots (the thesis'
+//! Figs 6.6–6.10 style; the figures from `whisker_slam::stats::boxplot`) and curves of a
+//! median with its interquartile band over iterations.
+
+use crate::error::{CliError, CliResult};
+use plotters::prelude::*;
+use std::path::Path;
+use whisker_slam::stats::boxplot::BoxStats;
+
+/// One box: its label under the axis and its figures.
+pub struct BoxGroup {
+    /// Label on the x axis.
+    pub label: String,
+    /// The figures.
+    pub stats: BoxStats,
+}
+
+/// One curve: a median and its interquartile band at each x.
+pub struct Curve {
+    /// Legend entry.
+    pub label: String,
+    /// x values.
+    pub x: Vec<f64>,
+    /// Median at each x.
+    pub median: Vec<f64>,
+    /// First quartile at each x.
+    pub q1: Vec<f64>,
+    /// Third quartile at each x.
+    pub q3: Vec<f64>,
+}
+
+fn failed(path: &Path, e: impl std::fmt::Display) -> CliError {
+    CliError::Failure(format!("{}: cannot draw: {e}", path.display()))
+}
+
+/// The colour of series `i`.
+fn colour(i: usize) -> RGBColor {
+    const C: [RGBColor; 8] = [
+        RGBColor(31, 119, 180),
+        RGBColor(255, 127, 14),
+        RGBColor(44, 160, 44),
+        RGBColor(214, 39, 40),
+        RGBColor(148, 103, 189),
+        RGBColor(140, 86, 75),
+        RGBColor(227, 119, 194),
+        RGBColor(127, 127, 127),
+    ];
+    C[i % C.len()]
+}
+
+/// A y range around `lo..hi` with a margin (a unit range when flat).
+fn padded(lo: f64, hi: f64) -> std::ops::Range<f64> {
+    if !(lo.is_finite() && hi.is_finite()) {
+        return 0.0..1.0;
+    }
+    let span = if hi > lo { hi - lo } else { lo.abs().max(1.0) };
+    (lo - 0.08 * span)..(hi + 0.08 * span)
+}
+
+/// Notched box plots of `groups` side by side, written to `path` as SVG. `colours[i]`
+/// picks the colour of box i (e.g. by factor level).
+pub fn notched_boxes(
+    path: &Path,
+    title: &str,
+    y_label: &str,
+    groups: &[BoxGroup],
+    colours: &[usize],
+) -> CliResult {
+    let lo = groups
+        .iter()
+        .flat_map(|g| [g.stats.whisker_low, g.stats.notch_low])
+        .chain(groups.iter().flat_map(|g| g.stats.outliers.iter().copied()))
+        .fold(f64::INFINITY, f64::min);
+    let hi = groups
+        .iter()
+        .flat_map(|g| [g.stats.whisker_high, g.stats.notch_high])
+        .chain(groups.iter().flat_map(|g| g.stats.outliers.iter().copied()))
+        .fold(f64::NEG_INFINITY, f64::max);
+    let width = (200 + 170 * groups.len()).clamp(480, 2400) as u32;
+    let root = SVGBackend::new(path, (width, 480)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| failed(path, e))?;
+    let n = groups.len() as f64;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(70)
+        .y_label_area_size(70)
+        .build_cartesian_2d(-0.5..n - 0.5, padded(lo, hi))
+        .map_err(|e| failed(path, e))?;
+    let label = |x: &f64| -> String {
+        let i = x.round();
+        if (x - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < groups.len() {
+            groups[i as usize].label.clone()
+        } else {
+            String::new()
+        }
+    };
+    chart
+        .configure_mesh()
+        .disable_x_mesh()
+        .x_labels(groups.len() * 2 + 1)
+        .x_label_formatter(&label)
+        .x_label_style(("sans-serif", 13))
+        .y_desc(y_label)
+        .draw()
+        .map_err(|e| failed(path, e))?;
+    for (i, g) in groups.iter().enumerate() {
+        let s = &g.stats;
+        let c = colour(colours.get(i).copied().unwrap_or(i));
+        let x = i as f64;
+        let (w, nw) = (0.3, 0.15);
+        // The notched box: out to the quartiles, pinched to the notch at the median.
+        let outline = vec![
+            (x - w, s.q1),
+            (x - w, s.notch_low),
+            (x - nw, s.median),
+            (x - w, s.notch_high),
+            (x - w, s.q3),
+            (x + w, s.q3),
+            (x + w, s.notch_high),
+            (x + nw, s.median),
+            (x + w, s.notch_low),
+            (x + w, s.q1),
+            (x - w, s.q1),
+        ];
+        chart
+            .draw_series([Polygon::new(outline.clone(), c.mix(0.25).filled())])
+            .map_err(|e| failed(path, e))?;
+        let lines = [
+            outline,
+            vec![(x - nw, s.median), (x + nw, s.median)],
+            vec![(x, s.q3), (x, s.whisker_high)],
+            vec![(x, s.q1), (x, s.whisker_low)],
+            vec![(x - 0.1, s.whisker_high), (x + 0.1, s.whisker_high)],
+            vec![(x - 0.1, s.whisker_low), (x + 0.1, s.whisker_low)],
+        ];
+        chart
+            .draw_series(
+                lines
+                    .into_iter()
+                    .map(|l| PathElement::new(l, c.stroke_width(2))),
+            )
+            .map_err(|e| failed(path, e))?;
+        chart
+            .draw_series(
+                s.outliers
+                    .iter()
+                    .map(|&y| Circle::new((x, y), 3, RED.stroke_width(1))),
+            )
+            .map_err(|e| failed(path, e))?;
+        chart
+            .draw_series([Text::new(
+                format!("n={}", s.n),
+                (x - 0.2, s.whisker_high),
+                ("sans-serif", 11).into_font().color(&BLACK.mix(0.7)),
+            )])
+            .map_err(|e| failed(path, e))?;
+    }
+    root.present().map_err(|e| failed(path, e))
+}
+
+/// Median curves with interquartile bands, written to `path` as SVG.
+pub fn band_curves(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    curves: &[Curve],
+) -> CliResult {
+    let xs = curves.iter().flat_map(|c| c.x.iter().copied());
+    let x_hi = xs.fold(1.0f64, f64::max);
+    let lo = curves
+        .iter()
+        .flat_map(|c| c.q1.iter().copied())
+        .fold(f64::INFINITY, f64::min);
+    let hi = curves
+        .iter()
+        .flat_map(|c| c.q3.iter().copied())
+        .fold(f64::NEG_INFINITY, f64::max);
+    let root = SVGBackend::new(path, (900, 520)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| failed(path, e))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0.0..x_hi, padded(lo.min(0.0), hi))
+        .map_err(|e| failed(path, e))?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .draw()
+        .map_err(|e| failed(path, e))?;
+    for (i, c) in curves.iter().enumerate() {
+        let colour = colour(i);
+        let band: Vec<(f64, f64)> =
+            c.x.iter()
+                .zip(&c.q3)
+                .map(|(&x, &y)| (x, y))
+                .chain(c.x.iter().zip(&c.q1).rev().map(|(&x, &y)| (x, y)))
+                .collect();
+        chart
+            .draw_series([Polygon::new(band, colour.mix(0.18).filled())])
+            .map_err(|e| failed(path, e))?;
+        chart
+            .draw_series(LineSeries::new(
+                c.x.iter().zip(&c.median).map(|(&x, &y)| (x, y)),
+                colour.stroke_width(2),
+            ))
+            .map_err(|e| failed(path, e))?
+            .label(c.label.clone())
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
+            });
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperLeft)
+        .draw()
+        .map_err(|e| failed(path, e))?;
+    root.present().map_err(|e| failed(path, e))
+}

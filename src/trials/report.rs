@@ -1,0 +1,483 @@
+//! `whisker trials report DIR` (also run at the end of every batch): `report.md` and
+//! `figures/*.svg` from a batch directory.
+//!
+//! For every factor, the trials are grouped by its level within each combination of the
+//! other factors' levels (a stratum: comparing strategies on the Box-Stack, not pooled
+//! over objects). Per metric and group: n, median, IQR, mean (quartiles by MATLAB's
+//! `prctile`, as the thesis' box plots); a notched box plot; Mann–Whitney U between two
+//! levels or Kruskal–Wallis H between more, then pairwise Mann–Whitney with Holm's
+//! correction. Text metrics with few values (the recognition outcome) are counted. Closed
+//! loop trials also get their integrated confidence over iterations: median and IQR band
+//! per level (a trial that stopped keeps its last value).
+
+use super::journal::{self, Entry, Meta, RUNS, Status};
+use super::plots::{BoxGroup, Curve, band_curves, notched_boxes};
+use crate::error::{CliError, CliResult};
+use serde_json::Value;
+use std::collections::{BTreeMap, BTreeSet};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use whisker_slam::stats::boxplot::{BoxStats, prctile};
+use whisker_slam::stats::rank_tests::{holm, kruskal_wallis, mann_whitney};
+
+/// The report file.
+pub const REPORT: &str = "report.md";
+/// The figures' directory.
+pub const FIGURES: &str = "figures";
+/// At most this many distinct values make a text metric a category.
+const MAX_CATEGORIES: usize = 6;
+
+/// One group of trials: a stratum (the other factors' levels) and a level.
+struct Group<'a> {
+    stratum: String,
+    level: String,
+    level_index: usize,
+    entries: Vec<&'a Entry>,
+}
+
+/// Writes `dir/report.md` and `dir/figures/`; returns the report's path.
+pub fn write(dir: &Path) -> CliResult<PathBuf> {
+    let meta = Meta::read(dir)?;
+    let mut entries = journal::read(dir)?;
+    entries.sort_by_key(|e| e.index);
+    let ok: Vec<&Entry> = entries.iter().filter(|e| e.status == Status::Ok).collect();
+    let figures = dir.join(FIGURES);
+    crate::output::create_dir(&figures)?;
+    let mut md = String::new();
+    let _ = writeln!(md, "# Batch report: {}\n", meta.scenario);
+    let failed: Vec<&Entry> = entries
+        .iter()
+        .filter(|e| e.status == Status::Failed)
+        .collect();
+    let _ = writeln!(
+        md,
+        "{} of {} trials finished ({} ok, {} failed){}. Factors: {}. Rows: `{}`.\n",
+        entries.len(),
+        meta.keys.len(),
+        ok.len(),
+        failed.len(),
+        meta.shard.map_or(String::new(), |s| format!(", shard {s}")),
+        if meta.factors.is_empty() {
+            "none (seeds only)".to_string()
+        } else {
+            meta.factors
+                .iter()
+                .map(|f| format!("`{f}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        },
+        journal::CSV
+    );
+    md.push_str(
+        "Quartiles as MATLAB's `prctile`; notches median ± 1.57·IQR/√n (non-overlapping notches: \
+         medians differ at about the 5 % level). p-values two-sided; *exact* is the permutation \
+         test on midranks (Mann–Whitney up to 60 values, Kruskal–Wallis up to 2·10⁶ assignments), \
+         otherwise normal (with tie and continuity correction) or χ² (tie-corrected). Pairwise \
+         p-values are Holm-corrected within each stratum.\n\n",
+    );
+    if !failed.is_empty() {
+        md.push_str("## Failed trials\n\n| key | error |\n|---|---|\n");
+        for e in &failed {
+            let _ = writeln!(
+                md,
+                "| `{}` | {} |",
+                e.key,
+                e.error.as_deref().unwrap_or("").replace('|', "\\|")
+            );
+        }
+        md.push('\n');
+    }
+    let (mut numeric, mut categorical) = metrics(&ok);
+    if !meta.report.is_empty() {
+        numeric.retain(|m| meta.report.contains(m));
+        categorical.retain(|m| meta.report.contains(m));
+    }
+    let factor_count = meta.factors.len();
+    let groupings: Vec<Option<usize>> = if factor_count == 0 {
+        vec![None]
+    } else {
+        (0..factor_count).map(Some).collect()
+    };
+    for &f in &groupings {
+        let groups = group(&ok, f, &meta.factors);
+        let name = f.map_or("all trials", |f| meta.factors[f].as_str());
+        let _ = writeln!(md, "## By `{name}`\n");
+        for metric in &numeric {
+            section(&mut md, &figures, name, metric, &groups)?;
+        }
+        for metric in &categorical {
+            counts(&mut md, metric, &groups);
+        }
+        curves(&mut md, dir, &figures, name, &groups)?;
+    }
+    let path = dir.join(REPORT);
+    crate::output::write_atomic(&path, md.as_bytes())?;
+    Ok(path)
+}
+
+/// The numeric and the text metrics worth reporting: those that vary between trials of
+/// one cell (all factors equal) or between cells, numeric ones as numbers, text ones
+/// with at most [`MAX_CATEGORIES`] values.
+fn metrics(ok: &[&Entry]) -> (Vec<String>, Vec<String>) {
+    let keys: BTreeSet<&String> = ok.iter().flat_map(|e| e.metrics.keys()).collect();
+    let mut numeric = Vec::new();
+    let mut text = Vec::new();
+    for k in keys {
+        if k == "seed" {
+            continue;
+        }
+        let values: Vec<&Value> = ok.iter().filter_map(|e| e.metrics.get(k)).collect();
+        let distinct: BTreeSet<String> = values.iter().map(|v| v.to_string()).collect();
+        if distinct.len() < 2 {
+            continue;
+        }
+        if values.iter().all(|v| v.is_number()) {
+            numeric.push(k.clone());
+        } else if values.iter().all(|v| v.is_string()) && distinct.len() <= MAX_CATEGORIES {
+            // Only if it varies within some cell: else it just echoes a factor.
+            let mut by_cell: BTreeMap<&Vec<String>, BTreeSet<String>> = BTreeMap::new();
+            for e in ok {
+                if let Some(v) = e.metrics.get(k) {
+                    by_cell.entry(&e.levels).or_default().insert(v.to_string());
+                }
+            }
+            if by_cell.values().any(|s| s.len() > 1) {
+                text.push(k.clone());
+            }
+        }
+    }
+    (numeric, text)
+}
+
+/// The groups of `ok` by factor `f` within strata of the other factors (all in one
+/// group without a factor), in level order.
+fn group<'a>(ok: &[&'a Entry], f: Option<usize>, factors: &[String]) -> Vec<Group<'a>> {
+    let mut groups: Vec<Group<'a>> = Vec::new();
+    // Level order: as the levels first appear in the trial order (the batch's order).
+    let mut level_order: Vec<String> = Vec::new();
+    for e in ok {
+        let (stratum, level) = match f {
+            None => (String::new(), "all".to_string()),
+            Some(f) => {
+                let others: Vec<String> = e
+                    .levels
+                    .iter()
+                    .enumerate()
+                    .filter(|&(i, _)| i != f)
+                    .map(|(i, l)| format!("{}={l}", factors[i]))
+                    .collect();
+                (others.join(", "), e.levels[f].clone())
+            }
+        };
+        if !level_order.contains(&level) {
+            level_order.push(level.clone());
+        }
+        let level_index = level_order.iter().position(|l| *l == level).expect("added");
+        match groups
+            .iter_mut()
+            .find(|g| g.stratum == stratum && g.level == level)
+        {
+            Some(g) => g.entries.push(e),
+            None => groups.push(Group {
+                stratum,
+                level,
+                level_index,
+                entries: vec![e],
+            }),
+        }
+    }
+    groups.sort_by(|a, b| {
+        a.stratum
+            .cmp(&b.stratum)
+            .then(a.level_index.cmp(&b.level_index))
+    });
+    groups
+}
+
+fn values(g: &Group, metric: &str) -> Vec<f64> {
+    g.entries
+        .iter()
+        .filter_map(|e| e.metrics.get(metric).and_then(Value::as_f64))
+        .collect()
+}
+
+/// A file-name-safe version of `s`.
+fn slug(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '.' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// A number for a table: 4 significant digits.
+fn num(v: f64) -> String {
+    if v.is_nan() {
+        "–".into()
+    } else if v != 0.0 && (v.abs() >= 1e5 || v.abs() < 1e-3) {
+        format!("{v:.3e}")
+    } else {
+        let digits = (3 - v.abs().log10().floor() as i32).clamp(0, 6) as usize;
+        format!("{v:.digits$}")
+    }
+}
+
+fn p_text(p: f64, exact: bool) -> String {
+    format!("{}{}", num(p), if exact { " (exact)" } else { "" })
+}
+
+/// One metric's table, tests and box plot.
+fn section(
+    md: &mut String,
+    figures: &Path,
+    factor: &str,
+    metric: &str,
+    groups: &[Group],
+) -> CliResult {
+    let _ = writeln!(md, "### {metric}\n");
+    md.push_str("| stratum | level | n | median | IQR | mean |\n|---|---|---:|---:|---:|---:|\n");
+    let mut boxes = Vec::new();
+    let mut colours = Vec::new();
+    for g in groups {
+        let v = values(g, metric);
+        let Some(b) = BoxStats::of(&v) else { continue };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} |",
+            g.stratum,
+            g.level,
+            b.n,
+            num(b.median),
+            num(b.iqr()),
+            num(b.mean)
+        );
+        let label = if g.stratum.is_empty() {
+            g.level.clone()
+        } else {
+            format!("{} · {}", g.level, g.stratum)
+        };
+        boxes.push(BoxGroup { label, stats: b });
+        colours.push(g.level_index);
+    }
+    md.push('\n');
+    let strata: BTreeSet<&str> = groups.iter().map(|g| g.stratum.as_str()).collect();
+    for stratum in strata {
+        let in_stratum: Vec<(&Group, Vec<f64>)> = groups
+            .iter()
+            .filter(|g| g.stratum == stratum)
+            .map(|g| (g, values(g, metric)))
+            .filter(|(_, v)| !v.is_empty())
+            .collect();
+        let at = if stratum.is_empty() {
+            String::new()
+        } else {
+            format!(" ({stratum})")
+        };
+        match in_stratum.len() {
+            0 | 1 => {}
+            2 => {
+                if let Some(t) = mann_whitney(&in_stratum[0].1, &in_stratum[1].1) {
+                    let _ = writeln!(
+                        md,
+                        "Mann–Whitney{at}: {} vs {}: U = {}, p = {}\n",
+                        in_stratum[0].0.level,
+                        in_stratum[1].0.level,
+                        num(t.u),
+                        p_text(t.p(), t.p_exact.is_some())
+                    );
+                }
+            }
+            _ => {
+                let refs: Vec<&[f64]> = in_stratum.iter().map(|(_, v)| v.as_slice()).collect();
+                if let Some(t) = kruskal_wallis(&refs) {
+                    let _ = writeln!(
+                        md,
+                        "Kruskal–Wallis{at}: H = {} (df {}), p = {}\n",
+                        num(t.h),
+                        t.df,
+                        p_text(t.p(), t.p_exact.is_some())
+                    );
+                }
+                let mut pairs = Vec::new();
+                for i in 0..in_stratum.len() {
+                    for j in i + 1..in_stratum.len() {
+                        if let Some(t) = mann_whitney(&in_stratum[i].1, &in_stratum[j].1) {
+                            pairs.push((i, j, t));
+                        }
+                    }
+                }
+                let adjusted = holm(&pairs.iter().map(|(_, _, t)| t.p()).collect::<Vec<_>>());
+                md.push_str("| pair | U | p | Holm p |\n|---|---:|---:|---:|\n");
+                for ((i, j, t), a) in pairs.iter().zip(adjusted) {
+                    let _ = writeln!(
+                        md,
+                        "| {} vs {} | {} | {} | {} |",
+                        in_stratum[*i].0.level,
+                        in_stratum[*j].0.level,
+                        num(t.u),
+                        p_text(t.p(), t.p_exact.is_some()),
+                        num(a)
+                    );
+                }
+                md.push('\n');
+            }
+        }
+    }
+    if !boxes.is_empty() {
+        let name = format!("{}--by--{}.svg", slug(metric), slug(factor));
+        notched_boxes(
+            &figures.join(&name),
+            &format!("{metric} by {factor}"),
+            metric,
+            &boxes,
+            &colours,
+        )?;
+        let _ = writeln!(md, "![{metric} by {factor}]({FIGURES}/{name})\n");
+    }
+    Ok(())
+}
+
+/// How often each value of a text metric occurs per group.
+fn counts(md: &mut String, metric: &str, groups: &[Group]) {
+    let values: BTreeSet<&str> = groups
+        .iter()
+        .flat_map(|g| {
+            g.entries
+                .iter()
+                .filter_map(|e| e.metrics.get(metric)?.as_str())
+        })
+        .collect();
+    let _ = writeln!(md, "### {metric} (counts)\n");
+    let _ = write!(md, "| stratum | level | n |");
+    for v in &values {
+        let _ = write!(md, " {v} |");
+    }
+    let _ = write!(md, "\n|---|---|---:|");
+    for _ in &values {
+        md.push_str("---:|");
+    }
+    md.push('\n');
+    for g in groups {
+        let _ = write!(md, "| {} | {} | {} |", g.stratum, g.level, g.entries.len());
+        for v in &values {
+            let c = g
+                .entries
+                .iter()
+                .filter(|e| e.metrics.get(metric).and_then(Value::as_str) == Some(v))
+                .count();
+            let _ = write!(md, " {c} |");
+        }
+        md.push('\n');
+    }
+    md.push('\n');
+}
+
+/// The `ic_<object>` columns of a closed-loop trial's `explore.csv`.
+fn ic_series(dir: &Path, key: &str) -> Option<BTreeMap<String, Vec<f64>>> {
+    let text = std::fs::read_to_string(dir.join(RUNS).join(key).join("explore.csv")).ok()?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next()?.split(',').collect();
+    let columns: Vec<(usize, String)> = header
+        .iter()
+        .enumerate()
+        .filter_map(|(i, h)| Some((i, h.strip_prefix("ic_")?.to_string())))
+        .collect();
+    if columns.is_empty() {
+        return None;
+    }
+    let mut out: BTreeMap<String, Vec<f64>> = BTreeMap::new();
+    for line in lines {
+        let cells: Vec<&str> = line.split(',').collect();
+        for (i, name) in &columns {
+            let v = cells
+                .get(*i)
+                .and_then(|c| c.parse().ok())
+                .unwrap_or(f64::NAN);
+            out.entry(name.clone()).or_default().push(v);
+        }
+    }
+    Some(out)
+}
+
+/// Integrated confidence over iterations per group, one figure per object.
+fn curves(
+    md: &mut String,
+    dir: &Path,
+    figures: &Path,
+    factor: &str,
+    groups: &[Group],
+) -> CliResult {
+    let mut per_object: BTreeMap<String, Vec<Curve>> = BTreeMap::new();
+    for g in groups {
+        let series: Vec<BTreeMap<String, Vec<f64>>> = g
+            .entries
+            .iter()
+            .filter_map(|e| ic_series(dir, &e.key))
+            .collect();
+        let Some(first) = series.first() else {
+            continue;
+        };
+        for object in first.keys() {
+            let runs: Vec<&Vec<f64>> = series.iter().filter_map(|s| s.get(object)).collect();
+            let len = runs.iter().map(|r| r.len()).max().unwrap_or(0);
+            if len == 0 {
+                continue;
+            }
+            // At most ~400 points per curve.
+            let stride = len.div_ceil(400).max(1);
+            let mut curve = Curve {
+                label: if g.stratum.is_empty() {
+                    format!("{} (n={})", g.level, runs.len())
+                } else {
+                    format!("{} · {} (n={})", g.level, g.stratum, runs.len())
+                },
+                x: vec![],
+                median: vec![],
+                q1: vec![],
+                q3: vec![],
+            };
+            for k in (0..len).step_by(stride).chain(std::iter::once(len - 1)) {
+                let mut v: Vec<f64> = runs
+                    .iter()
+                    .filter(|r| !r.is_empty())
+                    .map(|r| r[k.min(r.len() - 1)])
+                    .filter(|x| !x.is_nan())
+                    .collect();
+                if v.is_empty() {
+                    continue;
+                }
+                v.sort_by(f64::total_cmp);
+                curve.x.push((k + 1) as f64);
+                curve.median.push(prctile(&v, 50.0));
+                curve.q1.push(prctile(&v, 25.0));
+                curve.q3.push(prctile(&v, 75.0));
+            }
+            per_object.entry(object.clone()).or_default().push(curve);
+        }
+    }
+    if per_object.is_empty() {
+        return Ok(());
+    }
+    let _ = writeln!(md, "### Integrated confidence over iterations\n");
+    for (object, curves) in per_object {
+        let name = format!(
+            "ic_{}-over-iterations--by--{}.svg",
+            slug(&object),
+            slug(factor)
+        );
+        band_curves(
+            &figures.join(&name),
+            &format!("integrated confidence of {object} by {factor} (median, IQR band)"),
+            "whisk (iteration)",
+            &format!("IC {object}"),
+            &curves,
+        )
+        .map_err(|e| CliError::Failure(e.to_string()))?;
+        let _ = writeln!(md, "![IC of {object} by {factor}]({FIGURES}/{name})\n");
+    }
+    Ok(())
+}

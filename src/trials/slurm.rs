@@ -1,0 +1,142 @@
+//! `whisker trials slurm SCENARIO --out DIR --shards K`: the scripts that run a batch on a
+//! Slurm cluster as a job array of K shards plus a merge job that waits for it
+//! (`afterok`). Conventions from ../shared/notes/slurm.md: the shard comes from an
+//! explicit `--shard ${SLURM_ARRAY_TASK_ID}/K` with K fixed in the script (re-running
+//! failed tasks with `--array=3,7` splits the work the same way), outputs are named
+//! `%A_%a`, and a task whose shard directory exists resumes it.
+//!
+//! Written into `DIR/slurm/`: `array.sh`, `merge.sh` and `submit.sh` (submits both and
+//! prints the job IDs). Shards go to `DIR/shards/<I>/`, the merged batch to `DIR/`. On a
+//! real cluster DIR must be on a filesystem every node sees.
+
+use super::Batch;
+use crate::error::{CliError, CliResult};
+use std::path::{Path, PathBuf};
+
+/// `whisker trials slurm`.
+#[derive(clap::Args, Debug)]
+pub struct Options {
+    /// The scenario with `[trials]`.
+    pub scenario: PathBuf,
+    /// The batch directory (scripts in slurm/, shards in shards/, merged results here).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Number of array tasks K (each runs every K-th trial).
+    #[arg(long)]
+    pub shards: usize,
+    /// CPUs per task (worker threads of each shard).
+    #[arg(long, default_value_t = 1)]
+    pub cpus_per_task: usize,
+    /// Extra `#SBATCH` option for both jobs, e.g. `--sbatch=--partition=short`
+    /// (repeatable).
+    #[arg(long = "sbatch", value_name = "OPTION", allow_hyphen_values = true)]
+    pub sbatch: Vec<String>,
+    /// The `whisker` binary the jobs run [default: this one].
+    #[arg(long)]
+    pub whisker: Option<PathBuf>,
+}
+
+/// Single-quotes `s` for the shell.
+fn quote(s: &str) -> String {
+    format!("'{}'", s.replace('\'', "'\\''"))
+}
+
+fn absolute(p: &Path) -> CliResult<PathBuf> {
+    std::path::absolute(p).map_err(|e| CliError::Input(format!("{}: {e}", p.display())))
+}
+
+/// Writes the scripts; returns the path of `submit.sh`.
+pub fn write(o: &Options) -> CliResult<PathBuf> {
+    let batch = Batch::load(&o.scenario)?;
+    if o.shards == 0 || o.shards > 1000 {
+        return Err(CliError::Input(format!(
+            "--shards: expected 1 to 1000 (Slurm's default MaxArraySize is 1001), got {}",
+            o.shards
+        )));
+    }
+    if o.cpus_per_task == 0 {
+        return Err(CliError::Input(
+            "--cpus-per-task: expected at least 1".into(),
+        ));
+    }
+    let k = o.shards.min(batch.trials.len());
+    let whisker = match &o.whisker {
+        Some(p) => absolute(p)?,
+        None => std::env::current_exe()
+            .map_err(|e| CliError::Failure(format!("cannot find this binary: {e}")))?,
+    };
+    let scenario = absolute(&o.scenario)?;
+    let out = absolute(&o.out)?;
+    let dir = out.join("slurm");
+    crate::output::create_dir(&dir.join("logs"))?;
+    crate::output::create_dir(&out.join("shards"))?;
+    let q = |p: &Path| quote(&p.display().to_string());
+    let extra: String = o.sbatch.iter().map(|s| format!("#SBATCH {s}\n")).collect();
+    let array = format!(
+        "#!/bin/bash\n\
+         # {n} trials of {scenario} in {k} shards (whisker trials slurm).\n\
+         #SBATCH --job-name=whisker-trials\n\
+         #SBATCH --array=0-{last}\n\
+         #SBATCH --cpus-per-task={cpus}\n\
+         #SBATCH --output={logs}/%A_%a.log\n\
+         {extra}\
+         set -euo pipefail\n\
+         I=${{SLURM_ARRAY_TASK_ID:?not run as a Slurm array task}}\n\
+         SHARD={shards}/$I\n\
+         RESUME=()\n\
+         [ -e \"$SHARD/trials.json\" ] && RESUME=(--resume)\n\
+         exec {whisker} trials {scenario_q} --out \"$SHARD\" --shard \"$I/{k}\" \
+         --jobs \"${{SLURM_CPUS_PER_TASK:-{cpus}}}\" --no-report \"${{RESUME[@]}}\"\n",
+        n = batch.trials.len(),
+        scenario = scenario.display(),
+        last = k - 1,
+        cpus = o.cpus_per_task,
+        logs = dir.join("logs").display(),
+        shards = q(&out.join("shards")),
+        whisker = q(&whisker),
+        scenario_q = q(&scenario),
+    );
+    let shard_dirs: Vec<String> = (0..k)
+        .map(|i| q(&out.join("shards").join(i.to_string())))
+        .collect();
+    let merge = format!(
+        "#!/bin/bash\n\
+         # Merges the {k} shards into {out} once every array task succeeded (afterok).\n\
+         #SBATCH --job-name=whisker-trials-merge\n\
+         #SBATCH --output={logs}/merge-%j.log\n\
+         {extra}\
+         set -euo pipefail\n\
+         exec {whisker} trials merge {dirs} --out {out_q}\n",
+        out = out.display(),
+        logs = dir.join("logs").display(),
+        whisker = q(&whisker),
+        dirs = shard_dirs.join(" "),
+        out_q = q(&out),
+    );
+    let submit = format!(
+        "#!/bin/bash\n\
+         # Submits the array, then the merge job that waits for it; prints both job IDs.\n\
+         set -euo pipefail\n\
+         ARRAY=$(sbatch --parsable {array})\n\
+         MERGE=$(sbatch --parsable --dependency=afterok:${{ARRAY%%;*}} {merge})\n\
+         echo \"${{ARRAY%%;*}} $MERGE\"\n",
+        array = q(&dir.join("array.sh")),
+        merge = q(&dir.join("merge.sh")),
+    );
+    for (name, text) in [
+        ("array.sh", array),
+        ("merge.sh", merge),
+        ("submit.sh", submit),
+    ] {
+        let path = dir.join(name);
+        crate::output::write_atomic(&path, text.as_bytes())?;
+        set_executable(&path)?;
+    }
+    Ok(dir.join("submit.sh"))
+}
+
+fn set_executable(path: &Path) -> CliResult {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755))
+        .map_err(|e| CliError::Failure(format!("{}: {e}", path.display())))
+}

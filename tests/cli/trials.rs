@@ -1,0 +1,400 @@
+//! `whisker trials`: rows independent of the worker count and equal to single `whisker run`s
+//! with the same overrides, resume after `kill -9` at three moments (final bytes equal to an
+//! uninterrupted batch, no trial finished twice), shards merged into the unsharded bytes
+//! (a missing shard named), a failing trial recorded while the batch goes on, and bad
+//! `[trials]` input.
+
+use super::*;
+use serde_json::Value;
+use std::collections::BTreeMap;
+use std::process::Stdio;
+use std::time::{Duration, Instant};
+
+/// A small closed-loop batch: recognition of the Box, 2 strategies × 3 seeds, 60 whisks a
+/// trial (about half a second each). `extra` goes into `[trials.factors]`.
+fn scenario(dir: &Path, iterations: usize, extra: &str) -> PathBuf {
+    let abs = |p: &str| repo(p).display().to_string();
+    let text = format!(
+        r#"version = 1
+seed = 0
+sensing = "kinematic"
+
+[arm]
+urdf = "{urdf}"
+initial_joints_deg = [0.0, -115.0, 137.5, -22.5, 90.0, 0.0]
+
+[[objects]]
+mesh = "{mesh}"
+name = "box"
+position_m = [0.55, 0.0, 0.0]
+
+[explore]
+task = "recognise"
+max_iterations = {iterations}
+maps = {{ box = "{box_map}", box_stack = "{stack_map}" }}
+
+[trials]
+seeds = [0, 1, 2]
+
+[trials.factors]
+explore.strategy = ["default", "feh"]
+{extra}
+"#,
+        urdf = abs("assets/urdf/ur5_whisker_array.urdf"),
+        mesh = abs("assets/meshes/box.obj"),
+        box_map = abs("assets/maps/box.json"),
+        stack_map = abs("assets/maps/box_stack.json"),
+    );
+    let file = dir.join("batch.toml");
+    std::fs::write(&file, text).unwrap();
+    file
+}
+
+fn trials(args: &[&str]) -> Output {
+    let mut all = vec!["trials"];
+    all.extend_from_slice(args);
+    whisker(&all)
+}
+
+fn ok(out: &Output) {
+    assert!(
+        out.status.success(),
+        "{}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn read(p: &Path) -> Vec<u8> {
+    std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// Fields of one CSV line (quotes understood).
+fn fields(line: &str) -> Vec<String> {
+    let mut out = vec![String::new()];
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                chars.next();
+                out.last_mut().unwrap().push('"');
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => out.push(String::new()),
+            (c, _) => out.last_mut().unwrap().push(c),
+        }
+    }
+    out
+}
+
+/// A summary value at a dotted path, as trials.csv would print it.
+fn at(summary: &Value, dotted: &str) -> String {
+    let mut v = summary;
+    for k in dotted.split('.') {
+        v = &v[k];
+    }
+    match v {
+        Value::Null => String::new(),
+        Value::String(s) => s.clone(),
+        other => other.to_string(),
+    }
+}
+
+#[test]
+fn rows_do_not_depend_on_jobs_and_equal_single_runs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = scenario(tmp.path(), 40, "");
+    let (a, b) = (tmp.path().join("j1"), tmp.path().join("j2"));
+    let f = file.to_str().unwrap();
+    ok(&trials(&[f, "--out", a.to_str().unwrap(), "--jobs", "1"]));
+    ok(&trials(&[f, "--out", b.to_str().unwrap(), "--jobs", "2"]));
+    let csv = read(&a.join("trials.csv"));
+    assert_eq!(csv, read(&b.join("trials.csv")), "--jobs 1 and 2 differ");
+    let text = String::from_utf8(csv).unwrap();
+    let mut lines = text.lines();
+    let header = fields(lines.next().unwrap());
+    let rows: Vec<Vec<String>> = lines.map(fields).collect();
+    assert_eq!(rows.len(), 6);
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let error = col("error");
+    for row in &rows {
+        assert_eq!(row[col("status")], "ok", "{row:?}");
+        let (seed, strategy) = (&row[col("seed")], &row[col("explore.strategy")]);
+        // The same trial as one `whisker run`: the same summary.json bytes, and the row
+        // holds its values.
+        let single = tmp.path().join(format!("single-{strategy}-{seed}"));
+        ok(&whisker(&[
+            "run",
+            f,
+            "--seed",
+            seed,
+            "--set",
+            &format!("explore.strategy={strategy}"),
+            "--out",
+            single.to_str().unwrap(),
+        ]));
+        let summary_bytes = read(&single.join("summary.json"));
+        assert_eq!(
+            summary_bytes,
+            read(&a.join("runs").join(&row[0]).join("summary.json")),
+            "trial {} differs from whisker run",
+            row[0]
+        );
+        let summary: Value = serde_json::from_slice(&summary_bytes).unwrap();
+        assert_eq!(summary["strategy"], strategy.as_str());
+        for (i, name) in header.iter().enumerate().skip(error + 1) {
+            assert_eq!(row[i], at(&summary, name), "{} column {name}", row[0]);
+        }
+        assert_eq!(
+            read(&single.join("explore.csv")),
+            read(&a.join("runs").join(&row[0]).join("explore.csv"))
+        );
+    }
+    // The report exists and names both strategies' box plots.
+    let report = std::fs::read_to_string(a.join("report.md")).unwrap();
+    assert!(report.contains("## By `explore.strategy`"), "{report}");
+    assert!(
+        a.join("figures/recognition.final_ic.box--by--explore.strategy.svg")
+            .is_file()
+    );
+    // A new batch in a used directory is refused.
+    let again = trials(&[f, "--out", a.to_str().unwrap()]);
+    assert_eq!(again.status.code(), Some(2));
+}
+
+/// Starts a batch and kills it with SIGKILL once `ready` holds of its directory (or at
+/// the deadline).
+fn kill_when(args: &[&str], dir: &Path, ready: impl Fn(&Path) -> bool) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_whisker"))
+        .arg("trials")
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while !ready(dir) && Instant::now() < deadline {
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let _ = child.kill(); // SIGKILL
+    child.wait().unwrap();
+}
+
+fn journal_lines(dir: &Path) -> usize {
+    std::fs::read_to_string(dir.join("journal.jsonl"))
+        .map(|t| t.matches('\n').count())
+        .unwrap_or(0)
+}
+
+fn started(dir: &Path) -> usize {
+    std::fs::read_to_string(dir.join("log.txt"))
+        .map(|t| t.lines().filter(|l| l.contains(" start ")).count())
+        .unwrap_or(0)
+}
+
+#[test]
+fn killed_three_times_and_resumed_gives_the_uninterrupted_bytes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = scenario(tmp.path(), 80, "");
+    let f = file.to_str().unwrap();
+    let whole = tmp.path().join("whole");
+    ok(&trials(&[
+        f,
+        "--out",
+        whole.to_str().unwrap(),
+        "--jobs",
+        "2",
+    ]));
+    let dir = tmp.path().join("killed");
+    let d = dir.to_str().unwrap();
+    // 1: while the first trials run, before any has finished.
+    kill_when(&[f, "--out", d, "--jobs", "2"], &dir, |p| started(p) >= 2);
+    assert_eq!(
+        journal_lines(&dir),
+        0,
+        "killed too late to test the first moment"
+    );
+    // 2: right after the second row became durable.
+    kill_when(&[f, "--out", d, "--jobs", "2", "--resume"], &dir, |p| {
+        journal_lines(p) >= 2
+    });
+    // 3: in the middle of a later trial.
+    kill_when(&[f, "--out", d, "--jobs", "1", "--resume"], &dir, |p| {
+        journal_lines(p) >= 4 && started(p) > journal_lines(p) + 2
+    });
+    assert!(
+        journal_lines(&dir) < 6,
+        "the batch finished before the third kill"
+    );
+    ok(&trials(&[f, "--out", d, "--jobs", "2", "--resume"]));
+    assert_eq!(
+        read(&dir.join("trials.csv")),
+        read(&whole.join("trials.csv"))
+    );
+    // From the log: every trial finished exactly once and never started again after.
+    let log = std::fs::read_to_string(dir.join("log.txt")).unwrap();
+    let mut finished: BTreeMap<String, usize> = BTreeMap::new();
+    for line in log.lines() {
+        let parts: Vec<&str> = line.split(' ').collect();
+        let (what, key) = (parts[2], parts[3].to_string());
+        match what {
+            "start" => assert!(
+                !finished.contains_key(&key),
+                "{key} started after it finished"
+            ),
+            "ok" | "failed" => *finished.entry(key).or_default() += 1,
+            other => panic!("unexpected log line {other}"),
+        }
+    }
+    assert_eq!(finished.len(), 6);
+    assert!(finished.values().all(|&n| n == 1), "{finished:?}");
+    // Every trial's outputs are whole (the killed ones' were cleared and redone).
+    for key in finished.keys() {
+        assert_eq!(
+            read(&dir.join("runs").join(key).join("summary.json")),
+            read(&whole.join("runs").join(key).join("summary.json"))
+        );
+    }
+}
+
+#[test]
+fn shards_merge_into_the_unsharded_bytes_and_a_missing_shard_is_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = scenario(tmp.path(), 30, "");
+    let f = file.to_str().unwrap();
+    let whole = tmp.path().join("whole");
+    ok(&trials(&[
+        f,
+        "--out",
+        whole.to_str().unwrap(),
+        "--jobs",
+        "2",
+    ]));
+    let shards: Vec<PathBuf> = (0..4).map(|i| tmp.path().join(format!("s{i}"))).collect();
+    for (i, s) in shards.iter().enumerate() {
+        ok(&trials(&[
+            f,
+            "--out",
+            s.to_str().unwrap(),
+            "--shard",
+            &format!("{i}/4"),
+            "--jobs",
+            "1",
+        ]));
+    }
+    let merged = tmp.path().join("merged");
+    let mut args = vec!["merge"];
+    args.extend(shards.iter().map(|s| s.to_str().unwrap()));
+    args.extend(["--out", merged.to_str().unwrap()]);
+    ok(&trials(&args));
+    assert_eq!(
+        read(&merged.join("trials.csv")),
+        read(&whole.join("trials.csv"))
+    );
+    assert!(merged.join("report.md").is_file());
+    // Shard 2 left out: named, nothing written.
+    let partial = tmp.path().join("partial");
+    let out = trials(&[
+        "merge",
+        shards[0].to_str().unwrap(),
+        shards[1].to_str().unwrap(),
+        shards[3].to_str().unwrap(),
+        "--out",
+        partial.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("shards not given: 2/4"), "{err}");
+    assert!(!partial.join("trials.csv").exists());
+    // The same shard twice: the duplicated trials are named.
+    let out = trials(&[
+        "merge",
+        shards[0].to_str().unwrap(),
+        shards[0].to_str().unwrap(),
+        shards[1].to_str().unwrap(),
+        shards[2].to_str().unwrap(),
+        shards[3].to_str().unwrap(),
+        "--out",
+        partial.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("seed=0 is in"));
+}
+
+#[test]
+fn a_failing_trial_is_recorded_and_the_batch_goes_on() {
+    let tmp = tempfile::tempdir().unwrap();
+    // The second map "file" exists but is not a map: those trials fail when they load it.
+    let not_a_map = repo("assets/urdf/ur5_whisker_array.urdf");
+    let extra = format!(
+        "explore.maps.box_stack = [\"{}\", \"{}\"]",
+        repo("assets/maps/box_stack.json").display(),
+        not_a_map.display()
+    );
+    let file = scenario(tmp.path(), 20, &extra);
+    let dir = tmp.path().join("out");
+    let out = trials(&[file.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(dir.join("trials.csv")).unwrap();
+    let status: Vec<String> = csv.lines().skip(1).map(|l| fields(l)[1].clone()).collect();
+    assert_eq!(status.len(), 12);
+    assert_eq!(status.iter().filter(|s| *s == "failed").count(), 6, "{csv}");
+    assert!(csv.contains("explore.maps.box_stack=#1"), "{csv}");
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(report.contains("## Failed trials"));
+}
+
+#[test]
+fn bad_trials_input_names_the_field_and_a_changed_scenario_is_refused_on_resume() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            "explore.spc = [true, \"maybe\"]",
+            "trials.factors.explore.spc[1]",
+        ),
+        ("explore.bogus = [1, 2]", "bogus"),
+        (
+            "explore.max_iterations = 5",
+            "trials.factors.explore.max_iterations",
+        ),
+        ("seed = [1, 2]", "trials.factors.seed"),
+    ];
+    for (extra, want) in cases {
+        let file = scenario(tmp.path(), 20, extra);
+        let dir = tmp.path().join("never");
+        let out = trials(&[file.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{extra}: {err}");
+        assert!(
+            err.contains(want) && err.contains("batch.toml"),
+            "{extra}: {err}"
+        );
+        assert!(!dir.exists(), "{extra}: wrote output");
+    }
+    // A batch begun, then the scenario edited: --resume refuses, --force proceeds.
+    let file = scenario(tmp.path(), 10, "");
+    let dir = tmp.path().join("out");
+    let (f, d) = (file.to_str().unwrap(), dir.to_str().unwrap());
+    ok(&trials(&[f, "--out", d, "--no-report"]));
+    scenario(tmp.path(), 11, "");
+    let out = trials(&[f, "--out", d, "--resume"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("the scenario changed"));
+    ok(&trials(&[
+        f,
+        "--out",
+        d,
+        "--resume",
+        "--force",
+        "--no-report",
+    ]));
+}
