@@ -120,6 +120,9 @@ pub fn check(file: &Path) -> CliResult {
             scenario.output.sample_period_s
         );
     }
+    if scenario.trials.is_some() {
+        println!("{}", crate::trials::Batch::load(file)?.describe());
+    }
     let skipped = whisker_sim::arm::links_without_colliders(&plan.model);
     if !skipped.is_empty() {
         println!(

@@ -89,8 +89,15 @@ pub fn run(batch: &Batch, o: &Options) -> CliResult<Outcome> {
         if jobs == 1 { "" } else { "s" },
         dir.display()
     );
+    let mut journal = Journal::open(dir)?;
+    // A kill between a journal line and its log line: the journal is the record, the log
+    // catches up.
+    let logged = journal::finished_in_log(dir);
+    for e in entries.iter().filter(|e| !logged.contains(&e.key)) {
+        journal.log(status_name(e.status), &e.key)?;
+    }
     let progress = Progress::new(todo.len());
-    let shared = Mutex::new((Journal::open(dir)?, std::mem::take(&mut entries)));
+    let shared = Mutex::new((journal, std::mem::take(&mut entries)));
     let next = AtomicUsize::new(0);
     let first_error: Mutex<Option<CliError>> = Mutex::new(None);
     std::thread::scope(|scope| {
@@ -191,17 +198,21 @@ fn one(
     let mut guard = shared.lock().expect("no panic holds it");
     let (journal, entries) = &mut *guard;
     journal.append(&entry)?;
-    let status = match entry.status {
-        Status::Ok => "ok",
-        Status::Failed => "failed",
-    };
-    journal.log(status, &trial.key)?;
+    journal.log(status_name(entry.status), &trial.key)?;
     progress.tick(&entry);
     entries.push(entry);
     crate::output::write_atomic(
         &dir.join(CSV),
         journal::csv(&meta.factors, entries).as_bytes(),
     )
+}
+
+/// A status as the log writes it.
+fn status_name(s: Status) -> &'static str {
+    match s {
+        Status::Ok => "ok",
+        Status::Failed => "failed",
+    }
 }
 
 /// Runs `trial` into `dir` on one thread; its summary, or the error (a panic included).

@@ -227,6 +227,21 @@ pub fn read(dir: &Path) -> CliResult<Vec<Entry>> {
         .collect()
 }
 
+/// The keys `dir/log.txt` says finished (`ok` or `failed` lines).
+pub fn finished_in_log(dir: &Path) -> BTreeSet<String> {
+    std::fs::read_to_string(dir.join(LOG))
+        .unwrap_or_default()
+        .lines()
+        .filter_map(|l| {
+            let mut parts = l.split(' ').skip(2);
+            match (parts.next(), parts.next()) {
+                (Some("ok" | "failed"), Some(key)) => Some(key.to_string()),
+                _ => None,
+            }
+        })
+        .collect()
+}
+
 /// The journal and log of a batch directory, open for appending.
 pub struct Journal {
     journal: File,
@@ -243,9 +258,16 @@ impl Journal {
                 .open(dir.join(name))
                 .map_err(|e| CliError::Failure(format!("{}: {e}", dir.join(name).display())))
         };
+        let mut log = open(LOG)?;
+        // A log line cut short by a kill: end it, so the next line starts on its own.
+        let text = std::fs::read(dir.join(LOG)).unwrap_or_default();
+        if text.last().is_some_and(|&b| b != b'\n') {
+            log.write_all(b"\n")
+                .map_err(|e| CliError::Failure(format!("{LOG}: {e}")))?;
+        }
         Ok(Self {
             journal: open(JOURNAL)?,
-            log: open(LOG)?,
+            log,
         })
     }
 

@@ -120,6 +120,23 @@ impl Batch {
         })
     }
 
+    /// One line for `whisker check`: how many trials, of which factors and seeds.
+    pub fn describe(&self) -> String {
+        let mut parts: Vec<String> = self
+            .factors
+            .iter()
+            .map(|f| format!("{} ({})", f.path, f.labels.join(", ")))
+            .collect();
+        let seeds: std::collections::BTreeSet<u64> = self.trials.iter().map(|t| t.seed).collect();
+        parts.push(format!("{} seeds", seeds.len()));
+        format!(
+            "trials     {} trials ({:?}): {}",
+            self.trials.len(),
+            self.config.experiment,
+            parts.join(" × ")
+        )
+    }
+
     /// The changes a trial makes to the scenario (its seed excluded).
     pub fn overrides(&self, trial: &Trial) -> Vec<Override> {
         self.factors

@@ -102,8 +102,13 @@ pub fn write(dir: &Path) -> CliResult<PathBuf> {
         let groups = group(&ok, f, &meta.factors);
         let name = f.map_or("all trials", |f| meta.factors[f].as_str());
         let _ = writeln!(md, "## By `{name}`\n");
-        for metric in &numeric {
-            section(&mut md, &figures, name, metric, &groups)?;
+        if f.is_none() {
+            // Seeds only: one table of every metric.
+            overall(&mut md, &numeric, &groups);
+        } else {
+            for metric in &numeric {
+                section(&mut md, &figures, name, metric, &groups)?;
+            }
         }
         for metric in &categorical {
             counts(&mut md, metric, &groups);
@@ -339,6 +344,25 @@ fn section(
         let _ = writeln!(md, "![{metric} by {factor}]({FIGURES}/{name})\n");
     }
     Ok(())
+}
+
+/// A batch without factors: n, median, IQR and mean of every metric over all trials.
+fn overall(md: &mut String, numeric: &[String], groups: &[Group]) {
+    md.push_str("| metric | n | median | IQR | mean |\n|---|---:|---:|---:|---:|\n");
+    for metric in numeric {
+        let v: Vec<f64> = groups.iter().flat_map(|g| values(g, metric)).collect();
+        if let Some(b) = BoxStats::of(&v) {
+            let _ = writeln!(
+                md,
+                "| {metric} | {} | {} | {} | {} |",
+                b.n,
+                num(b.median),
+                num(b.iqr()),
+                num(b.mean)
+            );
+        }
+    }
+    md.push('\n');
 }
 
 /// How often each value of a text metric occurs per group.

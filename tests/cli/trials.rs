@@ -238,7 +238,7 @@ fn killed_three_times_and_resumed_gives_the_uninterrupted_bytes() {
     // From the log: every trial finished exactly once and never started again after.
     let log = std::fs::read_to_string(dir.join("log.txt")).unwrap();
     let mut finished: BTreeMap<String, usize> = BTreeMap::new();
-    for line in log.lines() {
+    for line in log.lines().filter(|l| !l.is_empty()) {
         let parts: Vec<&str> = line.split(' ').collect();
         let (what, key) = (parts[2], parts[3].to_string());
         match what {
@@ -397,4 +397,48 @@ fn bad_trials_input_names_the_field_and_a_changed_scenario_is_refused_on_resume(
         "--force",
         "--no-report",
     ]));
+}
+
+/// A maze-slam trial (`experiment = "maze-slam"`, one shard of the §3.3 batch: seed 0)
+/// holds the figures `whisker maze-slam` prints for that seed.
+#[test]
+fn a_maze_slam_trial_row_equals_whisker_maze_slam() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scenario = repo("scenarios/trials_maze.toml");
+    let s = scenario.to_str().unwrap();
+    let dir = tmp.path().join("out");
+    ok(&trials(&[
+        s,
+        "--out",
+        dir.to_str().unwrap(),
+        "--shard",
+        "0/10",
+    ]));
+    let text = std::fs::read_to_string(dir.join("trials.csv")).unwrap();
+    let mut lines = text.lines();
+    let header = fields(lines.next().unwrap());
+    let row = fields(lines.next().unwrap());
+    assert!(lines.next().is_none(), "shard 0/10 is seed 0 alone");
+    let o = whisker(&["maze-slam", s, "--seeds", "0", "--json"]);
+    ok(&o);
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let runs = v["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 2, "normal and kidnapped");
+    let mut checked = 0;
+    for run in runs {
+        let prefix = format!(
+            "{}.{}",
+            run["variant"].as_str().unwrap(),
+            run["images"].as_str().unwrap()
+        );
+        for figure in ["arr", "arcr", "energy_metric", "experiences", "templates"] {
+            let column = header
+                .iter()
+                .position(|h| *h == format!("{prefix}.{figure}"))
+                .unwrap();
+            assert_eq!(row[column], run[figure].to_string(), "{prefix}.{figure}");
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 10);
 }
