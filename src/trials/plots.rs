@@ -19,6 +19,8 @@ pub struct BoxGroup {
 pub struct Curve {
     /// Legend entry.
     pub label: String,
+    /// Colour index (e.g. the factor level).
+    pub colour: usize,
     /// x values.
     pub x: Vec<f64>,
     /// Median at each x.
@@ -192,8 +194,8 @@ pub fn band_curves(
         .y_desc(y_label)
         .draw()
         .map_err(|e| failed(path, e))?;
-    for (i, c) in curves.iter().enumerate() {
-        let colour = colour(i);
+    for c in curves {
+        let colour = colour(c.colour);
         let band: Vec<(f64, f64)> =
             c.x.iter()
                 .zip(&c.q3)

@@ -42,6 +42,11 @@ pub fn write(dir: &Path) -> CliResult<PathBuf> {
     entries.sort_by_key(|e| e.index);
     let ok: Vec<&Entry> = entries.iter().filter(|e| e.status == Status::Ok).collect();
     let figures = dir.join(FIGURES);
+    // The report owns figures/: a new report leaves none of an older one's.
+    if figures.is_dir() {
+        std::fs::remove_dir_all(&figures)
+            .map_err(|e| CliError::Failure(format!("cannot clear {}: {e}", figures.display())))?;
+    }
     crate::output::create_dir(&figures)?;
     let mut md = String::new();
     let _ = writeln!(md, "# Batch report: {}\n", meta.scenario);
@@ -435,7 +440,8 @@ fn curves(
     factor: &str,
     groups: &[Group],
 ) -> CliResult {
-    let mut per_object: BTreeMap<String, Vec<Curve>> = BTreeMap::new();
+    // One figure per object and stratum, a curve per level (coloured by level).
+    let mut per_object: BTreeMap<(String, String), Vec<Curve>> = BTreeMap::new();
     for g in groups {
         let series: Vec<BTreeMap<String, Vec<f64>>> = g
             .entries
@@ -454,11 +460,8 @@ fn curves(
             // At most ~400 points per curve.
             let stride = len.div_ceil(400).max(1);
             let mut curve = Curve {
-                label: if g.stratum.is_empty() {
-                    format!("{} (n={})", g.level, runs.len())
-                } else {
-                    format!("{} · {} (n={})", g.level, g.stratum, runs.len())
-                },
+                label: format!("{} (n={})", g.level, runs.len()),
+                colour: g.level_index,
                 x: vec![],
                 median: vec![],
                 q1: vec![],
@@ -480,28 +483,36 @@ fn curves(
                 curve.q1.push(prctile(&v, 25.0));
                 curve.q3.push(prctile(&v, 75.0));
             }
-            per_object.entry(object.clone()).or_default().push(curve);
+            per_object
+                .entry((object.clone(), g.stratum.clone()))
+                .or_default()
+                .push(curve);
         }
     }
     if per_object.is_empty() {
         return Ok(());
     }
     let _ = writeln!(md, "### Integrated confidence over iterations\n");
-    for (object, curves) in per_object {
+    for ((object, stratum), curves) in per_object {
+        let (at, file_at) = if stratum.is_empty() {
+            (String::new(), String::new())
+        } else {
+            (format!(", {stratum}"), format!("--{}", slug(&stratum)))
+        };
         let name = format!(
-            "ic_{}-over-iterations--by--{}.svg",
+            "ic_{}-over-iterations--by--{}{file_at}.svg",
             slug(&object),
             slug(factor)
         );
         band_curves(
             &figures.join(&name),
-            &format!("integrated confidence of {object} by {factor} (median, IQR band)"),
+            &format!("integrated confidence of {object} by {factor}{at} (median, IQR band)"),
             "whisk (iteration)",
             &format!("IC {object}"),
             &curves,
         )
         .map_err(|e| CliError::Failure(e.to_string()))?;
-        let _ = writeln!(md, "![IC of {object} by {factor}]({FIGURES}/{name})\n");
+        let _ = writeln!(md, "![IC of {object} by {factor}{at}]({FIGURES}/{name})\n");
     }
     Ok(())
 }

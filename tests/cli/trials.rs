@@ -163,6 +163,21 @@ fn rows_do_not_depend_on_jobs_and_equal_single_runs() {
     assert_eq!(again.status.code(), Some(2));
 }
 
+/// The small batch with `iterations` whisks a trial, run whole on 2 workers into
+/// `dir/whole`: the reference bytes.
+fn uninterrupted(dir: &Path, iterations: usize) -> (PathBuf, PathBuf) {
+    let file = scenario(dir, iterations, "");
+    let whole = dir.join("whole");
+    ok(&trials(&[
+        file.to_str().unwrap(),
+        "--out",
+        whole.to_str().unwrap(),
+        "--jobs",
+        "2",
+    ]));
+    (file, whole)
+}
+
 /// Starts a batch and kills it with SIGKILL once `ready` holds of its directory (or at
 /// the deadline).
 fn kill_when(args: &[&str], dir: &Path, ready: impl Fn(&Path) -> bool) {
@@ -199,16 +214,8 @@ fn started(dir: &Path) -> usize {
 #[test]
 fn killed_three_times_and_resumed_gives_the_uninterrupted_bytes() {
     let tmp = tempfile::tempdir().unwrap();
-    let file = scenario(tmp.path(), 80, "");
+    let (file, whole) = uninterrupted(tmp.path(), 80);
     let f = file.to_str().unwrap();
-    let whole = tmp.path().join("whole");
-    ok(&trials(&[
-        f,
-        "--out",
-        whole.to_str().unwrap(),
-        "--jobs",
-        "2",
-    ]));
     let dir = tmp.path().join("killed");
     let d = dir.to_str().unwrap();
     // 1: while the first trials run, before any has finished.
@@ -264,16 +271,8 @@ fn killed_three_times_and_resumed_gives_the_uninterrupted_bytes() {
 #[test]
 fn shards_merge_into_the_unsharded_bytes_and_a_missing_shard_is_named() {
     let tmp = tempfile::tempdir().unwrap();
-    let file = scenario(tmp.path(), 30, "");
+    let (file, whole) = uninterrupted(tmp.path(), 30);
     let f = file.to_str().unwrap();
-    let whole = tmp.path().join("whole");
-    ok(&trials(&[
-        f,
-        "--out",
-        whole.to_str().unwrap(),
-        "--jobs",
-        "2",
-    ]));
     let shards: Vec<PathBuf> = (0..4).map(|i| tmp.path().join(format!("s{i}"))).collect();
     for (i, s) in shards.iter().enumerate() {
         ok(&trials(&[
