@@ -97,14 +97,17 @@ pub fn write(dir: &Path) -> CliResult<PathBuf> {
         numeric.retain(|m| meta.report.contains(m));
         categorical.retain(|m| meta.report.contains(m));
     }
-    let factor_count = meta.factors.len();
-    let groupings: Vec<Option<usize>> = if factor_count == 0 {
+    // Factors with one level (a base's factor narrowed) compare nothing.
+    let varied: Vec<usize> = (0..meta.factors.len())
+        .filter(|&f| meta.levels.get(f).is_none_or(|l| l.len() > 1))
+        .collect();
+    let groupings: Vec<Option<usize>> = if varied.is_empty() {
         vec![None]
     } else {
-        (0..factor_count).map(Some).collect()
+        varied.iter().copied().map(Some).collect()
     };
     for &f in &groupings {
-        let groups = group(&ok, f, &meta.factors);
+        let groups = group(&ok, f, &meta.factors, &varied);
         let name = f.map_or("all trials", |f| meta.factors[f].as_str());
         let _ = writeln!(md, "## By `{name}`\n");
         if f.is_none() {
@@ -159,9 +162,14 @@ fn metrics(ok: &[&Entry]) -> (Vec<String>, Vec<String>) {
     (numeric, text)
 }
 
-/// The groups of `ok` by factor `f` within strata of the other factors (all in one
-/// group without a factor), in level order.
-fn group<'a>(ok: &[&'a Entry], f: Option<usize>, factors: &[String]) -> Vec<Group<'a>> {
+/// The groups of `ok` by factor `f` within strata of the other `varied` factors (all in
+/// one group without a factor), in level order.
+fn group<'a>(
+    ok: &[&'a Entry],
+    f: Option<usize>,
+    factors: &[String],
+    varied: &[usize],
+) -> Vec<Group<'a>> {
     let mut groups: Vec<Group<'a>> = Vec::new();
     // Level order: as the levels first appear in the trial order (the batch's order).
     let mut level_order: Vec<String> = Vec::new();
@@ -173,7 +181,7 @@ fn group<'a>(ok: &[&'a Entry], f: Option<usize>, factors: &[String]) -> Vec<Grou
                     .levels
                     .iter()
                     .enumerate()
-                    .filter(|&(i, _)| i != f)
+                    .filter(|&(i, _)| i != f && varied.contains(&i))
                     .map(|(i, l)| format!("{}={l}", factors[i]))
                     .collect();
                 (others.join(", "), e.levels[f].clone())
