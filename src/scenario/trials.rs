@@ -19,9 +19,11 @@ pub struct TrialsConfig {
     /// `whisker maze-slam`).
     #[serde(default)]
     pub experiment: Experiment,
-    /// Whether each trial writes its Rerun recording (`run.rrd`; heavy).
+    /// What each trial keeps in `runs/<key>/`: `"light"` (the summary, `explore.csv` or
+    /// `path.csv`, maze trajectories, `stdout.txt`) or `"all"` (also the recording and the
+    /// heavy streams: see [`HEAVY`]).
     #[serde(default)]
-    pub recordings: bool,
+    pub outputs: Outputs,
     /// The summary metrics the report analyses, by their flattened names
     /// (`recognition.srt`); default: every metric that varies.
     #[serde(default)]
@@ -68,6 +70,29 @@ impl Seeds {
         Ok(v)
     }
 }
+
+/// `trials.outputs`.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Outputs {
+    /// Without the recording and the files named in [`HEAVY`].
+    #[default]
+    Light,
+    /// Everything `whisker run` writes.
+    All,
+}
+
+/// The heavy outputs a light trial does not keep (prefixes of file names): the Rerun
+/// recording, every contact (`contacts.csv`, `anticipated.csv`), the 2 kHz whisker
+/// streams and the front end's contacts, the maze's tactile images.
+pub const HEAVY: [&str; 6] = [
+    "run.rrd",
+    "contacts.csv",
+    "anticipated.csv",
+    "whiskers.csv",
+    "frontend.csv",
+    "images-",
+];
 
 /// `trials.experiment`.
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]

@@ -12,7 +12,7 @@
 use super::journal::{self, CSV, Entry, Journal, Meta, RUNS, Status};
 use super::{Batch, Shard, Trial};
 use crate::error::{CliError, CliResult};
-use crate::scenario::trials::Experiment;
+use crate::scenario::trials::{Experiment, HEAVY, Outputs};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -233,6 +233,9 @@ pub fn run_trial(batch: &Batch, trial: &Trial, dir: &Path) -> Result<serde_json:
             Experiment::Run => crate::run::execute(&batch.file, &scenario, dir, &mut say),
             Experiment::MazeSlam => crate::maze_slam::trial(&batch.file, &scenario, dir, &mut say),
         })?;
+        if batch.config.outputs == Outputs::Light {
+            drop_heavy(dir)?;
+        }
         let summary = dir.join("summary.json");
         let text = std::fs::read_to_string(&summary)
             .map_err(|e| CliError::Failure(format!("{}: {e}", summary.display())))?;
@@ -250,6 +253,19 @@ pub fn run_trial(batch: &Batch, trial: &Trial, dir: &Path) -> Result<serde_json:
                 .unwrap_or_default()
         )),
     }
+}
+
+/// Deletes the heavy outputs ([`HEAVY`]) of a light trial.
+fn drop_heavy(dir: &Path) -> CliResult {
+    let fail = |e: std::io::Error| CliError::Failure(format!("{}: {e}", dir.display()));
+    for item in std::fs::read_dir(dir).map_err(fail)? {
+        let item = item.map_err(fail)?;
+        let name = item.file_name().to_string_lossy().into_owned();
+        if HEAVY.iter().any(|h| name.starts_with(h)) {
+            std::fs::remove_file(item.path()).map_err(fail)?;
+        }
+    }
+    Ok(())
 }
 
 /// Progress: a bar with ETA on a terminal, a line per trial otherwise.

@@ -22,7 +22,7 @@ pub mod slurm;
 use crate::error::{CliError, CliResult};
 use crate::scenario::Scenario;
 use crate::scenario::overrides::{Override, show, split_path};
-use crate::scenario::trials::{Experiment, TrialsConfig};
+use crate::scenario::trials::{Experiment, Outputs, TrialsConfig};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 use toml::{Table, Value};
@@ -149,8 +149,8 @@ impl Batch {
             .collect()
     }
 
-    /// The scenario of a trial: its levels set, its seed, no recording unless
-    /// `trials.recordings`.
+    /// The scenario of a trial: its levels set, its seed, no recording with light
+    /// outputs.
     pub fn scenario(&self, trial: &Trial) -> CliResult<Scenario> {
         let mut table = self.table.clone();
         for o in self.overrides(trial) {
@@ -159,7 +159,7 @@ impl Batch {
         table.insert("seed".into(), Value::Integer(trial.seed as i64));
         let mut scenario =
             Scenario::from_table(&self.file, table, &format!("trial {}", trial.key))?;
-        if !self.config.recordings {
+        if self.config.outputs == Outputs::Light {
             scenario.output.recording = false;
         }
         Ok(scenario)

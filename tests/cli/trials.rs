@@ -150,6 +150,10 @@ fn rows_do_not_depend_on_jobs_and_equal_single_runs() {
             read(&single.join("explore.csv")),
             read(&a.join("runs").join(&row[0]).join("explore.csv"))
         );
+        // Light outputs: the heavy contacts.csv and the recording stay out of the batch.
+        assert!(single.join("contacts.csv").is_file() && single.join("run.rrd").is_file());
+        let kept = a.join("runs").join(&row[0]);
+        assert!(!kept.join("contacts.csv").exists() && !kept.join("run.rrd").exists());
     }
     // The report exists and names both strategies' box plots.
     let report = std::fs::read_to_string(a.join("report.md")).unwrap();
