@@ -139,7 +139,12 @@ fn metrics(ok: &[&Entry]) -> (Vec<String>, Vec<String>) {
         if k == "seed" {
             continue;
         }
-        let values: Vec<&Value> = ok.iter().filter_map(|e| e.metrics.get(k)).collect();
+        // Null is a missing value (a censored SRT), not a kind of its own.
+        let values: Vec<&Value> = ok
+            .iter()
+            .filter_map(|e| e.metrics.get(k))
+            .filter(|v| !v.is_null())
+            .collect();
         let distinct: BTreeSet<String> = values.iter().map(|v| v.to_string()).collect();
         if distinct.len() < 2 {
             continue;
