@@ -81,6 +81,97 @@ fn relaxation_shares_a_loops_heading_error_equally() {
 }
 
 /// Random, distinct features for each of `n` places.
+/// 21 experiences along an arc (5 cm, 9° apart: a lap's worth of surface), linked in order
+/// by their true relative poses (20 consistent links), plus one false loop closure from the
+/// last to the first that says they sit 180° apart and 10 cm off — a match on the far side
+/// of a symmetric object.
+fn arc_with_a_false_link() -> (ObjectMap, Vec<Isometry3<f64>>) {
+    let truth: Vec<Isometry3<f64>> = (0..21)
+        .map(|k| {
+            let a = (9.0 * k as f64).to_radians();
+            pose(
+                0.3 * a.cos(),
+                0.3 * a.sin(),
+                a + std::f64::consts::FRAC_PI_2,
+            )
+        })
+        .collect();
+    let mut map = ObjectMap::default();
+    for (k, p) in truth.iter().enumerate() {
+        map.add(features(), [0.0; 6], p, None);
+        if k > 0 {
+            map.links
+                .push(Link::new(k - 1, k, &(truth[k - 1].inverse() * p)));
+        }
+    }
+    let lie = truth[20].inverse() * truth[0] * pose(0.1, 0.0, std::f64::consts::PI);
+    map.links.push(Link::new(20, 0, &lie));
+    (map, truth)
+}
+
+/// The largest position (m) and rotation (°) error of the map against the truth.
+fn worst(map: &ObjectMap, truth: &[Isometry3<f64>]) -> (f64, f64) {
+    truth.iter().enumerate().fold((0.0, 0.0), |(t, r), (i, p)| {
+        let d = p.inverse() * map.pose(i);
+        (
+            t.max(d.translation.vector.norm()),
+            r.max(d.rotation.angle().to_degrees()),
+        )
+    })
+}
+
+#[test]
+fn one_false_link_does_not_fold_a_map_of_twenty_consistent_links() {
+    // 300 updates' worth of relaxation (10 passes each, as WhiskerRatSLAM runs it).
+    let scale = Some((0.05, 20f64.to_radians()));
+    let (mut map, truth) = arc_with_a_false_link();
+    for _ in 0..300 {
+        map.relax_robust(10, 0.5, scale);
+    }
+    let (t, r) = worst(&map, &truth);
+    assert!(t < 0.02 && r < 5.0, "robust: {t} m, {r}°");
+    // The thesis' relaxation trusts the lie as much as the truth and folds the arc.
+    let (mut plain, _) = arc_with_a_false_link();
+    for _ in 0..300 {
+        plain.relax(10, 0.5);
+    }
+    let (t, r) = worst(&plain, &truth);
+    assert!(t > 0.05 && r > 20.0, "plain: {t} m, {r}°");
+}
+
+#[test]
+fn robust_relaxation_still_closes_a_genuine_loop() {
+    // A ring of 20 experiences made by dead reckoning with 2.5 mm and 0.2° of drift per
+    // step; every link holds the true relative pose. The disagreement at the closure
+    // (about 2 cm, 4°: within σ) is what relaxation must spread.
+    let n = 20;
+    let a = std::f64::consts::TAU / n as f64;
+    let step = pose(2.0 * 0.3 * (a / 2.0).sin(), 0.0, a);
+    let drift = pose(0.0025, 0.0, 0.2f64.to_radians());
+    let mut map = ObjectMap::default();
+    let mut at = pose(0.3, 0.0, std::f64::consts::FRAC_PI_2);
+    for k in 0..n {
+        map.add(features(), [0.0; 6], &at, None);
+        map.links.push(Link::new(k, (k + 1) % n, &step));
+        at = at * step * drift;
+    }
+    let residual = |m: &ObjectMap| {
+        let l = &m.links[n - 1];
+        let d = (m.pose(l.from) * l.relative()).inverse() * m.pose(l.to);
+        (d.translation.vector.norm(), d.rotation.angle().to_degrees())
+    };
+    let (t0, r0) = residual(&map);
+    assert!(t0 > 0.01 && r0 > 3.0, "{t0} {r0}");
+    for _ in 0..300 {
+        map.relax_robust(10, 0.5, Some((0.05, 20f64.to_radians())));
+    }
+    let (t1, r1) = residual(&map);
+    assert!(
+        t1 < 0.2 * t0 && r1 < 0.2 * r0,
+        "{t0} m {r0}° -> {t1} m {r1}°"
+    );
+}
+
 fn place_features(n: usize) -> Vec<Features> {
     let mut rng = substream(3, "test/whisker_ratslam/places");
     (0..n)

@@ -8,8 +8,14 @@
 //!    lies in the surface, not normal to it — a slip, since it cites Rusu et al., whose
 //!    normal is the least-spread axis. [`NormalAxis::Greatest`] reproduces the text.
 //! 2. For every unordered pair within `radius` (r_β, 0.3 m: every contact of a whisk), the
-//!    source is the point whose normal makes the smaller angle with the line to the
-//!    other (Eq 2.41); the Darboux frame u = n_s, v = (p_t − p_s) × u normalised,
+//!    source is the point whose normal makes the smaller angle with the line joining them,
+//!    |n·(p_t − p_s)| the larger ([`SourceRule::Rusu`]; a tie within 10⁻⁹ keeps the first):
+//!    Rusu et al.'s rule, "arccos(n_i·p_ji) ≤ arccos(n_j·p_ij)", as PCL's
+//!    `computePairFeatures` applies it (on |cos|, so a normal's sign does not matter). The
+//!    thesis cites Rusu et al. and says the same in words, but Eq 2.41 prints the
+//!    comparison without the arccos, which reverses it — a misprint; the two rules pick
+//!    different sources in about half of all pairs. [`SourceRule::Printed`] reproduces
+//!    Eq 2.41 as printed. Then the Darboux frame u = n_s, v = (p_t − p_s) × u normalised,
 //!    w = u × v (Eq 2.42; the thesis divides by δ, which leaves v short of unit length
 //!    unless u ⟂ p_t − p_s); then α = v·n_t, θ = atan2(w·n_t, u·n_t),
 //!    φ = u·(p_t − p_s)/δ and δ = ‖p_t − p_s‖ (Eq 2.43).
@@ -34,6 +40,18 @@ pub enum NormalAxis {
     Greatest,
 }
 
+/// Which point of a pair is the source (Eq 2.41).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum SourceRule {
+    /// The point whose normal makes the smaller angle with the joining line (Rusu et al.,
+    /// PCL; default).
+    #[default]
+    Rusu,
+    /// Eq 2.41 as printed: p1 iff n1·(p2 − p1) ≤ n2·(p1 − p2).
+    Printed,
+}
+
 /// PFH parameters.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -46,6 +64,8 @@ pub struct PfhParams {
     pub neighbours: usize,
     /// Normal axis.
     pub normal_axis: NormalAxis,
+    /// Source point rule.
+    pub source_rule: SourceRule,
 }
 
 impl Default for PfhParams {
@@ -55,6 +75,7 @@ impl Default for PfhParams {
             radius_m: 0.3,
             neighbours: 3,
             normal_axis: NormalAxis::Least,
+            source_rule: SourceRule::Rusu,
         }
     }
 }
@@ -132,16 +153,35 @@ fn principal_axis(points: &[Point3<f64>], axis: NormalAxis) -> Vector3<f64> {
     eig.eigenvectors.column(pick).into_owned()
 }
 
-/// The pair features of two oriented points (Eq 2.41–2.43); None when the line between
-/// them is parallel to the source normal (no Darboux frame) or they coincide.
+/// The pair features of two oriented points (Eq 2.41–2.43) with Rusu et al.'s source
+/// rule; None when the line between them is parallel to the source normal (no Darboux
+/// frame) or they coincide.
 pub fn pair_features(
     p1: &Point3<f64>,
     n1: &Vector3<f64>,
     p2: &Point3<f64>,
     n2: &Vector3<f64>,
 ) -> Option<PairFeatures> {
-    // Eq 2.41: the source is the point whose normal is closer to the line to the other.
-    let (ps, ns, pt, nt) = if n1.dot(&(p2 - p1)) <= n2.dot(&(p1 - p2)) {
+    pair_features_with(p1, n1, p2, n2, SourceRule::Rusu)
+}
+
+/// [`pair_features`] with the source chosen by `rule`.
+pub fn pair_features_with(
+    p1: &Point3<f64>,
+    n1: &Vector3<f64>,
+    p2: &Point3<f64>,
+    n2: &Vector3<f64>,
+    rule: SourceRule,
+) -> Option<PairFeatures> {
+    let d12 = p2 - p1;
+    let first = match rule {
+        // The smaller angle between normal and line: the larger |cos|. Equal within
+        // rounding (parallel normals, whose φ would change sign with the choice) keeps p1,
+        // so that the choice does not depend on where the pair sits.
+        SourceRule::Rusu => n1.dot(&d12).abs() >= n2.dot(&d12).abs() - 1e-9 * d12.norm(),
+        SourceRule::Printed => n1.dot(&d12) <= n2.dot(&(-d12)),
+    };
+    let (ps, ns, pt, nt) = if first {
         (p1, n1, p2, n2)
     } else {
         (p2, n2, p1, n1)
@@ -195,7 +235,9 @@ pub fn histogram(points: &[Point3<f64>], viewpoint: &Point3<f64>, params: &PfhPa
             if (points[j1] - points[j2]).norm() > params.radius_m {
                 continue;
             }
-            if let Some(f) = pair_features(&points[j1], &n[j1], &points[j2], &n[j2]) {
+            if let Some(f) =
+                pair_features_with(&points[j1], &n[j1], &points[j2], &n[j2], params.source_rule)
+            {
                 h[bin_index(&f, params)] += 1.0;
                 count += 1;
             }
@@ -250,6 +292,31 @@ mod tests {
         // A line along the source normal has no Darboux frame.
         let up = Point3::new(0.0, 0.0, -1.0);
         assert_eq!(pair_features(&p1, &n1, &up, &n1), None);
+    }
+
+    /// A pair where the rules differ, by hand. p1 = 0, p2 = (1, 0, 0); n1 at 60° from the
+    /// line (cos 0.5), n2 at 25.8° (|cos| 0.9, pointing back along it).
+    /// Eq 2.41 as printed: n1·(p2 − p1) = 0.5 ≤ n2·(p1 − p2) = 0.9, so p1 is the source and
+    /// φ = n1·d/δ = 0.5. Rusu / PCL: 0.5 < 0.9, so p2 (the smaller angle) is the source:
+    /// u = n2, d = p1 − p2 = (−1, 0, 0), φ = u·d = 0.9, v = d × u / ‖·‖ = (0, 1, 0),
+    /// w = u × v = (−s, 0, −0.9) with s = √0.19, α = v·n1 = 0,
+    /// θ = atan2(w·n1, u·n1) = atan2(−0.5 s − 0.9 √0.75, −0.45 + s √0.75).
+    #[test]
+    fn the_source_is_the_smaller_angle_not_equation_2_41_as_printed() {
+        let (p1, p2) = (Point3::origin(), Point3::new(1.0, 0.0, 0.0));
+        let s = 0.19f64.sqrt();
+        let n1 = Vector3::new(0.5, 0.0, 0.75f64.sqrt());
+        let n2 = Vector3::new(-0.9, 0.0, s);
+        let f = pair_features(&p1, &n1, &p2, &n2).unwrap();
+        assert!(close(f.phi, 0.9) && close(f.alpha, 0.0) && close(f.delta, 1.0));
+        let theta = (-0.5 * s - 0.9 * 0.75f64.sqrt()).atan2(-0.45 + s * 0.75f64.sqrt());
+        assert!(close(f.theta, theta), "{} vs {theta}", f.theta);
+        assert_eq!(pair_features(&p2, &n2, &p1, &n1), Some(f));
+        let printed = pair_features_with(&p1, &n1, &p2, &n2, SourceRule::Printed).unwrap();
+        assert!(close(printed.phi, 0.5));
+        // Flipping a normal's sign does not change Rusu's choice.
+        let g = pair_features(&p1, &n1, &p2, &(-n2)).unwrap();
+        assert!(close(g.phi, -0.9));
     }
 
     #[test]

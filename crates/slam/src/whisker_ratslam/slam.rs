@@ -75,6 +75,23 @@ pub struct ExperienceParams {
     pub correction: f64,
     /// Relaxation passes per update.
     pub loops: usize,
+    /// Robust relaxation's translation scale σ_t (m; an addition to the thesis, see
+    /// `ObjectMap::relax_robust`); 0 turns robust weighting off (the thesis' relaxation).
+    pub robust_position_m: f64,
+    /// Robust relaxation's rotation scale σ_θ (degrees).
+    pub robust_rotation_deg: f64,
+}
+
+impl ExperienceParams {
+    /// (σ_t, σ_θ in rad) of robust relaxation, or None when it is off.
+    pub fn robust_scale(&self) -> Option<(f64, f64)> {
+        (self.robust_position_m > 0.0 && self.robust_rotation_deg > 0.0).then(|| {
+            (
+                self.robust_position_m,
+                self.robust_rotation_deg.to_radians(),
+            )
+        })
+    }
 }
 
 impl Default for ExperienceParams {
@@ -83,6 +100,8 @@ impl Default for ExperienceParams {
             threshold_cells: 1.0,
             correction: 0.5,
             loops: 10,
+            robust_position_m: 0.05,
+            robust_rotation_deg: 20.0,
         }
     }
 }
@@ -182,8 +201,11 @@ impl WhiskerRatSlam {
         self.accumulated.add(odometry);
         // process_object_map
         let (experience, created, relocalised) = self.process_map(features, matched, best);
-        self.map
-            .relax(p.experiences.loops, p.experiences.correction);
+        self.map.relax_robust(
+            p.experiences.loops,
+            p.experiences.correction,
+            p.experiences.robust_scale(),
+        );
         self.map.history.push(HistoryEntry {
             sample: self.samples,
             experience,
