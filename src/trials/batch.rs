@@ -39,6 +39,9 @@ pub struct Options {
     /// With --resume: continue although the scenario changed since the batch began.
     #[arg(long, requires = "resume")]
     pub force: bool,
+    /// With --resume: run the trials that failed again (their journal lines are dropped).
+    #[arg(long, requires = "resume")]
+    pub retry_failed: bool,
     /// Do not write report.md and the figures at the end.
     #[arg(long)]
     pub no_report: bool,
@@ -62,6 +65,10 @@ pub fn run(batch: &Batch, o: &Options) -> CliResult<Outcome> {
     let meta = Meta::of(batch, o.shard);
     prepare(dir, &meta, o)?;
     let mut entries = journal::read(dir)?;
+    if o.retry_failed && entries.iter().any(|e| e.status == Status::Failed) {
+        entries.retain(|e| e.status == Status::Ok);
+        journal::rewrite(dir, &entries)?;
+    }
     let done: std::collections::BTreeSet<String> = entries.iter().map(|e| e.key.clone()).collect();
     let todo: Vec<&Trial> = batch
         .shard(o.shard)

@@ -119,6 +119,7 @@ pub fn bench(o: &BenchOptions) -> CliResult {
             shard: None,
             resume: false,
             force: false,
+            retry_failed: false,
             no_report: true,
         };
         let started = Instant::now();

@@ -227,6 +227,15 @@ pub fn read(dir: &Path) -> CliResult<Vec<Entry>> {
         .collect()
 }
 
+/// Replaces `dir/journal.jsonl` with `entries` (atomically).
+pub fn rewrite(dir: &Path, entries: &[Entry]) -> CliResult {
+    let text: String = entries
+        .iter()
+        .map(|e| serde_json::to_string(e).expect("plain JSON") + "\n")
+        .collect();
+    crate::output::write_atomic(&dir.join(JOURNAL), text.as_bytes())
+}
+
 /// The keys `dir/log.txt` says finished (`ok` or `failed` lines).
 pub fn finished_in_log(dir: &Path) -> BTreeSet<String> {
     std::fs::read_to_string(dir.join(LOG))

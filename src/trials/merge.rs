@@ -135,12 +135,8 @@ pub fn merge(o: &Options) -> CliResult<usize> {
     let mut meta = first.clone();
     meta.shard = None;
     meta.write(&o.out)?;
-    let journal: String = entries
-        .iter()
-        .map(|(_, e)| serde_json::to_string(e).expect("plain JSON") + "\n")
-        .collect();
-    crate::output::write_atomic(&o.out.join(journal::JOURNAL), journal.as_bytes())?;
     let entries: Vec<Entry> = entries.into_iter().map(|(_, e)| e).collect();
+    journal::rewrite(&o.out, &entries)?;
     crate::output::write_atomic(
         &o.out.join(journal::CSV),
         journal::csv(&meta.factors, &entries).as_bytes(),

@@ -354,6 +354,23 @@ fn a_failing_trial_is_recorded_and_the_batch_goes_on() {
     assert!(csv.contains("explore.maps.box_stack=#1"), "{csv}");
     let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(report.contains("## Failed trials"));
+    // --resume leaves failed trials be; --retry-failed runs them (and only them) again.
+    let d = dir.to_str().unwrap();
+    let f = file.to_str().unwrap();
+    let again = trials(&[f, "--out", d, "--resume"]);
+    assert_eq!(again.status.code(), Some(1));
+    let log = || std::fs::read_to_string(dir.join("log.txt")).unwrap();
+    let starts = |log: &str| log.lines().filter(|l| l.contains(" start ")).count();
+    assert_eq!(starts(&log()), 12);
+    let retried = trials(&[f, "--out", d, "--resume", "--retry-failed"]);
+    assert_eq!(retried.status.code(), Some(1));
+    assert_eq!(starts(&log()), 18);
+    let journal = std::fs::read_to_string(dir.join("journal.jsonl")).unwrap();
+    assert_eq!(journal.lines().count(), 12, "one line per trial");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("trials.csv")).unwrap(),
+        csv
+    );
 }
 
 #[test]
