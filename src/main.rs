@@ -34,7 +34,7 @@ enum Command {
         seed: Option<u64>,
         /// Change a scenario field by its dotted path, e.g. `--set explore.strategy=feh`
         /// (VALUE is TOML; a bare word is a string). Repeatable.
-        #[arg(long = "set", value_name = "PATH=VALUE", value_parser = parse_override)]
+        #[arg(long = "set", value_name = "PATH=VALUE", value_parser = Override::parse)]
         set: Vec<Override>,
     },
     /// Validate a scenario and print what would run; writes nothing.
@@ -127,10 +127,6 @@ enum UrdfCommand {
         #[arg(long = "package-path")]
         package_paths: Vec<PathBuf>,
     },
-}
-
-fn parse_override(arg: &str) -> Result<Override, String> {
-    Override::parse(arg)
 }
 
 fn main() -> ExitCode {

@@ -28,6 +28,7 @@ use crate::error::{CliError, CliResult};
 use crate::object_slam::SensingArg;
 use crate::scenario::array::{BendingConfig, RcpConfig};
 use crate::scenario::maze_slam::AngleEstimate;
+use crate::scenario::overrides::Override;
 use crate::scenario::{Scenario, Sensing};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use path::Sample;
@@ -101,6 +102,9 @@ pub struct Options {
     /// Physics: Rapier substeps per 0.5 ms step [scenario: `array.substeps`].
     #[arg(long)]
     pub substeps: Option<usize>,
+    /// Change a scenario field by its dotted path, as `whisker run --set` (repeatable).
+    #[arg(long = "set", value_name = "PATH=VALUE", value_parser = Override::parse)]
+    pub set: Vec<Override>,
 }
 
 /// Updates per second (§3.1.2).
@@ -343,7 +347,7 @@ type ImageSet = (String, Vec<TactileImage>);
 
 /// `whisker maze-slam`.
 pub fn run(o: &Options) -> CliResult {
-    let scenario = Scenario::load(&o.scenario)?;
+    let scenario = Scenario::load_with(&o.scenario, &o.set)?;
     let results = evaluate(o, &scenario)?;
     report(&results, o.json);
     Ok(())
@@ -372,6 +376,7 @@ pub fn trial(
         bending: None,
         segments: None,
         substeps: None,
+        set: Vec::new(),
     };
     let results = evaluate(&o, scenario)?;
     let mut summary = serde_json::Map::new();

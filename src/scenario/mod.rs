@@ -294,20 +294,14 @@ impl Scenario {
     /// Reads and checks a scenario file (what does not depend on the URDF).
     pub fn load(path: &Path) -> CliResult<Self> {
         let (text, table) = base::read_table(path)?;
-        let scenario: Self = if table.contains_key("base") {
+        if table.contains_key("base") {
             // Merged over its base: errors name the field, no longer the line.
-            base::resolve(path, table, 0)?.try_into().map_err(|e| {
-                CliError::Input(format!(
-                    "{} (merged over its base): {}",
-                    path.display(),
-                    e.to_string().trim_end()
-                ))
-            })?
-        } else {
-            toml::from_str(&text).map_err(|e| {
-                CliError::Input(format!("{}: {}", path.display(), e.to_string().trim_end()))
-            })?
-        };
+            let merged = base::resolve(path, table, 0)?;
+            return Self::from_table(path, merged, "merged over its base");
+        }
+        let scenario: Self = toml::from_str(&text).map_err(|e| {
+            CliError::Input(format!("{}: {}", path.display(), e.to_string().trim_end()))
+        })?;
         scenario.validate(path)?;
         Ok(scenario)
     }

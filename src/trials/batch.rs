@@ -70,12 +70,13 @@ pub fn run(batch: &Batch, o: &Options) -> CliResult<Outcome> {
         journal::rewrite(dir, &entries)?;
     }
     let done: std::collections::BTreeSet<String> = entries.iter().map(|e| e.key.clone()).collect();
-    let todo: Vec<&Trial> = batch
-        .shard(o.shard)
-        .into_iter()
+    let part = batch.shard(o.shard);
+    let todo: Vec<&Trial> = part
+        .iter()
+        .copied()
         .filter(|t| !done.contains(&t.key))
         .collect();
-    let already = batch.shard(o.shard).len() - todo.len();
+    let already = part.len() - todo.len();
     for t in &todo {
         // Outputs of a trial that was running when the batch was killed.
         let half = dir.join(RUNS).join(&t.key);
@@ -101,7 +102,7 @@ pub fn run(batch: &Batch, o: &Options) -> CliResult<Outcome> {
     // catches up.
     let logged = journal::finished_in_log(dir);
     for e in entries.iter().filter(|e| !logged.contains(&e.key)) {
-        journal.log(status_name(e.status), &e.key)?;
+        journal.log(e.status.name(), &e.key)?;
     }
     let progress = Progress::new(todo.len());
     let shared = Mutex::new((journal, std::mem::take(&mut entries)));
@@ -205,21 +206,13 @@ fn one(
     let mut guard = shared.lock().expect("no panic holds it");
     let (journal, entries) = &mut *guard;
     journal.append(&entry)?;
-    journal.log(status_name(entry.status), &trial.key)?;
+    journal.log(entry.status.name(), &trial.key)?;
     progress.tick(&entry);
     entries.push(entry);
     crate::output::write_atomic(
         &dir.join(CSV),
         journal::csv(&meta.factors, entries).as_bytes(),
     )
-}
-
-/// A status as the log writes it.
-fn status_name(s: Status) -> &'static str {
-    match s {
-        Status::Ok => "ok",
-        Status::Failed => "failed",
-    }
 }
 
 /// Runs `trial` into `dir` on one thread; its summary, or the error (a panic included).

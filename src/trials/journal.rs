@@ -120,6 +120,16 @@ pub enum Status {
     Failed,
 }
 
+impl Status {
+    /// As `trials.csv` and `log.txt` write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Status::Ok => "ok",
+            Status::Failed => "failed",
+        }
+    }
+}
+
 /// One journal line: a finished trial.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct Entry {
@@ -229,11 +239,13 @@ pub fn read(dir: &Path) -> CliResult<Vec<Entry>> {
 
 /// Replaces `dir/journal.jsonl` with `entries` (atomically).
 pub fn rewrite(dir: &Path, entries: &[Entry]) -> CliResult {
-    let text: String = entries
-        .iter()
-        .map(|e| serde_json::to_string(e).expect("plain JSON") + "\n")
-        .collect();
+    let text: String = entries.iter().map(line).collect();
     crate::output::write_atomic(&dir.join(JOURNAL), text.as_bytes())
+}
+
+/// An entry as one journal line.
+fn line(entry: &Entry) -> String {
+    serde_json::to_string(entry).expect("plain JSON") + "\n"
 }
 
 /// The keys `dir/log.txt` says finished (`ok` or `failed` lines).
@@ -292,9 +304,8 @@ impl Journal {
 
     /// Appends `entry` and waits until it is on disk.
     pub fn append(&mut self, entry: &Entry) -> CliResult {
-        let line = serde_json::to_string(entry).expect("plain JSON") + "\n";
         self.journal
-            .write_all(line.as_bytes())
+            .write_all(line(entry).as_bytes())
             .and_then(|_| self.journal.sync_data())
             .map_err(|e| CliError::Failure(format!("{JOURNAL}: {e}")))
     }
@@ -319,10 +330,9 @@ pub fn csv(factors: &[String], entries: &[Entry]) -> String {
     out.push('\n');
     for e in entries {
         out.push_str(&cell(&e.key));
-        out.push_str(match e.status {
-            Status::Ok => ",ok,",
-            Status::Failed => ",failed,",
-        });
+        out.push(',');
+        out.push_str(e.status.name());
+        out.push(',');
         out.push_str(&e.seed.to_string());
         for l in &e.levels {
             out.push(',');

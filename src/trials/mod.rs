@@ -38,6 +38,16 @@ pub struct Factor {
     pub labels: Vec<String>,
 }
 
+impl Factor {
+    /// The change that sets this factor to `level`.
+    pub fn set(&self, level: usize) -> Override {
+        Override {
+            path: split_path(&self.path).expect("checked when collected"),
+            value: self.levels[level].clone(),
+        }
+    }
+}
+
 /// One trial of a batch.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Trial {
@@ -91,10 +101,7 @@ impl Batch {
         for f in &factors {
             for (i, level) in f.levels.iter().enumerate() {
                 let mut t = table.clone();
-                let o = Override {
-                    path: split_path(&f.path).expect("checked"),
-                    value: level.clone(),
-                };
+                let o = f.set(i);
                 let field = format!("trials.factors.{}[{i}]", f.path);
                 o.apply(&mut t)
                     .map_err(|e| CliError::field(file, &field, e))?;
@@ -142,10 +149,7 @@ impl Batch {
         self.factors
             .iter()
             .zip(&trial.levels)
-            .map(|(f, &l)| Override {
-                path: split_path(&f.path).expect("checked"),
-                value: f.levels[l].clone(),
-            })
+            .map(|(f, &l)| f.set(l))
             .collect()
     }
 
@@ -165,19 +169,19 @@ impl Batch {
         Ok(scenario)
     }
 
-    /// The `whisker` command line that runs the same as `trial`.
+    /// The `whisker` command line that runs the same as `trial` (shell-quoted).
     pub fn command(&self, trial: &Trial) -> String {
-        let verb = match self.config.experiment {
-            Experiment::Run => "run",
-            Experiment::MazeSlam => "maze-slam",
+        let (verb, seed) = match self.config.experiment {
+            Experiment::Run => ("run", "--seed"),
+            Experiment::MazeSlam => ("maze-slam", "--json --seeds"),
         };
         let mut s = format!(
-            "whisker {verb} {} --seed {}",
-            self.file.display(),
+            "whisker {verb} {} {seed} {}",
+            quote(&self.file.display().to_string()),
             trial.seed
         );
         for o in self.overrides(trial) {
-            s += &format!(" --set '{}={}'", o.dotted(), o.value);
+            s += &format!(" --set {}", quote(&format!("{}={}", o.dotted(), o.value)));
         }
         s
     }
@@ -220,6 +224,11 @@ impl std::fmt::Display for Shard {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "{}/{}", self.index, self.count)
     }
+}
+
+/// Single-quotes `s` for the shell.
+pub fn quote(s: &str) -> String {
+    format!("'{}'", s.replace('\'', "'\\''"))
 }
 
 /// Lower-case hex of `bytes`.

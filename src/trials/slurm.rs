@@ -9,7 +9,7 @@
 //! prints the job IDs). Shards go to `DIR/shards/<I>/`, the merged batch to `DIR/`. On a
 //! real cluster DIR must be on a filesystem every node sees.
 
-use super::Batch;
+use super::{Batch, quote};
 use crate::error::{CliError, CliResult};
 use std::path::{Path, PathBuf};
 
@@ -34,11 +34,6 @@ pub struct Options {
     /// The `whisker` binary the jobs run [default: this one].
     #[arg(long)]
     pub whisker: Option<PathBuf>,
-}
-
-/// Single-quotes `s` for the shell.
-fn quote(s: &str) -> String {
-    format!("'{}'", s.replace('\'', "'\\''"))
 }
 
 fn absolute(p: &Path) -> CliResult<PathBuf> {
