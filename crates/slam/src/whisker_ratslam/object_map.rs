@@ -214,9 +214,8 @@ impl ObjectMap {
                 );
                 let w = match scale {
                     None => 1.0,
-                    Some((sigma_t, sigma_r)) => {
-                        let s =
-                            (offset_b.norm() / sigma_t).powi(2) + (turn_b.norm() / sigma_r).powi(2);
+                    Some(scale) => {
+                        let s = standardised_residual(offset_b.norm(), turn_b.norm(), scale);
                         1.0 / ((1.0 + s) * (1.0 + s))
                     }
                 };
@@ -349,4 +348,14 @@ impl ObjectMap {
             .map_err(|e| format!("{}: {e}", path.display()))?;
         Ok(map)
     }
+}
+
+/// s = (r_t/σ_t)² + (r_θ/σ_θ)² of a residual of `translation` (m) and `rotation` (rad) at
+/// `scale` = (σ_t, σ_θ): the argument of robust relaxation's weight.
+pub fn standardised_residual(
+    translation: f64,
+    rotation: f64,
+    (sigma_t, sigma_r): (f64, f64),
+) -> f64 {
+    (translation / sigma_t).powi(2) + (rotation / sigma_r).powi(2)
 }

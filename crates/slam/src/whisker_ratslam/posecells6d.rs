@@ -17,10 +17,25 @@
 //!   a floor/ceil pair. As in the thesis, the body rotation vector's components drive
 //!   the Euler axes directly: exact for rotation about one axis, first order otherwise.
 //!
+//! **Shift weights** (`shift`, an addition to the thesis): Fig 5.10–5.11 weight a
+//! fractional shift's floor and ceil by 1 − frac and frac. On a 5-cell axis the stable
+//! packet is, per axis, a rectified first Fourier mode (the excitation and inhibition
+//! kernels span the whole axis), and a linear-weighted shift advances that mode's phase —
+//! the decoded pose — by only 78–88 % of the command at the fractions one whisk
+//! commands, so a lap's rotation is integrated ~1 cell short. The default `phase`
+//! weights ([`ShiftWeights::Phase`]) advance it exactly; `linear` is the thesis' rule.
+//!
+//! **Translation gain** (a limit of the thesis' grid, not fixed): each orientation
+//! voxel moves its block in its own direction, and the stable packet spans ±1 cell (±72°)
+//! of every rotation axis, so the decoded position advances by the packet's mean of
+//! cos(orientation offset) — about 0.74 per rotation axis involved, ~0.5 for a forward
+//! motion — of the commanded translation. It is the same on every lap, so revisits still
+//! land on their first-lap cells; `tests/posecells6d.rs` measures it.
+//!
 //! Cell i of a rotation axis of n cells stands for the angle 360°·i/n (cell 0 is 0°);
 //! cell i of a translation axis for the position i·`cell_size_m` (modulo n cells).
 
-use crate::pose_grid::{Attractor, NetworkShape, PoseGrid, wrapped_distance};
+use crate::pose_grid::{Attractor, NetworkShape, PoseGrid, ShiftWeights, wrapped_distance};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
@@ -44,6 +59,17 @@ pub struct PoseCellParams {
     pub inhibit_variance: f64,
     /// Global inhibition (Alg 5).
     pub global_inhibition: f64,
+    /// Fractional-shift weights of path integration (module documentation): `phase`
+    /// (default) or the thesis' `linear`.
+    pub shift: ShiftWeights,
+    /// Cells per axis around the most active cell read by the best-pose decode
+    /// (§5.1.2.3.4: the peak cell and its neighbours; odd). The default 5 reads the whole
+    /// axis of the thesis' grid: there the attractor keeps only an axis' first two
+    /// Fourier modes (the inhibition removes the mean, the second mode is kept at 4 %),
+    /// so no second packet survives an update to be blended, and a 3-cell window makes
+    /// the decode jump by up to ~0.8 cell whenever the most active cell changes (a
+    /// revisit then reads 0.9–1.3 cells off its first visit instead of 0.1–0.5).
+    pub decode_window: usize,
 }
 
 impl Default for PoseCellParams {
@@ -56,6 +82,8 @@ impl Default for PoseCellParams {
             inhibit_width: 5,
             inhibit_variance: 2.0,
             global_inhibition: 2e-5,
+            shift: ShiftWeights::Phase,
+            decode_window: 5,
         }
     }
 }
@@ -67,6 +95,13 @@ impl PoseCellParams {
             return Err(format!(
                 "cells {:?}: expected at least 3 per axis",
                 self.cells
+            ));
+        }
+        let shortest = *self.cells.iter().min().unwrap_or(&0);
+        if self.decode_window.is_multiple_of(2) || self.decode_window > shortest {
+            return Err(format!(
+                "decode_window {}: expected an odd width of at most {shortest} cells",
+                self.decode_window
             ));
         }
         self.shape().validate()
@@ -115,9 +150,23 @@ impl PoseCells6 {
         }
     }
 
-    /// Adds `amount` of activity to the cell nearest `at` (Eq 5.9).
+    /// Adds `amount` of activity to the cell nearest `at` (Eq 5.9 as printed).
     pub fn inject(&mut self, at: &Cell6, amount: f64) {
         self.grid.inject_nearest(at, amount);
+    }
+
+    /// Adds a copy of the current activity, moved so that its most active cell lands on
+    /// the cell nearest `at` and scaled by `fraction`: a bump whose peak is `fraction` of
+    /// the packet's peak (Eq 5.9 with Ω read relative to the peak, as in the thesis' 1-D
+    /// example where activity is normalised to the maximum, §5.1.2.3.1).
+    pub fn inject_packet(&mut self, at: &Cell6, fraction: f64) {
+        let peak = self.grid.coords(self.grid.argmax());
+        let offset: Vec<i64> = at
+            .iter()
+            .zip(&peak)
+            .map(|(a, &p)| a.round() as i64 - p as i64)
+            .collect();
+        self.grid.add_shifted_copy(&offset, fraction);
     }
 
     /// Local excitation, local and global inhibition, normalisation (Alg 3–5).
@@ -143,7 +192,13 @@ impl PoseCells6 {
                         }
                         for (axis, amount) in w.iter().enumerate() {
                             if *amount != 0.0 {
-                                self.grid.shift_block_axis(start, block, axis, *amount);
+                                self.grid.shift_block_axis_with(
+                                    start,
+                                    block,
+                                    axis,
+                                    *amount,
+                                    self.params.shift,
+                                );
                             }
                         }
                     }
@@ -153,7 +208,7 @@ impl PoseCells6 {
         for k in 0..3 {
             let amount = rotation[k] / self.params.cell_angle(3 + k);
             if amount != 0.0 {
-                self.grid.shift_axis(3 + k, amount);
+                self.grid.shift_axis_with(3 + k, amount, self.params.shift);
             }
         }
     }
@@ -173,9 +228,10 @@ impl PoseCells6 {
         self.path_integrate(translation, rotation);
     }
 
-    /// The best pose (§5.1.2.3.4): population-vector decode around the most active cell.
+    /// The best pose (§5.1.2.3.4): population-vector decode of the most active cell and
+    /// its neighbours (`decode_window` cells per axis).
     pub fn best(&self) -> Cell6 {
-        let b = self.grid.best(self.params.excite_width);
+        let b = self.grid.best(self.params.decode_window);
         [b[0], b[1], b[2], b[3], b[4], b[5]]
     }
 

@@ -3,6 +3,15 @@
 //! (Eq 5.8–5.9), run the pose cells and path integration, read the best pose, and update
 //! the object map — create an experience, re-localise onto one, or stay.
 //!
+//! Order and independence of the re-localisation test: the pose cells are advanced
+//! (attractor, then path integration of this whisk's odometry) and the best pose is
+//! decoded *before* this whisk's match is injected; the experience rule below tests the
+//! match against that best pose, and the match's activity is injected afterwards, to be
+//! consolidated by the next update's attractor. (Alg 2 injects first; then the match
+//! pulls the packet it is tested against, and the 1-cell test never rejects it. Injecting
+//! after path integration also places the activity at the pose where the features were
+//! seen rather than one odometry step beyond it.)
+//!
 //! Experience rule (§5.1.2.4.1.1, with RatSLAM's re-localisation test): when the features
 //! match an experience whose recorded pose cell is within `threshold_cells` of the best
 //! pose, that experience becomes current (a link from the previous one, holding the
@@ -10,8 +19,19 @@
 //! best pose has moved more than `threshold_cells` from the current experience's cell, a
 //! new experience is created at the current experience's pose composed with the
 //! accumulated odometry; otherwise the current experience stays.
+//!
+//! Odometry anchor (with robust relaxation on; an addition to the thesis): the last
+//! experience *made* is the anchor, and the odometry since it is kept across
+//! re-localisations. A new experience made after re-localisations is also linked from the
+//! anchor by that odometry, and it is placed by it — at the anchor's pose composed with
+//! the odometry since — when the re-localised estimate disagrees with it by more than the
+//! robust scale (s > 1, `ObjectMap::relax_robust`). So a false re-localisation cannot
+//! carry the experiences made after it to the far side of the object: their odometry link
+//! holds them, and robust relaxation leaves the contradicting links little pull. When the
+//! two agree (a true revisit after little drift), the experience is placed as in the
+//! thesis, relative to the re-localised one.
 
-use super::object_map::{HistoryEntry, Link, ObjectMap};
+use super::object_map::{HistoryEntry, Link, ObjectMap, standardised_residual};
 use super::posecells6d::{Cell6, PoseCellParams, PoseCells6};
 use super::relative_pose::Accumulator;
 use crate::features::similarity::{Features, Matching};
@@ -19,12 +39,32 @@ use crate::sensor::Odometry;
 use nalgebra::Isometry3;
 use serde::{Deserialize, Serialize};
 
+/// How Ω is applied to the pose cells (Eq 5.9).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum InjectionScale {
+    /// Ω is a fraction of the packet's peak: a copy of the activity, its peak moved to the
+    /// matched cell, scaled by Ω ([`PoseCells6::inject_packet`]). The thesis' 1-D example
+    /// normalises activity to the maximum (§5.1.2.3.1), so ζ = 0.3 is 30 % of the peak;
+    /// on the 5⁶ grid the stable packet (sum 1) has a peak of ~0.0024, and Ω added to one
+    /// cell as printed is ~127× the peak, so one match moves the decoded pose by ~1.5 cells
+    /// while it should need "the coordinated effort across multiple features" (§5.1.2.2).
+    /// The bump has the packet's shape because on 5 cells per axis one cell's activity is
+    /// spread over the whole axis by the next excitation anyway.
+    #[default]
+    Peak,
+    /// Ω added to the matched cell as an absolute activity (Eq 5.9 as printed).
+    Cell,
+}
+
 /// Feature injection (Eq 5.8): Ω = ζ/30·(30 − e^{1.2·decay}).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Injection {
     /// ζ, the largest activity one match injects (0.3, §5.1.2.2).
     pub zeta: f64,
+    /// What Ω is relative to: `peak` (default) or `cell` (as printed).
+    pub scale: InjectionScale,
     /// Added to an experience's decay each time it is matched (OpenRatSLAM's 1.0).
     pub active_decay: f64,
     /// Taken off every experience's decay each update, down to 0 (OpenRatSLAM's 0.05).
@@ -35,6 +75,7 @@ impl Default for Injection {
     fn default() -> Self {
         Self {
             zeta: 0.3,
+            scale: InjectionScale::Peak,
             active_decay: 1.0,
             restore: 0.05,
         }
@@ -135,6 +176,8 @@ pub struct WhiskerRatSlam {
     pub current: Option<usize>,
     /// Odometry since the current experience.
     pub accumulated: Accumulator,
+    /// The last experience made, and the odometry since (module documentation).
+    anchor: Option<(usize, Accumulator)>,
     samples: u64,
 }
 
@@ -162,6 +205,7 @@ impl WhiskerRatSlam {
             map,
             current: None,
             accumulated: Accumulator::default(),
+            anchor: None,
             samples: 0,
         }
     }
@@ -180,6 +224,17 @@ impl WhiskerRatSlam {
             .matching
             .best(features, self.map.experiences.iter().map(|e| &e.features))
             .map(|(i, _)| i);
+        // path_integration (the previous whisk's injection is consolidated here)
+        self.cells.excite_inhibit();
+        self.cells
+            .path_integrate(&odometry.translation(), &odometry.rotation());
+        let best = self.cells.best();
+        self.accumulated.add(odometry);
+        if let Some((_, since)) = &mut self.anchor {
+            since.add(odometry);
+        }
+        // process_object_map, against the best pose before this match's injection
+        let (experience, created, relocalised) = self.process_map(features, matched, best);
         // feature_excitation (Eq 5.8–5.9) with per-experience decay
         for e in &mut self.map.experiences {
             e.decay = (e.decay - p.injection.restore).max(0.0);
@@ -190,17 +245,12 @@ impl WhiskerRatSlam {
             let cells = e.cells;
             e.decay += p.injection.active_decay;
             if omega > 0.0 {
-                self.cells.inject(&cells, omega);
+                match p.injection.scale {
+                    InjectionScale::Peak => self.cells.inject_packet(&cells, omega),
+                    InjectionScale::Cell => self.cells.inject(&cells, omega),
+                }
             }
         }
-        // path_integration
-        self.cells.excite_inhibit();
-        self.cells
-            .path_integrate(&odometry.translation(), &odometry.rotation());
-        let best = self.cells.best();
-        self.accumulated.add(odometry);
-        // process_object_map
-        let (experience, created, relocalised) = self.process_map(features, matched, best);
         self.map.relax_robust(
             p.experiences.loops,
             p.experiences.correction,
@@ -235,6 +285,7 @@ impl WhiskerRatSlam {
                 .add(features.clone(), best, &Isometry3::identity(), None);
             self.current = Some(id);
             self.accumulated = Accumulator::default();
+            self.anchor = Some((id, Accumulator::default()));
             return (id, true, false);
         };
         if let Some(m) = matched
@@ -256,10 +307,27 @@ impl WhiskerRatSlam {
             .distance(&best, &self.map.experiences[current].cells);
         if matched.is_none() || moved > threshold {
             let relative = self.accumulated.take();
-            let pose = self.map.pose(current) * relative;
+            let mut pose = self.map.pose(current) * relative;
+            let scale = self.params.experiences.robust_scale();
+            let anchored = self
+                .anchor
+                .take()
+                .filter(|(a, _)| *a != current && scale.is_some())
+                .map(|(a, mut since)| (a, since.take()));
+            if let (Some((a, since)), Some(scale)) = (&anchored, scale) {
+                let by_odometry = self.map.pose(*a) * since;
+                let (dt, dr) = crate::pose::distance(&by_odometry, &pose);
+                if standardised_residual(dt, dr, scale) > 1.0 {
+                    pose = by_odometry;
+                }
+            }
             let id = self.map.add(features.clone(), best, &pose, None);
             self.map.links.push(Link::new(current, id, &relative));
+            if let Some((a, since)) = anchored {
+                self.map.links.push(Link::new(a, id, &since));
+            }
             self.current = Some(id);
+            self.anchor = Some((id, Accumulator::default()));
             return (id, true, false);
         }
         (current, false, false)
