@@ -318,7 +318,7 @@ fn explore(
 }
 
 fn params(combo: Combo) -> Params {
-    let mut p = Params::default();
+    let mut p = Params::corrected();
     p.matching.features = combo.features;
     p.merge_features = combo.merge;
     p

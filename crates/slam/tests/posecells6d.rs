@@ -216,7 +216,7 @@ fn phase_weights_integrate_a_yaw_lap_in_full_where_the_linear_weights_fall_short
     // and 0.2 cell. The linear weights advance the axis' population vector by
     // atan(f·sin 72° / (1 − f + f·cos 72°)) per step — 78 %, 81 % and 86 % of the
     // command — and the 3-cell decode round the peak reads a little less.
-    let phase = PoseCellParams::default();
+    let phase = PoseCellParams::corrected();
     assert_eq!(phase.shift, ShiftWeights::Phase);
     for step in [0.05, 0.1, 0.2] {
         let t = yaw_travelled(phase, step, 1);
@@ -234,7 +234,7 @@ fn phase_weights_integrate_a_yaw_lap_in_full_where_the_linear_weights_fall_short
 #[test]
 fn phase_weights_conserve_mass() {
     let mut rng = substream(4, "test/posecells6d/phase-mass");
-    let mut p = PoseCells6::new(PoseCellParams::default(), &[0.0; 6]);
+    let mut p = PoseCells6::new(PoseCellParams::corrected(), &[0.0; 6]);
     for c in p.grid.cells.iter_mut() {
         *c = rng.random::<f64>();
     }
@@ -262,7 +262,7 @@ fn translation_is_integrated_alike_on_every_lap_of_a_closed_orbit() {
     // not tested against the command; what a revisit needs is that the same motion lands
     // on the same cells: a pentagon orbit (forward 0.25 cell four times, then 72° of
     // yaw), driven three laps; laps 2 and 3 pass each corner within 0.25 cell of lap 1.
-    let mut cells = settled(PoseCellParams::default(), &[2.0, 2.0, 2.0, 0.0, 0.0, 0.0]);
+    let mut cells = settled(PoseCellParams::corrected(), &[2.0, 2.0, 2.0, 0.0, 0.0, 0.0]);
     let size = PoseCellParams::default().cell_size_m;
     let mut corners = Vec::new();
     for _ in 0..3 {
@@ -295,10 +295,11 @@ fn translation_is_integrated_alike_on_every_lap_of_a_closed_orbit() {
 
 #[test]
 fn one_injection_far_from_a_confident_packet_moves_it_little_and_consecutive_ones_move_it() {
-    // Ω = ζ = 0.3 relative to the peak (the default), 144° away on roll, pitch and yaw.
+    // Ω = ζ = 0.3 relative to the peak (`Params::corrected`), 144° away on roll, pitch
+    // and yaw.
     let centre: Cell6 = [2.0, 2.0, 2.0, 2.0, 2.0, 2.0];
     let far: Cell6 = [2.0, 2.0, 2.0, 0.0, 0.0, 4.0];
-    let confident = settled(PoseCellParams::default(), &centre);
+    let confident = settled(PoseCellParams::corrected(), &centre);
     let after = |n: usize| {
         let mut p = confident.clone();
         for _ in 0..n {

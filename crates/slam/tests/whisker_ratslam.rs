@@ -209,6 +209,12 @@ fn circle(n: usize) -> Vec<Isometry3<f64>> {
 
 #[test]
 fn a_revisited_loop_relocalises_onto_the_experiences_of_its_places() {
+    // Alg 2 as printed, and with the corrections of issue #19.
+    revisited_loop(Params::default());
+    revisited_loop(Params::corrected());
+}
+
+fn revisited_loop(params: Params) {
     // 12 places on a circle of 0.15 m radius, the array turning 30° per step (0.078 m,
     // 0.65 translation cell and 0.42 yaw cell); odometry turning 5 % too far, so that
     // dead reckoning does not close the loop. (A scale error would: a uniformly scaled
@@ -216,7 +222,7 @@ fn a_revisited_loop_relocalises_onto_the_experiences_of_its_places() {
     let n = 12;
     let truth = circle(n);
     let places = place_features(n);
-    let mut slam = WhiskerRatSlam::new(Params::default(), ObjectMap::default());
+    let mut slam = WhiskerRatSlam::new(params, ObjectMap::default());
     let mut first_lap = vec![usize::MAX; n];
     let (mut right, mut wrong) = (0, 0);
     for lap in 0..3 {
@@ -378,10 +384,10 @@ fn a_match_far_from_the_pose_cells_is_not_accepted_on_its_own_injection() {
         assert_eq!(second.matched, Some(0));
         assert!(!second.relocalised && second.experience == first.experience);
     };
-    let mut alone = WhiskerRatSlam::new(Params::default(), prior.clone());
+    let mut alone = WhiskerRatSlam::new(Params::corrected(), prior.clone());
     start(&mut alone);
     assert!((0..40).all(|_| !alone.step(&f[0], &still).relocalised));
-    let mut slam = WhiskerRatSlam::new(Params::default(), prior);
+    let mut slam = WhiskerRatSlam::new(Params::corrected(), prior);
     start(&mut slam);
     let accepted = (1..40).find(|k| slam.step(&f[k % 4], &still).relocalised);
     let k = accepted.expect("matches across four features never re-localised");
@@ -438,14 +444,13 @@ fn experiences_made_after_a_false_relocalisation_stay_where_they_were_made() {
     // within one pose cell), so the lap re-localises onto place 8 there. RatSLAM's rule
     // makes the following experiences relative to place 8, 45° and 11 cm off; with the
     // odometry anchor they keep their place.
-    let (t, r, aliased) = lap_with_an_alias(Params::default(), 16, 10, 8);
+    let (t, r, aliased) = lap_with_an_alias(Params::corrected(), 16, 10, 8);
     assert!(
         aliased,
         "the alias did not re-localise: the test would test nothing"
     );
     assert!(t < 0.02 && r < 5.0, "{t} m, {r}°");
-    let mut thesis = Params::default();
-    thesis.experiences.robust_position_m = 0.0;
+    let thesis = Params::default();
     let (t, r, aliased) = lap_with_an_alias(thesis, 16, 10, 8);
     assert!(aliased);
     assert!(t > 0.05 && r > 20.0, "the thesis' rule: {t} m, {r}°");

@@ -22,8 +22,9 @@
 //! packet is, per axis, a rectified first Fourier mode (the excitation and inhibition
 //! kernels span the whole axis), and a linear-weighted shift advances that mode's phase —
 //! the decoded pose — by only 78–88 % of the command at the fractions one whisk
-//! commands, so a lap's rotation is integrated ~1 cell short. The default `phase`
-//! weights ([`ShiftWeights::Phase`]) advance it exactly; `linear` is the thesis' rule.
+//! commands, so a lap's rotation is integrated ~1 cell short. The `phase` weights
+//! ([`ShiftWeights::Phase`], in [`PoseCellParams::corrected`]) advance it exactly;
+//! `linear` is the thesis' rule and the default.
 //!
 //! **Translation gain** (a limit of the thesis' grid, not fixed): each orientation
 //! voxel moves its block in its own direction, and the stable packet spans ±1 cell (±72°)
@@ -59,8 +60,8 @@ pub struct PoseCellParams {
     pub inhibit_variance: f64,
     /// Global inhibition (Alg 5).
     pub global_inhibition: f64,
-    /// Fractional-shift weights of path integration (module documentation): `phase`
-    /// (default) or the thesis' `linear`.
+    /// Fractional-shift weights of path integration (module documentation): the thesis'
+    /// `linear` (default) or `phase`.
     pub shift: ShiftWeights,
     /// Cells per axis around the most active cell read by the best-pose decode
     /// (§5.1.2.3.4: the peak cell and its neighbours; odd). The default 5 reads the whole
@@ -82,13 +83,21 @@ impl Default for PoseCellParams {
             inhibit_width: 5,
             inhibit_variance: 2.0,
             global_inhibition: 2e-5,
-            shift: ShiftWeights::Phase,
+            shift: ShiftWeights::Linear,
             decode_window: 5,
         }
     }
 }
 
 impl PoseCellParams {
+    /// The thesis' grid with the corrections of `Params::corrected`: phase-exact shifts.
+    pub fn corrected() -> Self {
+        Self {
+            shift: ShiftWeights::Phase,
+            ..Self::default()
+        }
+    }
+
     /// Checks the parameters; the message names the field.
     pub fn validate(&self) -> Result<(), String> {
         if self.cells.iter().any(|&n| n < 3) {
