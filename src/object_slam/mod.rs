@@ -85,6 +85,20 @@ pub struct Options {
     /// [default: the built-in svr10].
     #[arg(long)]
     pub radial_model: Option<PathBuf>,
+    /// Which WhiskerRatSLAM: with the corrections of issue #19, or Alg 2 as printed (the
+    /// closed loop's default; robust relaxation on in both).
+    #[arg(long, value_enum, default_value_t = SlamArg::Corrected)]
+    pub slam: SlamArg,
+}
+
+/// `--slam`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SlamArg {
+    /// Ω relative to the packet's peak, the test before the injection, phase-exact path
+    /// integration, the odometry anchor (`Params::corrected`).
+    Corrected,
+    /// Alg 2 as printed (`Params::default`).
+    Printed,
 }
 
 /// `--sensing`.
@@ -317,8 +331,11 @@ fn explore(
     out
 }
 
-fn params(combo: Combo) -> Params {
-    let mut p = Params::corrected();
+fn params(combo: Combo, slam: SlamArg) -> Params {
+    let mut p = match slam {
+        SlamArg::Corrected => Params::corrected(),
+        SlamArg::Printed => Params::default(),
+    };
     p.matching.features = combo.features;
     p.merge_features = combo.merge;
     p
@@ -400,11 +417,11 @@ pub fn run(o: &Options) -> CliResult {
             let (_, a, b, _) = &data[i];
             let lap = a.truth.len() / 2;
             let origin = a.truth[0];
-            let mut slam = WhiskerRatSlam::new(params(combo), ObjectMap::default());
+            let mut slam = WhiskerRatSlam::new(params(combo, o.slam), ObjectMap::default());
             let mut made = Vec::new();
             let on_a = explore(&mut slam, a, combo, &modules, &origin, lap, &mut made);
             let map = slam.map.clone();
-            let mut slam_b = WhiskerRatSlam::new(params(combo), map.clone());
+            let mut slam_b = WhiskerRatSlam::new(params(combo, o.slam), map.clone());
             let on_b = explore(&mut slam_b, b, combo, &modules, &origin, 0, &mut made);
             (i, combo, on_a, on_b, map)
         })
@@ -440,7 +457,7 @@ pub fn run(o: &Options) -> CliResult {
                     odometry: b.odometry.clone(),
                 },
             };
-            let mut slam = WhiskerRatSlam::new(params(Combo::BEST), appended.clone());
+            let mut slam = WhiskerRatSlam::new(params(Combo::BEST, o.slam), appended.clone());
             let mut id = Identification::new(mapped.clone(), DECAY);
             let mut series = Vec::new();
             let mut made = Vec::new();
