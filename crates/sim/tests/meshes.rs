@@ -253,6 +253,24 @@ fn repairs_restore_a_closed_outward_solid() {
             "inside-out",
         ),
         ("missing_face", triangles()[2..].to_vec(), "closed 1 hole"),
+        (
+            "duplicated_face",
+            {
+                let mut t = triangles();
+                t.push(t[4]);
+                t
+            },
+            "dropped 1 duplicate",
+        ),
+        (
+            "duplicated_face_reversed",
+            {
+                let mut t = triangles();
+                t.push([t[7][0], t[7][2], t[7][1]]);
+                t
+            },
+            "dropped 1 duplicate",
+        ),
     ];
     for (name, tris, repair) in cases {
         let path = write(
@@ -356,8 +374,9 @@ fn malformed_files_are_refused_with_their_place() {
         ),
         (
             "nonmanifold.obj",
+            // Three sheets on one edge: split apart, each encloses nothing.
             b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n".to_vec(),
-            "non-manifold",
+            "no volume",
         ),
         ("open.obj", open_tube.into_bytes(), "open mesh"),
         ("cube.dae", b"<COLLADA/>".to_vec(), "unknown mesh format"),
@@ -439,4 +458,63 @@ fn box_union_and_cuboid_are_exact() {
     assert!(m.is_closed_and_consistent());
     assert!((m.volume() - 48.0).abs() < 1e-12);
     assert_eq!(m.triangles.len(), 12);
+}
+
+/// An OBJ of boxes (the reference box moved by each offset), each with its own vertices.
+fn boxes_obj(offsets: &[[f64; 3]], extra: &str) -> String {
+    let mut s = String::new();
+    for (k, o) in offsets.iter().enumerate() {
+        s += &format!("o box{k}\n");
+        for c in corners() {
+            s += &format!("v {} {} {}\n", c[0] + o[0], c[1] + o[1], c[2] + o[2]);
+        }
+        for t in triangles() {
+            let b = 8 * k as u32 + 1;
+            s += &format!("f {} {} {}\n", t[0] + b, t[1] + b, t[2] + b);
+        }
+    }
+    s + extra
+}
+
+#[test]
+fn solids_sharing_an_edge_or_a_corner_are_split_and_sheets_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    // Two boxes sharing the vertical edge x = 0.2, y = 0.3 (four triangles on it once
+    // welded), and two touching at the corner (0.2, 0.3, 0.5) only.
+    for (name, offset, split) in [
+        ("edge", [SIZE[0], SIZE[1], 0.0], 2),
+        ("corner", [SIZE[0], SIZE[1], SIZE[2]], 1),
+    ] {
+        let path = write(
+            dir.path(),
+            &format!("{name}.obj"),
+            boxes_obj(&[[0.0; 3], offset], "").as_bytes(),
+        );
+        let loaded = load(&path, &MeshOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+        assert!(loaded.mesh.is_closed_and_consistent(), "{name}");
+        let volumes = loaded.mesh.component_volumes();
+        assert_eq!(volumes.len(), 2, "{name}");
+        assert!(
+            volumes.iter().all(|v| (v - VOLUME).abs() < 1e-12),
+            "{name}: {volumes:?}"
+        );
+        let expect = format!("split {split} vertex");
+        assert!(
+            loaded.repairs.iter().any(|r| r.contains(&expect)),
+            "{name}: {:?}",
+            loaded.repairs
+        );
+    }
+    // A fin: one triangle on the box's edge x = 0.2, y = 0.3 (a 3-way edge), sticking out.
+    // Split off, it is a sheet with no volume: refused, naming the file.
+    let fin = "o fin\nv 0.2 0.3 0\nv 0.2 0.3 0.5\nv 0.4 0.5 0.25\nf 9 10 11\n";
+    let path = write(
+        dir.path(),
+        "fin.obj",
+        boxes_obj(&[[0.0; 3]], fin).as_bytes(),
+    );
+    let e = load(&path, &MeshOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("fin.obj") && e.contains("no volume"), "{e}");
 }

@@ -2,15 +2,19 @@
 //! (`shared/notes/physics.md`: open or zero-thickness walls are tunnelled through).
 //!
 //! Steps, each reported when it changed something: weld coincident vertices (STL stores
-//! every triangle's corners separately), drop degenerate triangles, refuse edges shared
-//! by more than two triangles, orient each connected component consistently (refusing
-//! non-orientable ones), close small holes by a fan from the hole's centroid, refuse
-//! larger ones, and turn every component whose signed volume is negative inside out.
+//! every triangle's corners separately), drop degenerate triangles, drop duplicate
+//! triangles (the same three corners in either winding; the first is kept), split every
+//! vertex where separate sheets meet into one copy per sheet (its fans of triangles joined
+//! through edges in at most two triangles: two solids sharing an edge or touching at a
+//! corner become two solids), refuse edges still shared by more than two triangles, orient
+//! each connected component consistently (refusing non-orientable ones), close small
+//! holes by a fan from the hole's centroid, refuse larger ones, refuse components with no
+//! volume (sheets), and turn every component whose signed volume is negative inside out.
 //! Components are treated as separate solids: objects made of several overlapping closed
 //! parts (a mug's body and handle) are fine.
 
 use nalgebra::{Point3, Vector3};
-use std::collections::{HashMap, VecDeque};
+use std::collections::{HashMap, HashSet, VecDeque};
 
 /// Largest hole (number of boundary edges) closed automatically.
 pub const MAX_HOLE_EDGES: usize = 32;
@@ -169,6 +173,32 @@ pub fn close_and_orient(
             message: "empty mesh: every triangle is degenerate".into(),
         });
     }
+    // Duplicate triangles.
+    let mut corners_seen = HashSet::new();
+    let before = tris.len();
+    let (kept, kept_origins): (Vec<_>, Vec<_>) = tris
+        .into_iter()
+        .zip(origin_of)
+        .filter(|(t, _)| {
+            let mut key = *t;
+            key.sort_unstable();
+            corners_seen.insert(key)
+        })
+        .unzip();
+    let (mut tris, origin_of) = (kept, kept_origins);
+    if tris.len() < before {
+        repairs.push(format!(
+            "dropped {} duplicate triangle(s)",
+            before - tris.len()
+        ));
+    }
+    // Sheets meeting at an edge or a vertex: one vertex copy per sheet.
+    let split = split_sheets(&mut vertices, &mut tris);
+    if split > 0 {
+        repairs.push(format!(
+            "split {split} vertex(es) where separate sheets meet"
+        ));
+    }
     // Non-manifold edges.
     let by_edge = triangles_by_edge(&tris);
     let mut keys: Vec<_> = by_edge.keys().copied().collect();
@@ -292,11 +322,32 @@ pub fn close_and_orient(
             "closed {holes} hole(s) ({boundary} boundary edges)"
         ));
     }
-    // Outward orientation: each component's signed volume must be positive.
+    // Outward orientation: each component's signed volume must be positive; a component
+    // with none is a sheet, not a solid.
+    let (lo, hi) = vertices.iter().fold(
+        (
+            Vector3::repeat(f64::INFINITY),
+            Vector3::repeat(f64::NEG_INFINITY),
+        ),
+        |(lo, hi), p| (lo.inf(&p.coords), hi.sup(&p.coords)),
+    );
+    let tiny = 1e-9 * (hi - lo).norm().powi(3);
     let mut inverted = 0;
     for comp in components(&tris) {
         let sub: Vec<[u32; 3]> = comp.iter().map(|&t| tris[t]).collect();
-        if signed_volume(&vertices, &sub) < 0.0 {
+        let volume = signed_volume(&vertices, &sub);
+        if volume.abs() <= tiny {
+            return Err(TopologyError {
+                at: "mesh".into(),
+                message: format!(
+                    "a part of {} triangle(s) {} encloses no volume (a sheet or a fin, \
+                     once closed): expected closed solids",
+                    comp.len(),
+                    point_at(&vertices[sub[0][0] as usize])
+                ),
+            });
+        }
+        if volume < 0.0 {
             inverted += 1;
             for &t in &comp {
                 tris[t].swap(1, 2);
@@ -318,4 +369,68 @@ pub fn close_and_orient(
         },
         repairs,
     ))
+}
+
+/// Splits every vertex whose incident triangles form more than one fan — triangles joined
+/// through edges at the vertex that lie in at most two triangles — into one copy per fan
+/// (the first fan keeps the vertex). Returns the number of copies made.
+fn split_sheets(vertices: &mut Vec<Point3<f64>>, triangles: &mut [[u32; 3]]) -> usize {
+    let by_edge = triangles_by_edge(triangles);
+    let original = triangles.to_vec();
+    let mut incident: Vec<Vec<usize>> = vec![Vec::new(); vertices.len()];
+    for (t, tri) in triangles.iter().enumerate() {
+        for &v in tri {
+            incident[v as usize].push(t);
+        }
+    }
+    let mut copies = 0;
+    for v in 0..incident.len() {
+        let around = &incident[v];
+        if around.len() < 2 {
+            continue;
+        }
+        // Fans: connected components of `around` over manifold edges (v, w).
+        let mut fan = vec![usize::MAX; around.len()];
+        let mut fans = 0;
+        for start in 0..around.len() {
+            if fan[start] != usize::MAX {
+                continue;
+            }
+            fan[start] = fans;
+            let mut queue = VecDeque::from([start]);
+            while let Some(i) = queue.pop_front() {
+                let tri = original[around[i]];
+                for &w in tri.iter().filter(|&&w| w as usize != v) {
+                    let shared = &by_edge[&edge(v as u32, w)];
+                    if shared.len() > 2 {
+                        continue;
+                    }
+                    for &n in shared {
+                        if let Some(j) = around.iter().position(|&t| t == n)
+                            && fan[j] == usize::MAX
+                        {
+                            fan[j] = fans;
+                            queue.push_back(j);
+                        }
+                    }
+                }
+            }
+            fans += 1;
+        }
+        for f in 1..fans {
+            vertices.push(vertices[v]);
+            let copy = (vertices.len() - 1) as u32;
+            for (i, &t) in around.iter().enumerate() {
+                if fan[i] == f {
+                    for corner in triangles[t].iter_mut() {
+                        if *corner as usize == v {
+                            *corner = copy;
+                        }
+                    }
+                }
+            }
+            copies += 1;
+        }
+    }
+    copies
 }
