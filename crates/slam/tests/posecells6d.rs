@@ -142,6 +142,24 @@ fn path_integration_conserves_mass_for_any_velocity_up_to_one_cell_per_axis() {
     }
 }
 
+/// Drives `laps` pentagons (4 updates forward at 0.25 cell each, then a 72° turn in yaw,
+/// five times a lap); returns the best pose at each corner.
+fn pentagon_laps(p: &mut PoseCells6, laps: usize) -> Vec<Cell6> {
+    let size = p.params.cell_size_m;
+    let mut corners = Vec::new();
+    for _ in 0..5 * laps {
+        for _ in 0..4 {
+            p.update(&Vector3::new(0.25 * size, 0.0, 0.0), &Vector3::zeros());
+        }
+        p.update(
+            &Vector3::zeros(),
+            &Vector3::new(0.0, 0.0, 72f64.to_radians()),
+        );
+        corners.push(p.best());
+    }
+    corners
+}
+
 #[test]
 fn a_packet_driven_around_a_closed_loop_returns_to_its_start_cell() {
     // A pentagon: 4 updates forward at 0.25 cell each, then a 72° turn in yaw, five times.
@@ -150,18 +168,7 @@ fn a_packet_driven_around_a_closed_loop_returns_to_its_start_cell() {
     for _ in 0..20 {
         p.excite_inhibit();
     }
-    let size = params().cell_size_m;
-    let mut visited = Vec::new();
-    for _ in 0..5 {
-        for _ in 0..4 {
-            p.update(&Vector3::new(0.25 * size, 0.0, 0.0), &Vector3::zeros());
-        }
-        p.update(
-            &Vector3::zeros(),
-            &Vector3::new(0.0, 0.0, 72f64.to_radians()),
-        );
-        visited.push(p.best());
-    }
+    let visited = pentagon_laps(&mut p, 1);
     for _ in 0..5 {
         p.excite_inhibit();
     }
@@ -263,20 +270,7 @@ fn translation_is_integrated_alike_on_every_lap_of_a_closed_orbit() {
     // on the same cells: a pentagon orbit (forward 0.25 cell four times, then 72° of
     // yaw), driven three laps; laps 2 and 3 pass each corner within 0.25 cell of lap 1.
     let mut cells = settled(PoseCellParams::corrected(), &[2.0, 2.0, 2.0, 0.0, 0.0, 0.0]);
-    let size = PoseCellParams::default().cell_size_m;
-    let mut corners = Vec::new();
-    for _ in 0..3 {
-        for _ in 0..5 {
-            for _ in 0..4 {
-                cells.update(&Vector3::new(0.25 * size, 0.0, 0.0), &Vector3::zeros());
-            }
-            cells.update(
-                &Vector3::zeros(),
-                &Vector3::new(0.0, 0.0, 72f64.to_radians()),
-            );
-            corners.push(cells.best());
-        }
-    }
+    let corners = pentagon_laps(&mut cells, 3);
     for k in 5..15 {
         let d = cells.distance(&corners[k], &corners[k % 5]);
         assert!(
