@@ -10,7 +10,7 @@ use crate::error::{CliError, CliResult};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use whisker_sim::environment::maze::{Deformities, MazeLayout, Post, Wall};
-use whisker_sim::environment::mesh::{self, MeshOptions, Units, UpAxis};
+use whisker_sim::environment::mesh::{self, MeshOptions, Repair, Units, UpAxis};
 use whisker_sim::environment::{Environment, Piece};
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_slam::pose;
@@ -38,6 +38,9 @@ pub struct ObjectConfig {
     /// The file's up axis: "z" or "y".
     #[serde(default = "z_up")]
     pub up: String,
+    /// What to do when the file is not a clean closed solid: "strict", "auto" or "hull".
+    #[serde(default = "auto_repair")]
+    pub repair: String,
 }
 
 impl ObjectConfig {
@@ -111,6 +114,9 @@ fn unit_scale() -> f64 {
 }
 fn z_up() -> String {
     "z".into()
+}
+fn auto_repair() -> String {
+    "auto".into()
 }
 fn board() -> [f64; 2] {
     [1.35, 1.0]
@@ -217,12 +223,20 @@ pub fn load(
                 format!("expected a positive number, got {}", o.scale),
             ));
         }
+        let repair = Repair::parse(&o.repair).ok_or_else(|| {
+            CliError::field(
+                file,
+                &format!("{field}.repair"),
+                format!("{:?}: expected \"strict\", \"auto\" or \"hull\"", o.repair),
+            )
+        })?;
         let pose = pose_of(file, &field, o.position_m, o.rpy_deg)?;
         let path = relative_to(file, &o.mesh);
         let options = MeshOptions {
             units,
             scale: o.scale,
             up,
+            repair,
         };
         let loaded = mesh::load(&path, &options)
             .map_err(|e| CliError::field(file, &format!("{field}.mesh"), e))?;

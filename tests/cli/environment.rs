@@ -156,6 +156,11 @@ fn bad_environments_exit_2_naming_the_field_and_write_nothing() {
             vec!["objects[0].scale"],
         ),
         (
+            "repair",
+            object("mesh = \"nan.obj\"\nrepair = \"voxel\""),
+            vec!["objects[0].repair", "\"strict\", \"auto\" or \"hull\""],
+        ),
+        (
             "off_board",
             maze(&wall.replace("[0.5, 0.1]", "[2.5, 0.1]")),
             vec!["maze.walls[0].to_m", "off the"],

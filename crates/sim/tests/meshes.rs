@@ -7,7 +7,7 @@
 use nalgebra::Point3;
 use std::path::{Path, PathBuf};
 use whisker_sim::environment::assets::{CATALOGUE, obj};
-use whisker_sim::environment::mesh::{MeshOptions, Units, UpAxis, load};
+use whisker_sim::environment::mesh::{MeshOptions, Repair, Units, UpAxis, load};
 use whisker_sim::environment::shapes::cuboid;
 
 fn repo() -> PathBuf {
@@ -517,4 +517,59 @@ fn solids_sharing_an_edge_or_a_corner_are_split_and_sheets_refused() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("fin.obj") && e.contains("no volume"), "{e}");
+    assert!(e.contains("repair = \"hull\""), "{e}");
+    // repair = "hull": the convex hull of the box and the fin's apex (0.4, 0.5, 0.25) is
+    // the box plus the pyramids from the apex over the two faces it sees, x = 0.2 (area
+    // 0.15, height 0.2) and y = 0.3 (area 0.1, height 0.2).
+    let hull = MeshOptions {
+        repair: Repair::Hull,
+        ..Default::default()
+    };
+    let loaded = load(&path, &hull).unwrap_or_else(|e| panic!("{e}"));
+    assert!(loaded.mesh.is_closed_and_consistent());
+    let expected = VOLUME + 0.15 * 0.2 / 3.0 + 0.1 * 0.2 / 3.0;
+    assert!(
+        (loaded.mesh.volume() - expected).abs() < 1e-12,
+        "{}",
+        loaded.mesh.volume()
+    );
+    // Its reported deviation: positive (the pyramids' faces leave the fin's triangle),
+    // below the apex's distance from the box's corner edge (0.2·√2 m).
+    let report = loaded.repairs.join("; ");
+    let max_mm: f64 = report
+        .split("up to ")
+        .nth(1)
+        .and_then(|r| r.split(" mm").next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("{report}"));
+    assert!(max_mm > 1.0 && max_mm < 200.0 * 2f64.sqrt(), "{report}");
+    // And the hull of a clean box is the box, 0 mm from it.
+    let clean = write(dir.path(), "clean.obj", obj_quads(1.0).as_bytes());
+    let loaded = load(&clean, &hull).unwrap();
+    assert!((loaded.mesh.volume() - VOLUME).abs() < 1e-12);
+    assert!(
+        loaded.repairs[0].contains("up to 0.0 mm"),
+        "{:?}",
+        loaded.repairs
+    );
+}
+
+#[test]
+fn strict_refuses_what_auto_repairs_and_accepts_a_clean_solid() {
+    let dir = tempfile::tempdir().unwrap();
+    let strict = MeshOptions {
+        repair: Repair::Strict,
+        ..Default::default()
+    };
+    let clean = write(dir.path(), "clean.obj", obj_quads(1.0).as_bytes());
+    assert!(load(&clean, &strict).unwrap().repairs.is_empty());
+    let mut s = obj_quads(1.0);
+    s += "f 1 3 4\n"; // the first face's first triangle again, as a separate polygon
+    let damaged = write(dir.path(), "damaged.obj", s.as_bytes());
+    let e = load(&damaged, &strict).unwrap_err().to_string();
+    assert!(
+        e.contains("damaged.obj") && e.contains("duplicate") && e.contains("\"auto\" would"),
+        "{e}"
+    );
+    assert!(load(&damaged, &MeshOptions::default()).is_ok());
 }

@@ -3,9 +3,10 @@
 //!
 //! Pipeline: read ([`super::mesh_io`]) → scale to metres (`units` × `scale`) → turn to
 //! z up → fan-triangulate polygons → weld vertices closer than 1e-7 × the bounding-box
-//! diagonal → repair or refuse ([`super::topology`]). What was repaired is reported so
-//! that `whisker check` can show it.
+//! diagonal → repair or refuse ([`super::topology`]) as the [`Repair`] policy says. What
+//! was repaired is reported so that `whisker check` can show it.
 
+use super::fallback::{convex_hull, deviation};
 use super::mesh_io;
 pub use super::topology::Mesh;
 use super::topology::{close_and_orient, components, signed_volume, weld};
@@ -83,6 +84,31 @@ pub enum UpAxis {
     Y,
 }
 
+/// What to do with a mesh that is not a clean closed solid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Repair {
+    /// Refuse any file that needs a repair (vertex welding of STL files aside).
+    Strict,
+    /// The repairs of [`super::topology`] that keep the shape; refuse the rest.
+    #[default]
+    Auto,
+    /// The convex hull of the file's vertices, always a solid (unless they are coplanar);
+    /// its deviation from the file's surface is reported.
+    Hull,
+}
+
+impl Repair {
+    /// Parses "strict", "auto" or "hull".
+    pub fn parse(s: &str) -> Option<Repair> {
+        Some(match s {
+            "strict" => Repair::Strict,
+            "auto" => Repair::Auto,
+            "hull" => Repair::Hull,
+            _ => return None,
+        })
+    }
+}
+
 /// How to interpret a mesh file.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MeshOptions {
@@ -92,6 +118,8 @@ pub struct MeshOptions {
     pub scale: f64,
     /// The file's up axis.
     pub up: UpAxis,
+    /// What to do when the file is not a clean closed solid.
+    pub repair: Repair,
 }
 
 impl Default for MeshOptions {
@@ -100,6 +128,7 @@ impl Default for MeshOptions {
             units: Units::Metres,
             scale: 1.0,
             up: UpAxis::Z,
+            repair: Repair::Auto,
         }
     }
 }
@@ -165,10 +194,47 @@ pub fn load(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, MeshError>
         .iter()
         .map(|t| t.map(|i| map[i as usize]))
         .collect();
-    let (mesh, mut repairs) = close_and_orient(vertices, triangles, origins)
-        .map_err(|e| MeshError::new(path, &e.at, e.message))?;
+    if options.repair == Repair::Hull {
+        let hull = convex_hull(&vertices).map_err(|e| MeshError::new(path, "mesh", e))?;
+        let (max, mean) =
+            deviation(&hull, &vertices, &triangles).map_err(|e| MeshError::new(path, "mesh", e))?;
+        let repairs = vec![format!(
+            "replaced by the convex hull of its {} vertices ({} triangles; repair = \"hull\"): \
+             the hull's surface lies up to {:.1} mm (mean {:.1} mm) from the file's",
+            vertices.len(),
+            hull.triangles.len(),
+            max * 1e3,
+            mean * 1e3
+        )];
+        return Ok(LoadedMesh {
+            mesh: hull,
+            repairs,
+            objects: soup.objects,
+        });
+    }
+    let (mesh, mut repairs) = close_and_orient(vertices, triangles, origins).map_err(|e| {
+        MeshError::new(
+            path,
+            &e.at,
+            format!(
+                "{} (repair = \"hull\" would use the convex hull instead)",
+                e.message
+            ),
+        )
+    })?;
     if welded > 0 && !matches!(mesh_io::Format::from_path(path), Some(mesh_io::Format::Stl)) {
         repairs.insert(0, format!("welded {welded} duplicate vertices"));
+    }
+    if options.repair == Repair::Strict && !repairs.is_empty() {
+        return Err(MeshError::new(
+            path,
+            "mesh",
+            format!(
+                "not a clean closed solid: it needs {} (repair = \"strict\"; \"auto\" would \
+                 make these repairs)",
+                repairs.join("; ")
+            ),
+        ));
     }
     Ok(LoadedMesh {
         mesh,

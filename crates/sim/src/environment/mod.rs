@@ -2,8 +2,9 @@
 //! Fig 6.5) and the maze (§3.1, Fig 3.1).
 //!
 //! - [`mesh_io`] reads OBJ, STL and PLY files; [`topology`] welds, orients and closes
-//!   them; [`mesh`] ties the two together with units and up axis, and builds the
-//!   collision shape.
+//!   them; [`fallback`] replaces what cannot be closed by its convex hull; [`mesh`] ties
+//!   them together with units, up axis and the repair policy, and builds the collision
+//!   shape.
 //! - [`shapes`] builds closed meshes from primitives (boxes, lathes, swept tubes, star
 //!   surfaces); [`assets`] uses it to generate the object catalogue of `assets/meshes`.
 //! - [`maze`] builds the re-configurable maze board.
@@ -13,6 +14,7 @@
 //! collision shape the physics uses and a triangle mesh for the kinematic sweep.
 
 pub mod assets;
+pub mod fallback;
 pub mod maze;
 pub mod mesh;
 pub mod mesh_io;

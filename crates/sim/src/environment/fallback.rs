@@ -1,0 +1,70 @@
+//! Fallback solids for meshes that cannot be repaired into closed solids (issue #20): the
+//! convex hull of the file's vertices, with how far it strays from the file's surface.
+
+use super::topology::{Mesh, signed_volume};
+use nalgebra::Point3;
+use parry3d_f64::math::Vector;
+use parry3d_f64::query::PointQuery;
+use parry3d_f64::shape::TriMesh;
+
+/// Barycentric subdivisions per hull-triangle edge when sampling the hull's surface.
+const SAMPLES_PER_EDGE: usize = 4;
+
+/// The convex hull of `points` as a closed, outward-oriented mesh.
+pub fn convex_hull(points: &[Point3<f64>]) -> Result<Mesh, String> {
+    let input: Vec<Vector> = points.iter().map(|p| Vector::new(p.x, p.y, p.z)).collect();
+    let (vertices, mut triangles) = parry3d_f64::transformation::convex_hull(&input);
+    let vertices: Vec<Point3<f64>> = vertices
+        .iter()
+        .map(|v| Point3::new(v.x, v.y, v.z))
+        .collect();
+    let volume = signed_volume(&vertices, &triangles);
+    if triangles.len() < 4 || volume == 0.0 {
+        return Err("the vertices are coplanar: their convex hull has no volume".into());
+    }
+    if volume < 0.0 {
+        for t in &mut triangles {
+            t.swap(1, 2);
+        }
+    }
+    Ok(Mesh {
+        vertices,
+        triangles,
+    })
+}
+
+/// How far the surface of `replacement` lies from the surface of the original triangles
+/// (`vertices`, `triangles`: any soup): (max, mean) distance (m) over points sampled on
+/// every replacement triangle (its corners, and a barycentric grid of
+/// `SAMPLES_PER_EDGE` divisions per edge).
+pub fn deviation(
+    replacement: &Mesh,
+    vertices: &[Point3<f64>],
+    triangles: &[[u32; 3]],
+) -> Result<(f64, f64), String> {
+    let soup = TriMesh::new(
+        vertices
+            .iter()
+            .map(|p| Vector::new(p.x, p.y, p.z))
+            .collect(),
+        triangles.to_vec(),
+    )
+    .map_err(|e| format!("cannot index the original surface: {e}"))?;
+    let n = SAMPLES_PER_EDGE;
+    let (mut max, mut sum, mut count) = (0.0f64, 0.0, 0usize);
+    for t in &replacement.triangles {
+        let [a, b, c] = t.map(|i| replacement.vertices[i as usize].coords);
+        for i in 0..=n {
+            for j in 0..=n - i {
+                let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+                let p = a * (1.0 - u - v) + b * u + c * v;
+                let q = Vector::new(p.x, p.y, p.z);
+                let d = (soup.project_local_point(q, false).point - q).length();
+                max = max.max(d);
+                sum += d;
+                count += 1;
+            }
+        }
+    }
+    Ok((max, sum / count.max(1) as f64))
+}
