@@ -198,23 +198,20 @@ pub fn load(
     let mut report = Vec::new();
     for (i, o) in objects.iter().enumerate() {
         let field = format!("objects[{i}]");
-        let units = Units::parse(&o.units).ok_or_else(|| {
+        // A keyword field: parsed, or an error naming the field and the choices.
+        let keyword = |name: &str, value: &str, choices: &str| {
             CliError::field(
                 file,
-                &format!("{field}.units"),
-                format!("{:?}: expected \"m\", \"cm\", \"mm\" or \"in\"", o.units),
+                &format!("{field}.{name}"),
+                format!("{value:?}: expected {choices}"),
             )
-        })?;
+        };
+        let units = Units::parse(&o.units)
+            .ok_or_else(|| keyword("units", &o.units, "\"m\", \"cm\", \"mm\" or \"in\""))?;
         let up = match o.up.as_str() {
             "z" => UpAxis::Z,
             "y" => UpAxis::Y,
-            other => {
-                return Err(CliError::field(
-                    file,
-                    &format!("{field}.up"),
-                    format!("{other:?}: expected \"z\" or \"y\""),
-                ));
-            }
+            other => return Err(keyword("up", other, "\"z\" or \"y\"")),
         };
         if !(o.scale.is_finite() && o.scale > 0.0) {
             return Err(CliError::field(
@@ -223,13 +220,8 @@ pub fn load(
                 format!("expected a positive number, got {}", o.scale),
             ));
         }
-        let repair = Repair::parse(&o.repair).ok_or_else(|| {
-            CliError::field(
-                file,
-                &format!("{field}.repair"),
-                format!("{:?}: expected \"strict\", \"auto\" or \"hull\"", o.repair),
-            )
-        })?;
+        let repair = Repair::parse(&o.repair)
+            .ok_or_else(|| keyword("repair", &o.repair, "\"strict\", \"auto\" or \"hull\""))?;
         let pose = pose_of(file, &field, o.position_m, o.rpy_deg)?;
         let path = relative_to(file, &o.mesh);
         let options = MeshOptions {
