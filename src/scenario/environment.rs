@@ -238,14 +238,21 @@ pub fn load(
             .map_err(|e| CliError::field(file, &format!("{field}.mesh"), e))?;
         let name = o.display_name(i);
         let size = loaded.mesh.size();
+        let (lo, hi) = mesh::bounds(&loaded.mesh.vertices);
         report.push(format!(
-            "object     {name}: {} ({} triangles, {} component(s), {:.3} x {:.3} x {:.3} m) at ({:.3}, {:.3}, {:.3}) m{}",
+            "object     {name}: {} ({} triangles, {} component(s), {:.3} x {:.3} x {:.3} m, from ({:.3}, {:.3}, {:.3}) to ({:.3}, {:.3}, {:.3}) m in the file's frame) at ({:.3}, {:.3}, {:.3}) m{}",
             path.display(),
             loaded.mesh.triangles.len(),
             loaded.mesh.component_volumes().len(),
             size.x,
             size.y,
             size.z,
+            lo.x,
+            lo.y,
+            lo.z,
+            hi.x,
+            hi.y,
+            hi.z,
             o.position_m[0],
             o.position_m[1],
             o.position_m[2],
