@@ -10,7 +10,7 @@ use crate::error::{CliError, CliResult};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use whisker_sim::environment::maze::{Deformities, MazeLayout, Post, Wall};
-use whisker_sim::environment::mesh::{self, MeshOptions, Repair, Units, UpAxis};
+use whisker_sim::environment::mesh::{self, MeshOptions, Origin, Repair, Units, UpAxis};
 use whisker_sim::environment::{Environment, Piece};
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_slam::pose;
@@ -41,6 +41,10 @@ pub struct ObjectConfig {
     /// What to do when the file is not a clean closed solid: "strict", "auto" or "hull".
     #[serde(default = "auto_repair")]
     pub repair: String,
+    /// Where the mesh's origin is: "file" (its own) or "base" (the bottom centre of its
+    /// bounding box, after units, scale and up axis).
+    #[serde(default = "file_origin")]
+    pub origin: String,
 }
 
 impl ObjectConfig {
@@ -117,6 +121,9 @@ fn z_up() -> String {
 }
 fn auto_repair() -> String {
     "auto".into()
+}
+fn file_origin() -> String {
+    "file".into()
 }
 fn board() -> [f64; 2] {
     [1.35, 1.0]
@@ -222,6 +229,8 @@ pub fn load(
         }
         let repair = Repair::parse(&o.repair)
             .ok_or_else(|| keyword("repair", &o.repair, "\"strict\", \"auto\" or \"hull\""))?;
+        let origin = Origin::parse(&o.origin)
+            .ok_or_else(|| keyword("origin", &o.origin, "\"file\" or \"base\""))?;
         let pose = pose_of(file, &field, o.position_m, o.rpy_deg)?;
         let path = relative_to(file, &o.mesh);
         let options = MeshOptions {
@@ -229,6 +238,7 @@ pub fn load(
             scale: o.scale,
             up,
             repair,
+            origin,
         };
         let loaded = mesh::load(&path, &options)
             .map_err(|e| CliError::field(file, &format!("{field}.mesh"), e))?;
@@ -240,7 +250,7 @@ pub fn load(
         let size = loaded.mesh.size();
         let (lo, hi) = mesh::bounds(&loaded.mesh.vertices);
         report.push(format!(
-            "object     {name}: {} ({} triangles, {} component(s), {:.3} x {:.3} x {:.3} m, from ({:.3}, {:.3}, {:.3}) to ({:.3}, {:.3}, {:.3}) m in the file's frame) at ({:.3}, {:.3}, {:.3}) m{}",
+            "object     {name}: {} ({} triangles, {} component(s), {:.3} x {:.3} x {:.3} m, from ({:.3}, {:.3}, {:.3}) to ({:.3}, {:.3}, {:.3}) m about its origin) at ({:.3}, {:.3}, {:.3}) m{}",
             path.display(),
             loaded.mesh.triangles.len(),
             loaded.mesh.component_volumes().len(),

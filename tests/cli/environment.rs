@@ -161,6 +161,11 @@ fn bad_environments_exit_2_naming_the_field_and_write_nothing() {
             vec!["objects[0].repair", "\"strict\", \"auto\" or \"hull\""],
         ),
         (
+            "origin",
+            object("mesh = \"nan.obj\"\norigin = \"centre\""),
+            vec!["objects[0].origin", "\"file\" or \"base\""],
+        ),
+        (
             "off_board",
             maze(&wall.replace("[0.5, 0.1]", "[2.5, 0.1]")),
             vec!["maze.walls[0].to_m", "off the"],

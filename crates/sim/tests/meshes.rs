@@ -7,7 +7,7 @@
 use nalgebra::Point3;
 use std::path::{Path, PathBuf};
 use whisker_sim::environment::assets::{CATALOGUE, obj};
-use whisker_sim::environment::mesh::{MeshOptions, Repair, Units, UpAxis, load};
+use whisker_sim::environment::mesh::{MeshOptions, Origin, Repair, Units, UpAxis, bounds, load};
 use whisker_sim::environment::shapes::cuboid;
 
 fn repo() -> PathBuf {
@@ -572,4 +572,30 @@ fn strict_refuses_what_auto_repairs_and_accepts_a_clean_solid() {
         "{e}"
     );
     assert!(load(&damaged, &MeshOptions::default()).is_ok());
+}
+
+#[test]
+fn origin_base_stands_the_mesh_on_z_0_centred() {
+    // The reference box moved to (5, −3, 2) in its file: with origin = "base" its bounding
+    // box runs from (−0.1, −0.15, 0) to (0.1, 0.15, 0.5), after the scale too.
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(
+        dir.path(),
+        "far.obj",
+        boxes_obj(&[[5.0, -3.0, 2.0]], "").as_bytes(),
+    );
+    let options = MeshOptions {
+        origin: Origin::Base,
+        scale: 2.0,
+        ..Default::default()
+    };
+    let mesh = load(&path, &options).unwrap().mesh;
+    let (lo, hi) = bounds(&mesh.vertices);
+    let want_lo = [-SIZE[0], -SIZE[1], 0.0];
+    let want_hi = [SIZE[0], SIZE[1], 2.0 * SIZE[2]];
+    for k in 0..3 {
+        assert!((lo[k] - want_lo[k]).abs() < 1e-9, "{lo}");
+        assert!((hi[k] - want_hi[k]).abs() < 1e-9, "{hi}");
+    }
+    assert!((mesh.volume() - 8.0 * VOLUME).abs() < 1e-9);
 }

@@ -120,6 +120,8 @@ pub struct MeshOptions {
     pub up: UpAxis,
     /// What to do when the file is not a clean closed solid.
     pub repair: Repair,
+    /// Where the mesh's origin goes.
+    pub origin: Origin,
 }
 
 impl Default for MeshOptions {
@@ -129,6 +131,7 @@ impl Default for MeshOptions {
             scale: 1.0,
             up: UpAxis::Z,
             repair: Repair::Auto,
+            origin: Origin::File,
         }
     }
 }
@@ -144,8 +147,43 @@ pub struct LoadedMesh {
     pub objects: usize,
 }
 
-/// Loads a mesh file (see the module documentation).
+/// Where a loaded mesh's origin goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Origin {
+    /// The file's own origin.
+    #[default]
+    File,
+    /// The centre of the bottom of the bounding box: the mesh stands on z = 0, centred on
+    /// the z axis (as the generated catalogue does).
+    Base,
+}
+
+impl Origin {
+    /// Parses "file" or "base".
+    pub fn parse(s: &str) -> Option<Origin> {
+        Some(match s {
+            "file" => Origin::File,
+            "base" => Origin::Base,
+            _ => return None,
+        })
+    }
+}
+
+/// Loads a mesh file (see the module documentation), its origin moved as `options.origin`
+/// says.
 pub fn load(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, MeshError> {
+    let mut loaded = load_in_file_frame(path, options)?;
+    if options.origin == Origin::Base {
+        let (lo, hi) = bounds(&loaded.mesh.vertices);
+        let shift = Vector3::new(-(lo.x + hi.x) / 2.0, -(lo.y + hi.y) / 2.0, -lo.z);
+        for v in &mut loaded.mesh.vertices {
+            *v += shift;
+        }
+    }
+    Ok(loaded)
+}
+
+fn load_in_file_frame(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, MeshError> {
     if !(options.scale.is_finite() && options.scale > 0.0) {
         return Err(MeshError::new(
             path,
