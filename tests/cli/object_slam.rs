@@ -49,6 +49,42 @@ fn identification_picks_the_explored_object_and_not_the_unmapped_skull() {
     let map = ObjectMap::load(&out.join("maps/mug.json")).unwrap();
     assert!(map.experiences.len() > 5 && !map.links.is_empty());
     assert!(out.join("localisation.csv").is_file() && out.join("identification.csv").is_file());
+    // Each re-localisation's perceived-pose error is in localisation.csv; recounted from
+    // there, the true revisits (within the thesis' step, 11 cm and 12°) match the JSON's,
+    // and a lap-2 revisit of A, whose poses repeat lap 1's exactly, can be exact (0).
+    let csv = std::fs::read_to_string(out.join("localisation.csv")).unwrap();
+    let mut exact = 0;
+    for row in v["localisation"].as_array().unwrap() {
+        let (object, set) = (
+            row["object"].as_str().unwrap(),
+            row["parameters"].as_str().unwrap(),
+        );
+        assert_eq!(row["thesis_step_m"], 0.11);
+        assert_eq!(row["thesis_step_deg"], 12.0);
+        for traj in ["A", "B"] {
+            let perceived: Vec<(f64, f64)> = csv
+                .lines()
+                .map(|l| l.split(',').collect::<Vec<_>>())
+                .filter(|f| f[0] == object && f[1] == set && f[2] == traj)
+                .map(|f| (f[6].parse().unwrap(), f[7].parse().unwrap()))
+                .collect();
+            assert_eq!(
+                perceived.len() as u64,
+                row[traj]["relocalisations"].as_u64().unwrap()
+            );
+            let within = perceived
+                .iter()
+                .filter(|(t, r)| *t <= 0.11 && *r <= 12.0)
+                .count();
+            exact += perceived.iter().filter(|(t, _)| *t < 1e-9).count();
+            assert_eq!(
+                within as u64,
+                row[traj]["true_revisits"].as_u64().unwrap(),
+                "{object} {set} {traj}"
+            );
+        }
+    }
+    assert!(exact > 0);
     // Same seed, same numbers on one thread.
     let one = object_slam(&args, "1");
     assert_eq!(stdout(&one), stdout(&o));
