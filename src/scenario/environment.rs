@@ -247,8 +247,8 @@ pub fn load(
             .shape()
             .map_err(|e| CliError::field(file, &format!("{field}.mesh"), e))?;
         let name = o.display_name(i);
-        let size = loaded.mesh.size();
         let (lo, hi) = mesh::bounds(&loaded.mesh.vertices);
+        let size = hi - lo;
         report.push(format!(
             "object     {name}: {} ({} triangles, {} component(s), {:.3} x {:.3} x {:.3} m, from ({:.3}, {:.3}, {:.3}) to ({:.3}, {:.3}, {:.3}) m about its origin) at ({:.3}, {:.3}, {:.3}) m{}",
             path.display(),

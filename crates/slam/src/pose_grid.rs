@@ -319,22 +319,18 @@ impl PoseGrid {
         shift_lines(cells, scratch, n, stride, split);
     }
 
-    /// Adds `factor` times a copy of the grid moved by the whole cells `offset` (wrapping):
-    /// the activity's own shape, re-centred. Used to inject a packet-shaped bump.
+    /// Adds `factor` times a copy of the grid moved by the whole cells `offset` (wrapping,
+    /// [`PoseGrid::shift_axis`] per axis): the activity's own shape, re-centred. Used to
+    /// inject a packet-shaped bump.
     pub fn add_shifted_copy(&mut self, offset: &[i64], factor: f64) {
-        self.scratch.copy_from_slice(&self.cells);
-        for i in 0..self.cells.len() {
-            let a = self.scratch[i];
-            if a != 0.0 {
-                let target: Vec<i64> = self
-                    .coords(i)
-                    .iter()
-                    .zip(offset)
-                    .map(|(&c, &o)| c as i64 + o)
-                    .collect();
-                let j = self.index(&target);
-                self.cells[j] += factor * a;
+        let mut moved = self.clone();
+        for (axis, &o) in offset.iter().enumerate() {
+            if o != 0 {
+                moved.shift_axis(axis, o as f64);
             }
+        }
+        for (c, m) in self.cells.iter_mut().zip(&moved.cells) {
+            *c += factor * m;
         }
     }
 

@@ -324,13 +324,7 @@ pub fn close_and_orient(
     }
     // Outward orientation: each component's signed volume must be positive; a component
     // with none is a sheet, not a solid.
-    let (lo, hi) = vertices.iter().fold(
-        (
-            Vector3::repeat(f64::INFINITY),
-            Vector3::repeat(f64::NEG_INFINITY),
-        ),
-        |(lo, hi), p| (lo.inf(&p.coords), hi.sup(&p.coords)),
-    );
+    let (lo, hi) = super::mesh::bounds(&vertices);
     let tiny = 1e-9 * (hi - lo).norm().powi(3);
     let mut inverted = 0;
     for comp in components(&tris) {

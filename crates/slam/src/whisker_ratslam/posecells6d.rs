@@ -27,11 +27,12 @@
 //! `linear` is the thesis' rule and the default.
 //!
 //! **Translation gain** (a limit of the thesis' grid, not fixed): each orientation
-//! voxel moves its block in its own direction, and the stable packet spans ±1 cell (±72°)
-//! of every rotation axis, so the decoded position advances by the packet's mean of
-//! cos(orientation offset) — about 0.74 per rotation axis involved, ~0.5 for a forward
-//! motion — of the commanded translation. It is the same on every lap, so revisits still
-//! land on their first-lap cells; `tests/posecells6d.rs` measures it.
+//! voxel moves its block in its own direction, and the stable packet spreads over every
+//! rotation axis (marginal 0.44 at its centre, 0.24 at ±72°, 0.04 at ±144°: a mean
+//! cos(orientation offset) of 0.52 per axis), so the decoded position advances by only
+//! ~0.3 of a commanded forward motion (measured 0.28–0.34 at 0.05–0.5 cell per update
+//! with `phase` weights). It is the same on every lap, so revisits still land on their
+//! first-lap cells, which `tests/posecells6d.rs` tests.
 //!
 //! Cell i of a rotation axis of n cells stands for the angle 360°·i/n (cell 0 is 0°);
 //! cell i of a translation axis for the position i·`cell_size_m` (modulo n cells).

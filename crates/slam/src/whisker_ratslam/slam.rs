@@ -3,14 +3,14 @@
 //! (Eq 5.8–5.9), run the pose cells and path integration, read the best pose, and update
 //! the object map — create an experience, re-localise onto one, or stay.
 //!
-//! Order and independence of the re-localisation test: the pose cells are advanced
-//! (attractor, then path integration of this whisk's odometry) and the best pose is
-//! decoded *before* this whisk's match is injected; the experience rule below tests the
-//! match against that best pose, and the match's activity is injected afterwards, to be
-//! consolidated by the next update's attractor. (Alg 2 injects first; then the match
-//! pulls the packet it is tested against, and the 1-cell test never rejects it. Injecting
-//! after path integration also places the activity at the pose where the features were
-//! seen rather than one odometry step beyond it.)
+//! Order of the re-localisation test (`injection.test`): by default, as Alg 2 orders it,
+//! the match is injected first, then the attractor and path integration run and the
+//! experience rule tests the match against the decoded best pose — so the match pulls the
+//! packet it is tested against, and the 1-cell test hardly ever rejects it. With
+//! `independent` ([`Params::corrected`]) the pose cells are advanced and the best pose is
+//! decoded *before* this whisk's match is injected; the match's activity is injected
+//! afterwards, to be consolidated by the next update's attractor (which also places it at
+//! the pose where the features were seen rather than one odometry step beyond it).
 //!
 //! Experience rule (§5.1.2.4.1.1, with RatSLAM's re-localisation test): when the features
 //! match an experience whose recorded pose cell is within `threshold_cells` of the best
@@ -221,7 +221,8 @@ pub struct WhiskerRatSlam {
     pub current: Option<usize>,
     /// Odometry since the current experience.
     pub accumulated: Accumulator,
-    /// The last experience made, and the odometry since (module documentation).
+    /// The last experience made, and the odometry since (module documentation); None
+    /// while the anchor is off.
     anchor: Option<(usize, Accumulator)>,
     samples: u64,
 }
@@ -307,6 +308,12 @@ impl WhiskerRatSlam {
         }
     }
 
+    /// Whether the odometry anchor is on (it needs robust relaxation).
+    fn anchoring(&self) -> bool {
+        let e = &self.params.experiences;
+        e.anchor && e.robust_scale().is_some()
+    }
+
     /// Feature excitation (Eq 5.8–5.9) of the `matched` experience's cell, with the
     /// per-experience decay.
     fn feature_excitation(&mut self, matched: Option<usize>) {
@@ -342,7 +349,7 @@ impl WhiskerRatSlam {
                 .add(features.clone(), best, &Isometry3::identity(), None);
             self.current = Some(id);
             self.accumulated = Accumulator::default();
-            self.anchor = Some((id, Accumulator::default()));
+            self.anchor = self.anchoring().then(|| (id, Accumulator::default()));
             return (id, true, false);
         };
         if let Some(m) = matched
@@ -365,13 +372,14 @@ impl WhiskerRatSlam {
         if matched.is_none() || moved > threshold {
             let relative = self.accumulated.take();
             let mut pose = self.map.pose(current) * relative;
-            let scale = self.params.experiences.robust_scale();
             let anchored = self
                 .anchor
                 .take()
-                .filter(|(a, _)| *a != current && scale.is_some() && self.params.experiences.anchor)
+                .filter(|(a, _)| *a != current)
                 .map(|(a, mut since)| (a, since.take()));
-            if let (Some((a, since)), Some(scale)) = (&anchored, scale) {
+            if let (Some((a, since)), Some(scale)) =
+                (&anchored, self.params.experiences.robust_scale())
+            {
                 let by_odometry = self.map.pose(*a) * since;
                 let (dt, dr) = crate::pose::distance(&by_odometry, &pose);
                 if standardised_residual(dt, dr, scale) > 1.0 {
@@ -384,7 +392,7 @@ impl WhiskerRatSlam {
                 self.map.links.push(Link::new(a, id, &since));
             }
             self.current = Some(id);
-            self.anchor = Some((id, Accumulator::default()));
+            self.anchor = self.anchoring().then(|| (id, Accumulator::default()));
             return (id, true, false);
         }
         (current, false, false)
