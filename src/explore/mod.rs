@@ -253,7 +253,7 @@ pub fn run(
         truth,
         robot,
         sensing,
-        target: SweepTarget::new(environment.world_mesh()),
+        target: environment.sweep_target(),
         slam: WhiskerRatSlam::new(config.slam, map),
         recognition,
         tour,

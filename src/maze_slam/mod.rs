@@ -458,7 +458,7 @@ pub fn evaluate(o: &Options, scenario: &Scenario) -> CliResult<Vec<serde_json::V
                 })
                 .collect::<CliResult<_>>()?,
             (None, None) => {
-                let target = target.get_or_init(|| SweepTarget::new(environment.world_mesh()));
+                let target = target.get_or_init(|| environment.sweep_target());
                 let noise = scenario.kinematic.noise(file)?;
                 let key = substream_key(seed, "maze-slam/sensing");
                 let images = kinematic_images(&truth_path, target, noise, key, &geometry);

@@ -129,7 +129,6 @@ mod tests {
     use super::*;
     use crate::scenario::Scenario;
     use std::path::Path;
-    use whisker_sim::sensing::kinematic::SweepTarget;
     use whisker_sim::sensing::noise::ContactNoise;
 
     /// Held still 6 cm beside the maze's tallest post, the physics whiskers light the
@@ -168,7 +167,7 @@ mod tests {
             0,
             &g,
         );
-        let target = SweepTarget::new(environment.world_mesh());
+        let target = environment.sweep_target();
         let kinematic = super::super::kinematic_images(&path, &target, ContactNoise::NONE, 0, &g);
         let lit =
             |img: &TactileImage| -> Vec<usize> { (0..18).filter(|&i| img.pixels[i] > 0).collect() };

@@ -164,7 +164,7 @@ mod tests {
         let (environment, shape) = placed(asset).unwrap();
         let (near, _) = viewpoints::busiest(&environment, &shape, asset.size).unwrap();
         let far = Isometry3::from_parts(Translation3::new(2.0, 0.0, 0.2), near.rotation);
-        let target = SweepTarget::new(environment.world_mesh());
+        let target = environment.sweep_target();
         let model = crate::frontend::radial_model(None).unwrap();
         let sensing = PhysicsSensing::new(vec![(shape, Isometry3::identity())], model);
         let cycles = sensing.sense(&target, &[far, near], 0, "test");

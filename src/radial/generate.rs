@@ -215,7 +215,7 @@ fn validation_jobs(o: &GenerateOptions) -> CliResult<Vec<Job>> {
         })
         .collect();
     let rigid: Vec<RigidWhisker> = configs.iter().map(WhiskerConfig::rigid).collect();
-    let target = SweepTarget::new(environment.world_mesh());
+    let target = environment.sweep_target();
     let stream = format!("radial/validation/{}/waypoints", o.seed);
     let candidates = viewpoints::facing(&shape, asset.size, 512, &stream);
     // Score each pose by its whiskers touching at ≤ 0.7 L; skip poses where a whisker

@@ -38,9 +38,13 @@ pub struct ObjectConfig {
     /// The file's up axis: "z" or "y".
     #[serde(default = "z_up")]
     pub up: String,
-    /// What to do when the file is not a clean closed solid: "strict", "auto" or "hull".
+    /// What to do when the file is not a clean closed solid: "strict", "auto", "hull",
+    /// "voxel" or "soup".
     #[serde(default = "auto_repair")]
     pub repair: String,
+    /// Voxel size of `repair = "voxel"` (m, after units and scale) [the longest side of
+    /// the bounding box / 64].
+    pub voxel_size_m: Option<f64>,
     /// Where the mesh's origin is: "file" (its own) or "base" (the bottom centre of its
     /// bounding box, after units, scale and up axis).
     #[serde(default = "file_origin")]
@@ -228,7 +232,23 @@ pub fn load(
             ));
         }
         let repair = Repair::parse(&o.repair)
-            .ok_or_else(|| keyword("repair", &o.repair, "\"strict\", \"auto\" or \"hull\""))?;
+            .ok_or_else(|| keyword("repair", &o.repair, Repair::CHOICES))?;
+        if let Some(v) = o.voxel_size_m {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(CliError::field(
+                    file,
+                    &format!("{field}.voxel_size_m"),
+                    format!("expected a positive length, got {v}"),
+                ));
+            }
+            if repair != Repair::Voxel {
+                return Err(CliError::field(
+                    file,
+                    &format!("{field}.voxel_size_m"),
+                    format!("applies to repair = \"voxel\" only, not {:?}", o.repair),
+                ));
+            }
+        }
         let origin = Origin::parse(&o.origin)
             .ok_or_else(|| keyword("origin", &o.origin, "\"file\" or \"base\""))?;
         let pose = pose_of(file, &field, o.position_m, o.rpy_deg)?;
@@ -239,21 +259,29 @@ pub fn load(
             up,
             repair,
             origin,
+            voxel_size: o.voxel_size_m,
         };
         let loaded = mesh::load(&path, &options)
             .map_err(|e| CliError::field(file, &format!("{field}.mesh"), e))?;
-        let shape = loaded
-            .mesh
-            .shape()
-            .map_err(|e| CliError::field(file, &format!("{field}.mesh"), e))?;
+        let shape = if loaded.solid {
+            loaded.mesh.shape()
+        } else {
+            loaded.mesh.soup_shape()
+        }
+        .map_err(|e| CliError::field(file, &format!("{field}.mesh"), e))?;
         let name = o.display_name(i);
         let (lo, hi) = mesh::bounds(&loaded.mesh.vertices);
         let size = hi - lo;
         report.push(format!(
-            "object     {name}: {} ({} triangles, {} component(s), {:.3} x {:.3} x {:.3} m, from ({:.3}, {:.3}, {:.3}) to ({:.3}, {:.3}, {:.3}) m about its origin) at ({:.3}, {:.3}, {:.3}) m{}",
+            "object     {name}: {} ({} triangles, {} {}, {:.3} x {:.3} x {:.3} m, from ({:.3}, {:.3}, {:.3}) to ({:.3}, {:.3}, {:.3}) m about its origin) at ({:.3}, {:.3}, {:.3}) m{}",
             path.display(),
             loaded.mesh.triangles.len(),
             loaded.mesh.component_volumes().len(),
+            if loaded.solid {
+                "solid part(s)"
+            } else {
+                "connected part(s) of a triangle soup"
+            },
             size.x,
             size.y,
             size.z,
@@ -277,6 +305,7 @@ pub fn load(
             shape,
             mesh: loaded.mesh,
             pose,
+            soup: !loaded.solid,
         });
     }
     if let Some(m) = maze {

@@ -337,6 +337,25 @@ impl Scenario {
             self.array.whisker_configs(file)?;
         }
         self.maze_slam.validate(file)?;
+        // A triangle soup serves the kinematic sweep only.
+        let needs_solids = if self.sensing == Sensing::Physics {
+            Some("sensing = \"physics\"")
+        } else if self.explore.is_some() {
+            Some("[explore] (its placement checks depth inside the object)")
+        } else {
+            None
+        };
+        if let Some(why) = needs_solids
+            && let Some(i) = self.objects.iter().position(|o| o.repair == "soup")
+        {
+            return bad(
+                &format!("objects[{i}].repair"),
+                format!(
+                    "\"soup\" keeps the mesh's triangles for kinematic sensing only; {why} \
+                     needs a closed solid: expected \"auto\", \"hull\" or \"voxel\""
+                ),
+            );
+        }
         if let Some(e) = &self.explore {
             if !self.trajectory.waypoints.is_empty() {
                 return bad(

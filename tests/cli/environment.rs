@@ -4,7 +4,7 @@
 use super::*;
 use nalgebra::Point3;
 use parry3d_f64::math::Vector as PVector;
-use whisker_sim::environment::mesh::{MeshOptions, load};
+use whisker_sim::environment::mesh::{MeshOptions, Repair, load};
 
 /// The objects scenario with noise off, written into `dir`.
 fn quiet_objects(dir: &Path, seed: u64) -> PathBuf {
@@ -157,8 +157,32 @@ fn bad_environments_exit_2_naming_the_field_and_write_nothing() {
         ),
         (
             "repair",
-            object("mesh = \"nan.obj\"\nrepair = \"voxel\""),
-            vec!["objects[0].repair", "\"strict\", \"auto\" or \"hull\""],
+            object("mesh = \"nan.obj\"\nrepair = \"melt\""),
+            vec![
+                "objects[0].repair",
+                "\"strict\", \"auto\", \"hull\", \"voxel\" or \"soup\"",
+            ],
+        ),
+        (
+            "voxel_size_without_voxel",
+            object("mesh = \"nan.obj\"\nvoxel_size_m = 0.002"),
+            vec!["objects[0].voxel_size_m", "\"voxel\" only"],
+        ),
+        (
+            "voxel_size",
+            object("mesh = \"nan.obj\"\nrepair = \"voxel\"\nvoxel_size_m = -1"),
+            vec!["objects[0].voxel_size_m", "positive"],
+        ),
+        (
+            "soup_physics",
+            format!(
+                "sensing = \"physics\"\n{ARM}[[objects]]\nmesh = \"nan.obj\"\nrepair = \"soup\"\n{WAYPOINT}{OUTPUT}"
+            ),
+            vec![
+                "objects[0].repair",
+                "kinematic sensing only",
+                "sensing = \"physics\"",
+            ],
         ),
         (
             "origin",
@@ -223,6 +247,129 @@ fn bad_environments_exit_2_naming_the_field_and_write_nothing() {
             !out.exists() || std::fs::read_dir(&out).unwrap().next().is_none(),
             "{name} wrote output"
         );
+    }
+}
+
+/// The Kettle with a fin on one of its edges (a third triangle on the edge 1–3, as in
+/// exported models with stray geometry): auto refuses it. Written into `dir` with the
+/// objects scenario (noise off) using it under `repair`.
+fn finned_kettle(dir: &Path, repair: &str) -> PathBuf {
+    let mut obj = std::fs::read_to_string(repo("assets/meshes/kettle.obj")).unwrap();
+    let v1: Vec<f64> = obj
+        .lines()
+        .find(|l| l.starts_with("v "))
+        .unwrap()
+        .split_whitespace()
+        .skip(1)
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let n = obj.lines().filter(|l| l.starts_with("v ")).count();
+    obj += &format!(
+        "v {} {} {}\nf 1 3 {}\n",
+        v1[0] + 0.02,
+        v1[1] + 0.03,
+        v1[2] + 0.01,
+        n + 1
+    );
+    std::fs::write(dir.join("finned.obj"), obj).unwrap();
+    let text = std::fs::read_to_string(quiet_objects(dir, 5))
+        .unwrap()
+        .replace(
+            &format!(
+                "{:?}",
+                repo("assets/meshes/kettle.obj").display().to_string()
+            ),
+            &format!("\"finned.obj\"\nrepair = \"{repair}\""),
+        );
+    let path = dir.join(format!("finned-{repair}.toml"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Noise-free contacts of a run, as world points.
+fn contact_points(out: &Path) -> Vec<Point3<f64>> {
+    rows(&out.join("contacts.csv"))
+        .iter()
+        .map(|c| {
+            let f = |k: usize| c[k].parse::<f64>().unwrap();
+            Point3::new(f(10), f(11), f(12))
+        })
+        .collect()
+}
+
+#[test]
+fn a_mesh_auto_refuses_runs_as_a_soup_or_a_voxel_remesh() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = whisker(&["check", finned_kettle(tmp.path(), "auto").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("finned.obj") && err.contains("\"soup\""),
+        "{err}"
+    );
+    let pose = whisker_slam::pose::from_xyz_rpy([0.5, 0.0, 0.0], [0.0, 0.0, 90f64.to_radians()]);
+    let file = tmp.path().join("finned.obj");
+    for repair in ["soup", "voxel"] {
+        let scenario = finned_kettle(tmp.path(), repair);
+        let o = whisker(&["check", scenario.to_str().unwrap()]);
+        assert!(o.status.success(), "{repair}: {}", stderr(&o));
+        let text = stdout(&o);
+        assert!(text.contains("triangles"), "{text}");
+        // What the sweep touches: the soup itself, or the remesh (a solid, within its
+        // reported deviation of the file's surface).
+        let options = MeshOptions {
+            repair: if repair == "soup" {
+                Repair::Soup
+            } else {
+                Repair::Voxel
+            },
+            ..Default::default()
+        };
+        let loaded = load(&file, &options).unwrap();
+        let allowed = if repair == "soup" {
+            assert!(text.contains("triangle soup"), "{text}");
+            1e-9
+        } else {
+            assert!(
+                text.contains("solid part") && text.contains("voxels"),
+                "{text}"
+            );
+            let mm: f64 = text
+                .split("up to ")
+                .nth(1)
+                .and_then(|r| r.split(" mm").next())
+                .and_then(|v| v.parse().ok())
+                .unwrap_or_else(|| panic!("{text}"));
+            mm * 1e-3 + 1e-4
+        };
+        let points = contact_points(&run_into(&scenario, &tmp.path().join(repair)));
+        assert!(points.len() > 20, "{repair}: {} contacts", points.len());
+        let soup = load(
+            &file,
+            &MeshOptions {
+                repair: Repair::Soup,
+                ..Default::default()
+            },
+        )
+        .unwrap()
+        .mesh
+        .soup_shape()
+        .unwrap();
+        let surface = loaded.mesh.soup_shape().unwrap();
+        for p in &points {
+            let local = pose.inverse_transform_point(p);
+            let q = PVector::new(local.x, local.y, local.z);
+            // On the surface swept, and that surface is the file's (or near it).
+            assert!(
+                surface.distance_to_local_point(q, true) < 1e-9,
+                "{repair}: {p}"
+            );
+            let d = soup.distance_to_local_point(q, true);
+            assert!(
+                d <= allowed,
+                "{repair}: contact {p} is {d} m off the file's surface"
+            );
+        }
     }
 }
 

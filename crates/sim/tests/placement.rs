@@ -40,6 +40,7 @@ fn environment(lo: Point3<f64>, hi: Point3<f64>) -> Environment {
             shape: parry3d_f64::shape::SharedShape::cuboid(half.x, half.y, half.z),
             mesh: shifted,
             pose: Isometry3::from_parts(centre, UnitQuaternion::identity()),
+            soup: false,
         }],
     }
 }

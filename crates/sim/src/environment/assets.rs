@@ -108,6 +108,7 @@ pub fn placed(
             shape: shape.clone(),
             mesh,
             pose: nalgebra::Isometry3::identity(),
+            soup: false,
         }],
     };
     Ok((environment, shape))

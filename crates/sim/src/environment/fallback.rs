@@ -7,8 +7,10 @@ use parry3d_f64::math::Vector;
 use parry3d_f64::query::PointQuery;
 use parry3d_f64::shape::TriMesh;
 
-/// Barycentric subdivisions per hull-triangle edge when sampling the hull's surface.
-const SAMPLES_PER_EDGE: usize = 4;
+/// Barycentric subdivisions per edge when sampling a hull's triangles (a hull's triangles
+/// are large; a voxel remesh's are about a voxel across and are sampled at their corners
+/// and centroids).
+pub const HULL_SAMPLES_PER_EDGE: usize = 4;
 
 /// The convex hull of `points` as a closed, outward-oriented mesh.
 pub fn convex_hull(points: &[Point3<f64>]) -> Result<Mesh, String> {
@@ -35,12 +37,13 @@ pub fn convex_hull(points: &[Point3<f64>]) -> Result<Mesh, String> {
 
 /// How far the surface of `replacement` lies from the surface of the original triangles
 /// (`vertices`, `triangles`: any soup): (max, mean) distance (m) over points sampled on
-/// every replacement triangle (its corners, and a barycentric grid of
-/// `SAMPLES_PER_EDGE` divisions per edge).
+/// the replacement: with `subdivisions` > 1, a barycentric grid of that many divisions per
+/// edge on every triangle; otherwise every vertex and every triangle's centroid.
 pub fn deviation(
     replacement: &Mesh,
     vertices: &[Point3<f64>],
     triangles: &[[u32; 3]],
+    subdivisions: usize,
 ) -> Result<(f64, f64), String> {
     let soup = TriMesh::new(
         vertices
@@ -50,21 +53,31 @@ pub fn deviation(
         triangles.to_vec(),
     )
     .map_err(|e| format!("cannot index the original surface: {e}"))?;
-    let n = SAMPLES_PER_EDGE;
-    let (mut max, mut sum, mut count) = (0.0f64, 0.0, 0usize);
-    for t in &replacement.triangles {
-        let [a, b, c] = t.map(|i| replacement.vertices[i as usize].coords);
-        for i in 0..=n {
-            for j in 0..=n - i {
-                let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
-                let p = a * (1.0 - u - v) + b * u + c * v;
-                let q = Vector::new(p.x, p.y, p.z);
-                let d = (soup.project_local_point(q, false).point - q).length();
-                max = max.max(d);
-                sum += d;
-                count += 1;
+    let mut samples: Vec<Point3<f64>> = Vec::new();
+    if subdivisions > 1 {
+        let n = subdivisions;
+        for t in &replacement.triangles {
+            let [a, b, c] = t.map(|i| replacement.vertices[i as usize].coords);
+            for i in 0..=n {
+                for j in 0..=n - i {
+                    let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+                    samples.push(Point3::from(a * (1.0 - u - v) + b * u + c * v));
+                }
             }
         }
+    } else {
+        samples.extend(&replacement.vertices);
+        samples.extend(replacement.triangles.iter().map(|t| {
+            let [a, b, c] = t.map(|i| replacement.vertices[i as usize].coords);
+            Point3::from((a + b + c) / 3.0)
+        }));
     }
-    Ok((max, sum / count.max(1) as f64))
+    let (mut max, mut sum) = (0.0f64, 0.0);
+    for p in &samples {
+        let q = Vector::new(p.x, p.y, p.z);
+        let d = (soup.project_local_point(q, false).point - q).length();
+        max = max.max(d);
+        sum += d;
+    }
+    Ok((max, sum / samples.len().max(1) as f64))
 }

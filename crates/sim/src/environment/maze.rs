@@ -170,6 +170,7 @@ impl MazeLayout {
                 shape: SharedShape::cuboid(half.x, half.y, half.z),
                 mesh: cuboid(Point3::from(-half), Point3::from(half)),
                 pose: pose * centre,
+                soup: false,
             }
         };
         let [w, d] = self.board;

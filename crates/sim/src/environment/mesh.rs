@@ -6,7 +6,7 @@
 //! diagonal → repair or refuse ([`super::topology`]) as the [`Repair`] policy says. What
 //! was repaired is reported so that `whisker check` can show it.
 
-use super::fallback::{convex_hull, deviation};
+use super::fallback::{HULL_SAMPLES_PER_EDGE, convex_hull, deviation};
 use super::mesh_io;
 pub use super::topology::Mesh;
 use super::topology::{close_and_orient, components, signed_volume, weld};
@@ -95,15 +95,28 @@ pub enum Repair {
     /// The convex hull of the file's vertices, always a solid (unless they are coplanar);
     /// its deviation from the file's surface is reported.
     Hull,
+    /// A watertight remesh of the file's surface at a stated voxel size
+    /// ([`super::voxel`]), always a solid; its deviation from the file's surface is
+    /// reported.
+    Voxel,
+    /// The triangles as they are (welded; degenerate and duplicate ones dropped), closed
+    /// or not: enough for kinematic sensing, which only intersects triangles; physics
+    /// sensing and depth checks refuse it.
+    Soup,
 }
 
 impl Repair {
-    /// Parses "strict", "auto" or "hull".
+    /// The keywords, as a scenario writes them.
+    pub const CHOICES: &str = "\"strict\", \"auto\", \"hull\", \"voxel\" or \"soup\"";
+
+    /// Parses one of [`Repair::CHOICES`].
     pub fn parse(s: &str) -> Option<Repair> {
         Some(match s {
             "strict" => Repair::Strict,
             "auto" => Repair::Auto,
             "hull" => Repair::Hull,
+            "voxel" => Repair::Voxel,
+            "soup" => Repair::Soup,
             _ => return None,
         })
     }
@@ -122,6 +135,9 @@ pub struct MeshOptions {
     pub repair: Repair,
     /// Where the mesh's origin goes.
     pub origin: Origin,
+    /// Voxel size (m, after units and scale) of [`Repair::Voxel`]; None: the longest side
+    /// of the bounding box / [`super::voxel::DEFAULT_DIVISIONS`].
+    pub voxel_size: Option<f64>,
 }
 
 impl Default for MeshOptions {
@@ -132,6 +148,7 @@ impl Default for MeshOptions {
             up: UpAxis::Z,
             repair: Repair::Auto,
             origin: Origin::File,
+            voxel_size: None,
         }
     }
 }
@@ -139,8 +156,11 @@ impl Default for MeshOptions {
 /// A loaded mesh and what was done to it.
 #[derive(Debug, Clone)]
 pub struct LoadedMesh {
-    /// The closed, outward-oriented mesh (metres, z up, file origin).
+    /// The closed, outward-oriented mesh (metres, z up), or with [`Repair::Soup`] the
+    /// file's triangles as they are.
     pub mesh: Mesh,
+    /// Whether `mesh` is a closed solid (false only for [`Repair::Soup`]).
+    pub solid: bool,
     /// Repairs made, in words (empty for a clean file).
     pub repairs: Vec<String>,
     /// Objects/groups the file declared.
@@ -232,30 +252,62 @@ fn load_in_file_frame(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, 
         .iter()
         .map(|t| t.map(|i| map[i as usize]))
         .collect();
-    if options.repair == Repair::Hull {
-        let hull = convex_hull(&vertices).map_err(|e| MeshError::new(path, "mesh", e))?;
-        let (max, mean) =
-            deviation(&hull, &vertices, &triangles).map_err(|e| MeshError::new(path, "mesh", e))?;
-        let repairs = vec![format!(
-            "replaced by the convex hull of its {} vertices ({} triangles; repair = \"hull\"): \
-             the hull's surface lies up to {:.1} mm (mean {:.1} mm) from the file's",
-            vertices.len(),
-            hull.triangles.len(),
-            max * 1e3,
-            mean * 1e3
-        )];
-        return Ok(LoadedMesh {
-            mesh: hull,
-            repairs,
-            objects: soup.objects,
-        });
+    match options.repair {
+        Repair::Hull | Repair::Voxel => {
+            let (mesh, what, subdivisions) = if options.repair == Repair::Hull {
+                let hull = convex_hull(&vertices).map_err(|e| MeshError::new(path, "mesh", e))?;
+                let what = format!(
+                    "replaced by the convex hull of its {} vertices ({} triangles; repair = \"hull\")",
+                    vertices.len(),
+                    hull.triangles.len()
+                );
+                (hull, what, HULL_SAMPLES_PER_EDGE)
+            } else {
+                let size = options
+                    .voxel_size
+                    .unwrap_or_else(|| (hi - lo).max() / super::voxel::DEFAULT_DIVISIONS);
+                let remeshed = super::voxel::remesh(&vertices, &triangles, size)
+                    .map_err(|e| MeshError::new(path, "voxel_size", e))?;
+                let what = format!(
+                    "replaced by a watertight remesh on {:.2} mm voxels ({} triangles; repair = \"voxel\")",
+                    size * 1e3,
+                    remeshed.triangles.len()
+                );
+                (remeshed, what, 1)
+            };
+            let (max, mean) = deviation(&mesh, &vertices, &triangles, subdivisions)
+                .map_err(|e| MeshError::new(path, "mesh", e))?;
+            let repairs = vec![format!(
+                "{what}: its surface lies up to {:.1} mm (mean {:.2} mm) from the file's",
+                max * 1e3,
+                mean * 1e3
+            )];
+            return Ok(LoadedMesh {
+                mesh,
+                solid: true,
+                repairs,
+                objects: soup.objects,
+            });
+        }
+        Repair::Soup => {
+            let (mesh, repairs) = super::topology::clean_soup(vertices, triangles);
+            return Ok(LoadedMesh {
+                mesh,
+                solid: false,
+                repairs,
+                objects: soup.objects,
+            });
+        }
+        Repair::Strict | Repair::Auto => {}
     }
     let (mesh, mut repairs) = close_and_orient(vertices, triangles, origins).map_err(|e| {
         MeshError::new(
             path,
             &e.at,
             format!(
-                "{} (repair = \"hull\" would use the convex hull instead)",
+                "{} (repair = \"hull\" or \"voxel\" would replace it by a solid: its \
+                 convex hull, or a watertight remesh; \"soup\" would keep its triangles \
+                 for kinematic sensing only)",
                 e.message
             ),
         )
@@ -276,6 +328,7 @@ fn load_in_file_frame(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, 
     }
     Ok(LoadedMesh {
         mesh,
+        solid: true,
         repairs,
         objects: soup.objects,
     })
@@ -345,5 +398,11 @@ impl Mesh {
     /// components; use [`super::solids::Solids`].
     pub fn shape(&self) -> Result<SharedShape, String> {
         super::solids::oriented_trimesh(&super::solids::outer_surface(self)?)
+    }
+
+    /// A triangle soup as a plain, two-sided parry triangle mesh (for the arm's collision
+    /// checks; no inside, so no depth queries).
+    pub fn soup_shape(&self) -> Result<SharedShape, String> {
+        super::solids::plain_trimesh(self)
     }
 }

@@ -2,7 +2,7 @@
 //! Fig 6.5) and the maze (§3.1, Fig 3.1).
 //!
 //! - [`mesh_io`] reads OBJ, STL and PLY files; [`topology`] welds, orients and closes
-//!   them; [`fallback`] replaces what cannot be closed by its convex hull; [`mesh`] ties
+//!   them ([`cracks`]: T-junctions and holes); [`fallback`] replaces what cannot be closed by its convex hull; [`mesh`] ties
 //!   them together with units, up axis and the repair policy, and builds the collision
 //!   shape.
 //! - [`shapes`] builds closed meshes from primitives (boxes, lathes, swept tubes, star
@@ -14,6 +14,7 @@
 //! collision shape the physics uses and a triangle mesh for the kinematic sweep.
 
 pub mod assets;
+pub mod cracks;
 pub mod fallback;
 pub mod maze;
 pub mod mesh;
@@ -22,7 +23,9 @@ pub mod shapes;
 pub mod solids;
 pub mod topology;
 pub mod viewpoints;
+pub mod voxel;
 
+use crate::sensing::kinematic::SweepTarget;
 use crate::sensing::physics::EnvironmentPiece;
 use nalgebra::Isometry3;
 use parry3d_f64::shape::SharedShape;
@@ -40,6 +43,10 @@ pub struct Piece {
     pub mesh: Mesh,
     /// Pose of the piece frame in the world.
     pub pose: Isometry3<f64>,
+    /// Whether `mesh` is a triangle soup kept as loaded (`repair = "soup"`, #20) rather
+    /// than a closed solid: the kinematic sweep takes its triangles as two-sided (the
+    /// contact normal turned towards the whisker); physics and depth checks refuse it.
+    pub soup: bool,
 }
 
 impl Piece {
@@ -55,6 +62,7 @@ impl Piece {
             shape: SharedShape::cylinder(h, radius),
             mesh: shapes::transformed(&along_z, &y_to_z.inverse()),
             pose: pose * y_to_z,
+            soup: false,
         }
     }
 }
@@ -83,6 +91,28 @@ impl Environment {
             .iter()
             .map(|p| (p.shape.clone(), p.pose))
             .collect()
+    }
+
+    /// The pieces prepared for the kinematic sweep (soups' triangles two-sided).
+    pub fn sweep_target(&self) -> SweepTarget {
+        let two_sided = self
+            .pieces
+            .iter()
+            .flat_map(|p| std::iter::repeat_n(p.soup, p.mesh.triangles.len()))
+            .collect();
+        SweepTarget::with_two_sided(self.world_mesh(), two_sided)
+    }
+
+    /// An error naming the first piece that is a triangle soup, for what needs solids.
+    pub fn require_solids(&self, what: &str) -> Result<(), String> {
+        match self.pieces.iter().find(|p| p.soup) {
+            Some(p) => Err(format!(
+                "{} is a triangle soup (repair = \"soup\"): {what} needs closed solids \
+                 (repair = \"auto\", \"hull\" or \"voxel\")",
+                p.name
+            )),
+            None => Ok(()),
+        }
     }
 
     /// All pieces' triangles in the world frame, one mesh (for the kinematic sweep).

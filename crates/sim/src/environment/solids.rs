@@ -48,6 +48,17 @@ pub(crate) fn oriented_trimesh(mesh: &Mesh) -> Result<SharedShape, String> {
         .map_err(|e| format!("cannot build a collision mesh: {e}"))
 }
 
+/// A mesh as a plain (two-sided) parry triangle mesh: what a triangle soup can be.
+pub(crate) fn plain_trimesh(mesh: &Mesh) -> Result<SharedShape, String> {
+    let vertices = mesh
+        .vertices
+        .iter()
+        .map(|p| Vector::new(p.x, p.y, p.z))
+        .collect();
+    SharedShape::trimesh(vertices, mesh.triangles.clone())
+        .map_err(|e| format!("cannot build a collision mesh: {e}"))
+}
+
 /// Depth (m) of `p` inside the closed solid `shape` at `pose`; 0 outside.
 fn depth_in(shape: &SharedShape, pose: &Isometry3<f64>, p: &Point3<f64>) -> f64 {
     let local = pose.inverse() * p;
@@ -110,6 +121,7 @@ impl Solids {
     /// One solid per closed component of every piece (primitive pieces — the maze's boxes
     /// and cylinders — as their exact shapes).
     pub fn new(environment: &Environment) -> Result<Self, String> {
+        environment.require_solids("a depth check")?;
         let mut parts = Vec::new();
         for piece in &environment.pieces {
             if piece.shape.as_trimesh().is_none() {
@@ -194,6 +206,7 @@ mod tests {
                 shape: mesh.shape().unwrap(),
                 mesh,
                 pose,
+                soup: false,
             }],
         };
         let solids = Solids::new(&environment).unwrap();

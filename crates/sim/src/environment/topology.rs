@@ -3,21 +3,21 @@
 //!
 //! Steps, each reported when it changed something: weld coincident vertices (STL stores
 //! every triangle's corners separately), drop degenerate triangles, drop duplicate
-//! triangles (the same three corners in either winding; the first is kept), split every
+//! triangles (the same three corners in either winding; the first is kept), split
+//! triangles at T-junctions ([`super::cracks`]), split every
 //! vertex where separate sheets meet into one copy per sheet (its fans of triangles joined
 //! through edges in at most two triangles: two solids sharing an edge or touching at a
 //! corner become two solids), refuse edges still shared by more than two triangles, orient
 //! each connected component consistently (refusing non-orientable ones), close small
-//! holes by a fan from the hole's centroid, refuse larger ones, refuse components with no
+//! holes and planar ones by a fan from the hole's centroid ([`super::cracks`]), refuse
+//! other holes, refuse components with no
 //! volume (sheets), and turn every component whose signed volume is negative inside out.
 //! Components are treated as separate solids: objects made of several overlapping closed
 //! parts (a mug's body and handle) are fine.
 
-use nalgebra::{Point3, Vector3};
-use std::collections::{HashMap, HashSet, VecDeque};
-
-/// Largest hole (number of boundary edges) closed automatically.
-pub const MAX_HOLE_EDGES: usize = 32;
+use super::cracks::{close_holes, split_t_junctions};
+use nalgebra::Point3;
+use std::collections::{HashMap, VecDeque};
 
 /// A closed, consistently wound triangle mesh (metres, z up).
 #[derive(Debug, Clone, PartialEq)]
@@ -144,26 +144,49 @@ pub fn components(triangles: &[[u32; 3]]) -> Vec<Vec<usize>> {
 /// Repairs a welded triangle list into a closed, outward-oriented mesh, or says why it
 /// cannot. `origins[t]` names where triangle `t` came from. Returns the mesh and the list
 /// of repairs made.
+///
+/// Coincident triangles wound oppositely are first taken as a zero-thickness double wall
+/// and cancelled in pairs; if that leaves nothing or no solid, they are taken as a
+/// double-sided surface (render models often carry every face twice) and one of each
+/// pair is kept. When both fail, the second's error is returned.
 pub fn close_and_orient(
     vertices: Vec<Point3<f64>>,
     triangles: Vec<[u32; 3]>,
     origins: Vec<String>,
 ) -> Result<(Mesh, Vec<String>), TopologyError> {
+    let mut pairs = 0;
+    let first = repair(
+        vertices.clone(),
+        triangles.clone(),
+        origins.clone(),
+        true,
+        &mut pairs,
+    );
+    if first.is_ok() || pairs == 0 {
+        return first;
+    }
+    repair(vertices, triangles, origins, false, &mut pairs)
+}
+
+/// [`close_and_orient`] with oppositely wound coincident triangles cancelled in pairs
+/// (`cancel`) or kept once; `pairs` receives how many such pairs there were.
+fn repair(
+    vertices: Vec<Point3<f64>>,
+    triangles: Vec<[u32; 3]>,
+    origins: Vec<String>,
+    cancel: bool,
+    pairs: &mut usize,
+) -> Result<(Mesh, Vec<String>), TopologyError> {
     let mut repairs = Vec::new();
     let mut vertices = vertices;
+    let before_degenerate = triangles.len();
     // Degenerate triangles: repeated corners or zero area.
-    let mut tris = Vec::with_capacity(triangles.len());
-    let mut origin_of = Vec::with_capacity(triangles.len());
-    let mut dropped = 0;
-    for (t, o) in triangles.into_iter().zip(origins) {
-        let [a, b, c] = t.map(|i| vertices[i as usize]);
-        if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || (b - a).cross(&(c - a)).norm() == 0.0 {
-            dropped += 1;
-        } else {
-            tris.push(t);
-            origin_of.push(o);
-        }
-    }
+    let (tris, origin_of): (Vec<_>, Vec<_>) = triangles
+        .into_iter()
+        .zip(origins)
+        .filter(|(t, _)| !degenerate(&vertices, t))
+        .unzip();
+    let dropped = before_degenerate - tris.len();
     if dropped > 0 {
         repairs.push(format!("dropped {dropped} degenerate triangle(s)"));
     }
@@ -173,23 +196,45 @@ pub fn close_and_orient(
             message: "empty mesh: every triangle is degenerate".into(),
         });
     }
-    // Duplicate triangles.
-    let mut corners_seen = HashSet::new();
-    let before = tris.len();
-    let (kept, kept_origins): (Vec<_>, Vec<_>) = tris
-        .into_iter()
-        .zip(origin_of)
-        .filter(|(t, _)| {
-            let mut key = *t;
-            key.sort_unstable();
-            corners_seen.insert(key)
-        })
-        .unzip();
-    let (mut tris, origin_of) = (kept, kept_origins);
-    if tris.len() < before {
+    // Coincident triangles: the same three corners. Pairs wound oppositely cancel (a
+    // zero-thickness double wall: a saw cut, or the face two stacked parts share); of the
+    // rest, one copy is kept (the first of the majority winding).
+    let (tris, origin_of, duplicates, cancelled) = drop_coincident(tris, origin_of, cancel);
+    *pairs = cancelled / 2;
+    if tris.is_empty() {
+        return Err(TopologyError {
+            at: "mesh".into(),
+            message: "every triangle cancelled against a coincident one wound oppositely".into(),
+        });
+    }
+    let (mut tris, mut origin_of) = (tris, origin_of);
+    if duplicates > 0 {
         repairs.push(format!(
-            "dropped {} duplicate triangle(s)",
-            before - tris.len()
+            "dropped {duplicates} duplicate triangle(s){}",
+            if cancel {
+                ""
+            } else {
+                " (each face of a double-sided surface once)"
+            }
+        ));
+    }
+    if cancelled > 0 {
+        repairs.push(format!(
+            "dropped {cancelled} coincident triangle(s) wound oppositely in pairs (zero-thickness \
+             double walls)"
+        ));
+    }
+    // T-junctions.
+    let (lo, hi) = super::mesh::bounds(&vertices);
+    let inserted = split_t_junctions(
+        &vertices,
+        &mut tris,
+        &mut origin_of,
+        1e-6 * (hi - lo).norm(),
+    );
+    if inserted > 0 {
+        repairs.push(format!(
+            "split triangles at {inserted} T-junction vertex(es) lying on another triangle's edge"
         ));
     }
     // Sheets meeting at an edge or a vertex: one vertex copy per sheet.
@@ -264,63 +309,9 @@ pub fn close_and_orient(
             flipped += 1;
         }
     }
-    // Boundary: directed edges without their opposite, chained into loops.
-    let mut next: HashMap<u32, Vec<u32>> = HashMap::new();
-    let mut boundary = 0;
-    for tri in &tris {
-        for k in 0..3 {
-            let (a, b) = (tri[k], tri[(k + 1) % 3]);
-            if by_edge[&edge(a, b)].len() == 1 {
-                next.entry(a).or_default().push(b);
-                boundary += 1;
-            }
-        }
-    }
-    if boundary > 0 {
-        let mut starts: Vec<u32> = next.keys().copied().collect();
-        starts.sort_unstable();
-        let mut holes = 0;
-        for s in starts {
-            while let Some(first) = next.get_mut(&s).and_then(Vec::pop) {
-                let mut ring = vec![s];
-                let mut at = first;
-                while at != s {
-                    ring.push(at);
-                    let step = next.get_mut(&at).and_then(Vec::pop);
-                    match step {
-                        Some(n) if ring.len() <= MAX_HOLE_EDGES => at = n,
-                        _ => {
-                            return Err(TopologyError {
-                                at: "mesh".into(),
-                                message: format!(
-                                    "open mesh: a hole with more than {MAX_HOLE_EDGES} \
-                                     boundary edges {} (the physics needs closed meshes; \
-                                     holes up to {MAX_HOLE_EDGES} edges are closed \
-                                     automatically)",
-                                    point_at(&vertices[s as usize])
-                                ),
-                            });
-                        }
-                    }
-                }
-                let centre = Point3::from(
-                    ring.iter()
-                        .map(|&i| vertices[i as usize].coords)
-                        .sum::<Vector3<f64>>()
-                        / ring.len() as f64,
-                );
-                vertices.push(centre);
-                let c = (vertices.len() - 1) as u32;
-                for k in 0..ring.len() {
-                    let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
-                    tris.push([b, a, c]);
-                }
-                holes += 1;
-            }
-        }
-        repairs.push(format!(
-            "closed {holes} hole(s) ({boundary} boundary edges)"
-        ));
+    // Holes.
+    if let Some(report) = close_holes(&mut vertices, &mut tris)? {
+        repairs.push(report);
     }
     // Outward orientation: each component's signed volume must be positive; a component
     // with none is a sheet, not a solid.
@@ -363,6 +354,93 @@ pub fn close_and_orient(
         },
         repairs,
     ))
+}
+
+/// Whether a triangle has a repeated corner or zero area.
+fn degenerate(vertices: &[Point3<f64>], t: &[u32; 3]) -> bool {
+    let [a, b, c] = t.map(|i| vertices[i as usize]);
+    t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || (b - a).cross(&(c - a)).norm() == 0.0
+}
+
+/// A welded soup kept as it is for kinematic sensing (`repair = "soup"`): degenerate
+/// triangles and repeated ones (the same corners, either winding: one copy of a
+/// double-sided sheet still stops a whisker) dropped, nothing else changed. Returns the
+/// mesh and what was done and found, in words.
+pub fn clean_soup(vertices: Vec<Point3<f64>>, triangles: Vec<[u32; 3]>) -> (Mesh, Vec<String>) {
+    let before = triangles.len();
+    let mut seen = std::collections::HashSet::new();
+    let tris: Vec<[u32; 3]> = triangles
+        .into_iter()
+        .filter(|t| !degenerate(&vertices, t))
+        .filter(|t| {
+            let mut key = *t;
+            key.sort_unstable();
+            seen.insert(key)
+        })
+        .collect();
+    let by_edge = triangles_by_edge(&tris);
+    let open = by_edge.values().filter(|l| l.len() == 1).count();
+    let non_manifold = by_edge.values().filter(|l| l.len() > 2).count();
+    let report = format!(
+        "kept as a triangle soup (repair = \"soup\"; kinematic sensing only): {} degenerate \
+         or repeated triangle(s) dropped, {open} open edge(s), {non_manifold} edge(s) in more \
+         than two triangles",
+        before - tris.len()
+    );
+    (
+        Mesh {
+            vertices,
+            triangles: tris,
+        },
+        vec![report],
+    )
+}
+
+/// Drops coincident triangles (see [`close_and_orient`]); returns the kept triangles and
+/// origins, the number of duplicates dropped and the number of oppositely wound
+/// triangles cancelled in pairs (none unless `cancel`).
+fn drop_coincident(
+    tris: Vec<[u32; 3]>,
+    origins: Vec<String>,
+    cancel: bool,
+) -> (Vec<[u32; 3]>, Vec<String>, usize, usize) {
+    // Per set of corners: the triangles wound as the sorted corners (even) and against.
+    let mut groups: HashMap<[u32; 3], (Vec<usize>, Vec<usize>)> = HashMap::new();
+    for (i, t) in tris.iter().enumerate() {
+        let mut key = *t;
+        key.sort_unstable();
+        let even = (0..3).any(|k| [t[k], t[(k + 1) % 3], t[(k + 2) % 3]] == key);
+        let g = groups.entry(key).or_default();
+        if even { &mut g.0 } else { &mut g.1 }.push(i);
+    }
+    let mut keep = vec![false; tris.len()];
+    let (mut duplicates, mut cancelled) = (0, 0);
+    for (even, odd) in groups.values() {
+        let pairs = if cancel { even.len().min(odd.len()) } else { 0 };
+        cancelled += 2 * pairs;
+        // The copies left: with `cancel`, those of the majority winding beyond the pairs;
+        // without, all of them.
+        let rest: Vec<usize> = if !cancel {
+            even.iter().chain(odd).copied().collect()
+        } else if even.len() > odd.len() {
+            even.clone()
+        } else {
+            odd.clone()
+        };
+        let left = rest.len() - pairs;
+        if left > 0 {
+            keep[*rest.iter().min().expect("non-empty")] = true;
+            duplicates += left - 1;
+        }
+    }
+    let (kept, kept_origins) = tris
+        .into_iter()
+        .zip(origins)
+        .zip(&keep)
+        .filter(|(_, k)| **k)
+        .map(|(p, _)| p)
+        .unzip();
+    (kept, kept_origins, duplicates, cancelled)
 }
 
 /// Splits every vertex whose incident triangles form more than one fan — triangles joined

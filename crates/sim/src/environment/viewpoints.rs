@@ -2,7 +2,7 @@
 //! array so that its whiskers reach the object.
 
 use super::Environment;
-use crate::sensing::kinematic::{RigidWhisker, SweepTarget};
+use crate::sensing::kinematic::RigidWhisker;
 use crate::whisker::array;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use parry3d_f64::math::Vector as PVector;
@@ -56,7 +56,7 @@ pub fn most_touching(
     environment: &Environment,
     candidates: &[Isometry3<f64>],
 ) -> Option<(Isometry3<f64>, Vec<usize>)> {
-    let target = SweepTarget::new(environment.world_mesh());
+    let target = environment.sweep_target();
     let whiskers: Vec<RigidWhisker> = array::modules()
         .into_iter()
         .map(|m| RigidWhisker::new(m, 3.0e-3))

@@ -37,6 +37,8 @@ pub const STEP_RAD: f64 = std::f64::consts::PI / 180.0;
 pub struct SweepTarget {
     mesh: Mesh,
     normals: Vec<Vector3<f64>>,
+    /// Per triangle: whether it is two-sided (a soup's, whose winding says nothing).
+    two_sided: Vec<bool>,
     bvh: Bvh,
 }
 
@@ -128,8 +130,21 @@ fn pv(v: &Point3<f64>) -> PVector {
 }
 
 impl SweepTarget {
-    /// Prepares a world-frame mesh (degenerate triangles are skipped).
+    /// Prepares a world-frame mesh of closed solids (degenerate triangles are skipped).
     pub fn new(mesh: Mesh) -> Self {
+        let n = mesh.triangles.len();
+        Self::with_two_sided(mesh, vec![false; n])
+    }
+
+    /// Prepares a world-frame mesh in which the triangles flagged in `two_sided` (one
+    /// flag per triangle) belong to triangle soups: a contact on one of them takes the
+    /// normal facing the whisker's base, as the outward normal of a solid does.
+    pub fn with_two_sided(mesh: Mesh, two_sided: Vec<bool>) -> Self {
+        assert_eq!(
+            two_sided.len(),
+            mesh.triangles.len(),
+            "one flag per triangle"
+        );
         let normals: Vec<Vector3<f64>> = mesh
             .triangles
             .iter()
@@ -150,7 +165,12 @@ impl SweepTarget {
             })
             .collect();
         let bvh = Bvh::from_leaves(BvhBuildStrategy::default(), &leaves);
-        Self { mesh, normals, bvh }
+        Self {
+            mesh,
+            normals,
+            two_sided,
+            bvh,
+        }
     }
 
     /// Number of triangles.
@@ -213,12 +233,18 @@ impl SweepTarget {
         let angle = whisker.angle(k);
         let base_frame = frame(angle);
         let direction = base_frame.rotation * Vector3::z();
+        let point = pivot + direction * r;
+        let mut normal = self.normals[t];
+        let base = pivot + direction * whisker.base_offset;
+        if self.two_sided[t] && normal.dot(&(base - point)) < 0.0 {
+            normal = -normal;
+        }
         Some(Intersect {
             step: k,
             angle,
             radial_distance: (r - whisker.base_offset).max(0.0),
-            point: pivot + direction * r,
-            normal: self.normals[t],
+            point,
+            normal,
             base_frame: base_frame * Isometry3::translation(0.0, 0.0, whisker.base_offset),
         })
     }
