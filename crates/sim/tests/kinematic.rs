@@ -3,6 +3,7 @@
 
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use rand::RngExt;
+use whisker_sim::environment::Mesh;
 use whisker_sim::environment::shapes::{cuboid, transformed};
 use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
 use whisker_sim::sensing::noise::ContactNoise;
@@ -14,12 +15,17 @@ const BASE_OFFSET: f64 = 3.0e-3;
 /// A slab 4 × 4 m wide and 0.5 m thick whose top face is the plane through `q` with
 /// outward unit normal `n`.
 fn plane_slab(q: Point3<f64>, n: Vector3<f64>) -> SweepTarget {
+    SweepTarget::new(plane_slab_mesh(q, n))
+}
+
+/// The mesh of [`plane_slab`].
+fn plane_slab_mesh(q: Point3<f64>, n: Vector3<f64>) -> Mesh {
     let slab = cuboid(Point3::new(-2.0, -2.0, -0.5), Point3::new(2.0, 2.0, 0.0));
     let rotation = UnitQuaternion::rotation_between(&Vector3::z(), &n).unwrap_or_else(|| {
         UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI)
     });
     let pose = Isometry3::from_parts(Translation3::from(q.coords), rotation);
-    SweepTarget::new(transformed(&slab, &pose))
+    transformed(&slab, &pose)
 }
 
 /// The analytic anticipated contact of a straight whisker with the plane (q, n): the
@@ -125,6 +131,52 @@ fn sweep_against_a_plane_gives_the_analytic_contact() {
         contacts > 100 && misses > 100,
         "contacts {contacts}, misses {misses}"
     );
+}
+
+#[test]
+fn a_soups_triangles_are_two_sided() {
+    // The plane slab turned inside out: as a solid its "outward" normals point into the
+    // slab; as a triangle soup (winding meaningless) each contact takes the normal facing
+    // the whisker, which is the plane's true normal n. Contacts are the same either way.
+    let mut rng = whisker_slam::rng::substream(8, "test/kinematic-soup");
+    let mut contacts = 0;
+    for _ in 0..20 {
+        let pose = random_pose(&mut rng);
+        for m in modules() {
+            let w = RigidWhisker::new(m, BASE_OFFSET);
+            let pivot = pose * w.module.whisker_pose(w.retracted) * Point3::origin();
+            let n = Vector3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            )
+            .normalize();
+            let reach = w.base_offset + w.module.beam.length;
+            let q = pivot - n * rng.random_range(0.05..1.2) * reach;
+            let mut mesh = plane_slab_mesh(q, n);
+            for t in &mut mesh.triangles {
+                t.swap(1, 2);
+            }
+            let flags = vec![true; mesh.triangles.len()];
+            let solid = SweepTarget::new(mesh.clone()).sweep(&w, &pose);
+            let soup = SweepTarget::with_two_sided(mesh, flags).sweep(&w, &pose);
+            match (solid, soup) {
+                (None, None) => {}
+                (Some(a), Some(b)) => {
+                    contacts += 1;
+                    assert_eq!(a.step, b.step);
+                    assert_eq!(a.point, b.point);
+                    assert!((a.normal + n).norm() < 1e-9, "as wound: into the slab");
+                    assert!(
+                        (b.normal - n).norm() < 1e-9,
+                        "two-sided: facing the whisker"
+                    );
+                }
+                (a, b) => panic!("{a:?} vs {b:?}"),
+            }
+        }
+    }
+    assert!(contacts > 50, "{contacts}");
 }
 
 #[test]
