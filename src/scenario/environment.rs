@@ -10,7 +10,12 @@ use crate::error::{CliError, CliResult};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use whisker_sim::environment::maze::{Deformities, MazeLayout, Post, Wall};
-use whisker_sim::environment::mesh::{self, MeshOptions, Origin, Repair, Units, UpAxis};
+use whisker_sim::environment::mesh::{
+    self, Decimation, MeshOptions, Origin, Repair, Units, UpAxis,
+};
+
+/// Default largest quadric error of a decimation collapse (m).
+pub const DECIMATE_TOLERANCE_M: f64 = 0.0005;
 use whisker_sim::environment::{Environment, Piece};
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_slam::pose;
@@ -45,6 +50,10 @@ pub struct ObjectConfig {
     /// Voxel size of `repair = "voxel"` (m, after units and scale) [the longest side of
     /// the bounding box / 64].
     pub voxel_size_m: Option<f64>,
+    /// Decimate the solid to at most this many triangles [no decimation].
+    pub decimate: Option<usize>,
+    /// Largest quadric error of a decimation collapse (m) [0.0005].
+    pub decimate_tolerance_m: Option<f64>,
     /// Where the mesh's origin is: "file" (its own) or "base" (the bottom centre of its
     /// bounding box, after units, scale and up axis).
     #[serde(default = "file_origin")]
@@ -249,6 +258,45 @@ pub fn load(
                 ));
             }
         }
+        let decimate = match (o.decimate, o.decimate_tolerance_m) {
+            (None, None) => None,
+            (None, Some(_)) => {
+                return Err(CliError::field(
+                    file,
+                    &format!("{field}.decimate_tolerance_m"),
+                    "applies with decimate only: expected decimate = <triangles> too",
+                ));
+            }
+            (Some(n), tolerance) => {
+                let tolerance = tolerance.unwrap_or(DECIMATE_TOLERANCE_M);
+                if n < 4 {
+                    return Err(CliError::field(
+                        file,
+                        &format!("{field}.decimate"),
+                        format!("expected a target of at least 4 triangles, got {n}"),
+                    ));
+                }
+                if !(tolerance.is_finite() && tolerance > 0.0) {
+                    return Err(CliError::field(
+                        file,
+                        &format!("{field}.decimate_tolerance_m"),
+                        format!("expected a positive length, got {tolerance}"),
+                    ));
+                }
+                if repair == Repair::Soup {
+                    return Err(CliError::field(
+                        file,
+                        &format!("{field}.decimate"),
+                        "a triangle soup (repair = \"soup\") is kept as it is: expected a solid \
+                         repair (\"auto\", \"hull\" or \"voxel\") to decimate",
+                    ));
+                }
+                Some(Decimation {
+                    triangles: n,
+                    tolerance,
+                })
+            }
+        };
         let origin = Origin::parse(&o.origin)
             .ok_or_else(|| keyword("origin", &o.origin, "\"file\" or \"base\""))?;
         let pose = pose_of(file, &field, o.position_m, o.rpy_deg)?;
@@ -260,6 +308,7 @@ pub fn load(
             repair,
             origin,
             voxel_size: o.voxel_size_m,
+            decimate,
         };
         let loaded = mesh::load(&path, &options)
             .map_err(|e| CliError::field(file, &format!("{field}.mesh"), e))?;

@@ -174,6 +174,21 @@ fn bad_environments_exit_2_naming_the_field_and_write_nothing() {
             vec!["objects[0].voxel_size_m", "positive"],
         ),
         (
+            "decimate_soup",
+            object("mesh = \"nan.obj\"\nrepair = \"soup\"\ndecimate = 1000"),
+            vec!["objects[0].decimate", "kept as it is"],
+        ),
+        (
+            "decimate_tolerance_alone",
+            object("mesh = \"nan.obj\"\ndecimate_tolerance_m = 0.001"),
+            vec!["objects[0].decimate_tolerance_m", "decimate"],
+        ),
+        (
+            "decimate_too_few",
+            object("mesh = \"nan.obj\"\ndecimate = 2"),
+            vec!["objects[0].decimate", "at least 4"],
+        ),
+        (
             "soup_physics",
             format!(
                 "sensing = \"physics\"\n{ARM}[[objects]]\nmesh = \"nan.obj\"\nrepair = \"soup\"\n{WAYPOINT}{OUTPUT}"

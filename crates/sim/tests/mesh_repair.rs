@@ -5,7 +5,7 @@
 
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
-use whisker_sim::environment::mesh::{LoadedMesh, MeshOptions, Repair, load};
+use whisker_sim::environment::mesh::{Decimation, LoadedMesh, MeshOptions, Repair, load};
 use whisker_sim::environment::{shapes, topology};
 
 /// An OBJ file of `vertices` and polygons (0-based indices).
@@ -472,4 +472,98 @@ fn voxel_remesh_of_a_random_soup_is_one_outward_solid_per_part() {
     assert!(loaded.mesh.shape().is_ok());
     let (max, _) = reported_deviation(&loaded);
     assert!(max < 0.01, "{:?}", loaded.repairs);
+}
+
+/// A 0.2 × 0.3 × 0.5 box whose faces are each an n × n grid of quads (vertices shared).
+fn grid_box(n: usize) -> (Vec<[f64; 3]>, Vec<Vec<u32>>) {
+    let size = [0.2, 0.3, 0.5];
+    let mut index = std::collections::HashMap::new();
+    let mut v: Vec<[f64; 3]> = Vec::new();
+    let mut at = |p: [usize; 3]| {
+        *index.entry(p).or_insert_with(|| {
+            v.push([0, 1, 2].map(|k| size[k] * p[k] as f64 / n as f64));
+            (v.len() - 1) as u32
+        })
+    };
+    let mut faces = Vec::new();
+    for a in 0..3 {
+        let (u, w) = ((a + 1) % 3, (a + 2) % 3);
+        for side in [0, n] {
+            for i in 0..n {
+                for j in 0..n {
+                    let corner = |di: usize, dj: usize| {
+                        let mut p = [0; 3];
+                        p[a] = side;
+                        p[u] = i + di;
+                        p[w] = j + dj;
+                        p
+                    };
+                    let mut q =
+                        [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)].map(&mut at);
+                    if side == 0 {
+                        q.swap(1, 3);
+                    }
+                    faces.push(q.to_vec());
+                }
+            }
+        }
+    }
+    (v, faces)
+}
+
+#[test]
+fn decimation_keeps_a_closed_solid_and_flat_faces_exact() {
+    // Flat faces cost nothing to collapse: a 20 × 20-per-face box (4,800 triangles) comes
+    // down to the 12 triangles of a box with its volume exact, still closed and outward.
+    let dir = tempfile::tempdir().unwrap();
+    let (v, faces) = grid_box(20);
+    let path = obj(dir.path(), "grid_box.obj", &v, &faces);
+    let options = MeshOptions {
+        decimate: Some(Decimation {
+            triangles: 12,
+            tolerance: 1e-6,
+        }),
+        ..Default::default()
+    };
+    let loaded = load(&path, &options).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(loaded.mesh.triangles.len(), 12, "a box's fewest triangles");
+    assert_solid("decimated box", &loaded, 0.03, 1e-9, "decimated from 4800");
+    // A sphere of 5 cm: at most the target, or stopped by the tolerance; closed, and its
+    // volume within the measured deviation (both ways) times the area.
+    let r = 0.05;
+    let sphere = shapes::star(|_| r, 60, 120);
+    let v: Vec<[f64; 3]> = sphere.vertices.iter().map(|p| [p.x, p.y, p.z]).collect();
+    let f: Vec<Vec<u32>> = sphere.triangles.iter().map(|t| t.to_vec()).collect();
+    let path = obj(dir.path(), "sphere.obj", &v, &f);
+    let tolerance = 0.0005;
+    let options = MeshOptions {
+        decimate: Some(Decimation {
+            triangles: 1000,
+            tolerance,
+        }),
+        ..Default::default()
+    };
+    let loaded = load(&path, &options).unwrap_or_else(|e| panic!("{e}"));
+    let n = loaded.mesh.triangles.len();
+    assert!(
+        n < sphere.triangles.len() / 4,
+        "{n} of {}",
+        sphere.triangles.len()
+    );
+    assert!(loaded.mesh.is_closed_and_consistent());
+    let (max, _) = reported_deviation(&loaded);
+    let back: f64 = loaded.repairs[0]
+        .split("lie up to ")
+        .nth(1)
+        .and_then(|r| r.split(" mm").next())
+        .and_then(|x| x.parse().ok())
+        .unwrap_or_else(|| panic!("{:?}", loaded.repairs));
+    let bound = max.max(back * 1e-3);
+    assert!(bound <= 2.0 * tolerance, "{:?}", loaded.repairs);
+    assert!(
+        (loaded.mesh.volume() - sphere.volume()).abs() <= area(&sphere) * bound,
+        "{} vs {}",
+        loaded.mesh.volume(),
+        sphere.volume()
+    );
 }

@@ -12,9 +12,9 @@
 //!   fan from the centroid of the rim. Other holes are refused: closing them would invent
 //!   a surface.
 
+use super::edges::{EdgeMap, FastMap};
 use super::topology::TopologyError;
 use nalgebra::{Point3, Vector3};
-use std::collections::HashMap;
 
 /// Largest hole (number of boundary edges) closed automatically whatever its shape.
 pub const MAX_HOLE_EDGES: usize = 32;
@@ -27,25 +27,15 @@ fn point_at(p: &Point3<f64>) -> String {
     format!("near ({:.4}, {:.4}, {:.4})", p.x, p.y, p.z)
 }
 
-/// Undirected edge key.
-fn edge(a: u32, b: u32) -> (u32, u32) {
-    (a.min(b), a.max(b))
-}
-
 /// Directed boundary edges (a → b as wound in their one triangle) with that triangle, in
 /// a fixed order.
 fn boundary_edges(triangles: &[[u32; 3]]) -> Vec<(u32, u32, usize)> {
-    let mut count: HashMap<(u32, u32), usize> = HashMap::new();
-    for t in triangles {
-        for k in 0..3 {
-            *count.entry(edge(t[k], t[(k + 1) % 3])).or_insert(0) += 1;
-        }
-    }
+    let by_edge = EdgeMap::new(triangles);
     let mut out = Vec::new();
     for (i, t) in triangles.iter().enumerate() {
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
-            if count[&edge(a, b)] == 1 {
+            if by_edge.get(a, b).len() == 1 {
                 out.push((a, b, i));
             }
         }
@@ -77,7 +67,7 @@ pub fn split_t_junctions(
             / boundary.len() as f64)
             .max(10.0 * tolerance);
         let key = |p: &Point3<f64>| p.coords.map(|x| (x / cell).floor() as i64);
-        let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+        let mut grid: FastMap<[i64; 3], Vec<u32>> = FastMap::default();
         let mut on_boundary: Vec<u32> = boundary.iter().flat_map(|&(a, b, _)| [a, b]).collect();
         on_boundary.sort_unstable();
         on_boundary.dedup();
@@ -169,7 +159,7 @@ pub fn close_holes(
     if boundary.is_empty() {
         return Ok(None);
     }
-    let mut next: HashMap<u32, Vec<u32>> = HashMap::new();
+    let mut next: FastMap<u32, Vec<u32>> = FastMap::default();
     for &(a, b, _) in &boundary {
         next.entry(a).or_default().push(b);
     }

@@ -45,14 +45,6 @@ pub fn deviation(
     triangles: &[[u32; 3]],
     subdivisions: usize,
 ) -> Result<(f64, f64), String> {
-    let soup = TriMesh::new(
-        vertices
-            .iter()
-            .map(|p| Vector::new(p.x, p.y, p.z))
-            .collect(),
-        triangles.to_vec(),
-    )
-    .map_err(|e| format!("cannot index the original surface: {e}"))?;
     let mut samples: Vec<Point3<f64>> = Vec::new();
     if subdivisions > 1 {
         let n = subdivisions;
@@ -72,12 +64,30 @@ pub fn deviation(
             Point3::from((a + b + c) / 3.0)
         }));
     }
+    distances(&samples, vertices, triangles)
+}
+
+/// The (max, mean) distance (m) from `points` to the surface of the triangles
+/// (`vertices`, `triangles`: any soup).
+pub fn distances(
+    points: &[Point3<f64>],
+    vertices: &[Point3<f64>],
+    triangles: &[[u32; 3]],
+) -> Result<(f64, f64), String> {
+    let surface = TriMesh::new(
+        vertices
+            .iter()
+            .map(|p| Vector::new(p.x, p.y, p.z))
+            .collect(),
+        triangles.to_vec(),
+    )
+    .map_err(|e| format!("cannot index the surface: {e}"))?;
     let (mut max, mut sum) = (0.0f64, 0.0);
-    for p in &samples {
+    for p in points {
         let q = Vector::new(p.x, p.y, p.z);
-        let d = (soup.project_local_point(q, false).point - q).length();
+        let d = (surface.project_local_point(q, false).point - q).length();
         max = max.max(d);
         sum += d;
     }
-    Ok((max, sum / samples.len().max(1) as f64))
+    Ok((max, sum / points.len().max(1) as f64))
 }

@@ -6,7 +6,7 @@
 //! diagonal → repair or refuse ([`super::topology`]) as the [`Repair`] policy says. What
 //! was repaired is reported so that `whisker check` can show it.
 
-use super::fallback::{HULL_SAMPLES_PER_EDGE, convex_hull, deviation};
+use super::fallback::{HULL_SAMPLES_PER_EDGE, convex_hull, deviation, distances};
 use super::mesh_io;
 pub use super::topology::Mesh;
 use super::topology::{close_and_orient, components, signed_volume, weld};
@@ -138,6 +138,18 @@ pub struct MeshOptions {
     /// Voxel size (m, after units and scale) of [`Repair::Voxel`]; None: the longest side
     /// of the bounding box / [`super::voxel::DEFAULT_DIVISIONS`].
     pub voxel_size: Option<f64>,
+    /// Decimation of the solid ([`super::decimate`]); None: none.
+    pub decimate: Option<Decimation>,
+}
+
+/// A decimation target: at most `triangles` triangles, no collapse whose quadric error
+/// exceeds `tolerance` (m).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Decimation {
+    /// Target number of triangles.
+    pub triangles: usize,
+    /// Largest quadric error of a collapse (m).
+    pub tolerance: f64,
 }
 
 impl Default for MeshOptions {
@@ -149,6 +161,7 @@ impl Default for MeshOptions {
             repair: Repair::Auto,
             origin: Origin::File,
             voxel_size: None,
+            decimate: None,
         }
     }
 }
@@ -193,6 +206,9 @@ impl Origin {
 /// says.
 pub fn load(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, MeshError> {
     let mut loaded = load_in_file_frame(path, options)?;
+    if let Some(d) = options.decimate {
+        decimate_loaded(path, &mut loaded, d)?;
+    }
     if options.origin == Origin::Base {
         let (lo, hi) = bounds(&loaded.mesh.vertices);
         let shift = Vector3::new(-(lo.x + hi.x) / 2.0, -(lo.y + hi.y) / 2.0, -lo.z);
@@ -201,6 +217,46 @@ pub fn load(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, MeshError>
         }
     }
     Ok(loaded)
+}
+
+/// Decimates a loaded solid and reports how far the result lies from it, both ways.
+fn decimate_loaded(path: &Path, loaded: &mut LoadedMesh, d: Decimation) -> Result<(), MeshError> {
+    if !loaded.solid {
+        return Err(MeshError::new(
+            path,
+            "decimate",
+            "a triangle soup (repair = \"soup\") is kept as it is: expected a solid to decimate \
+             (repair = \"auto\", \"hull\" or \"voxel\")"
+                .into(),
+        ));
+    }
+    let before = &loaded.mesh;
+    let after = super::decimate::decimate(before, d.triangles, d.tolerance);
+    let fail = |e| MeshError::new(path, "decimate", e);
+    let (out_max, out_mean) = deviation(
+        &after,
+        &before.vertices,
+        &before.triangles,
+        HULL_SAMPLES_PER_EDGE,
+    )
+    .map_err(fail)?;
+    let (in_max, in_mean) =
+        distances(&before.vertices, &after.vertices, &after.triangles).map_err(fail)?;
+    loaded.repairs.push(format!(
+        "decimated from {} to {} triangles (target {}, quadric tolerance {:.2} mm): its \
+         surface lies up to {:.2} mm (mean {:.3} mm) from the surface before, whose vertices \
+         lie up to {:.2} mm (mean {:.3} mm) from it",
+        before.triangles.len(),
+        after.triangles.len(),
+        d.triangles,
+        d.tolerance * 1e3,
+        out_max * 1e3,
+        out_mean * 1e3,
+        in_max * 1e3,
+        in_mean * 1e3
+    ));
+    loaded.mesh = after;
+    Ok(())
 }
 
 fn load_in_file_frame(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, MeshError> {

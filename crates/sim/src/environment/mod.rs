@@ -15,6 +15,8 @@
 
 pub mod assets;
 pub mod cracks;
+pub mod decimate;
+pub mod edges;
 pub mod fallback;
 pub mod maze;
 pub mod mesh;

@@ -16,8 +16,10 @@
 //! parts (a mug's body and handle) are fine.
 
 use super::cracks::{close_holes, split_t_junctions};
+pub use super::edges::components;
+use super::edges::{EdgeMap, FastMap, split_sheets};
 use nalgebra::Point3;
-use std::collections::{HashMap, VecDeque};
+use std::collections::VecDeque;
 
 /// A closed, consistently wound triangle mesh (metres, z up).
 #[derive(Debug, Clone, PartialEq)]
@@ -51,7 +53,7 @@ pub fn weld(positions: &[Point3<f64>], tolerance: f64) -> (Vec<Point3<f64>>, Vec
             (p.z / tolerance).floor() as i64,
         ]
     };
-    let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+    let mut cells: FastMap<[i64; 3], Vec<u32>> = FastMap::default();
     let mut out: Vec<Point3<f64>> = Vec::new();
     let mut map = Vec::with_capacity(positions.len());
     for p in positions {
@@ -82,11 +84,6 @@ pub fn weld(positions: &[Point3<f64>], tolerance: f64) -> (Vec<Point3<f64>>, Vec
     (out, map)
 }
 
-/// Undirected edge key.
-fn edge(a: u32, b: u32) -> (u32, u32) {
-    (a.min(b), a.max(b))
-}
-
 /// Signed volume of a set of triangles (positive for a closed outward-wound surface).
 pub fn signed_volume(vertices: &[Point3<f64>], triangles: &[[u32; 3]]) -> f64 {
     triangles
@@ -96,49 +93,6 @@ pub fn signed_volume(vertices: &[Point3<f64>], triangles: &[[u32; 3]]) -> f64 {
             a.dot(&b.cross(&c)) / 6.0
         })
         .sum()
-}
-
-/// The triangles around each undirected edge.
-fn triangles_by_edge(triangles: &[[u32; 3]]) -> HashMap<(u32, u32), Vec<usize>> {
-    let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
-    for (t, tri) in triangles.iter().enumerate() {
-        for k in 0..3 {
-            by_edge
-                .entry(edge(tri[k], tri[(k + 1) % 3]))
-                .or_default()
-                .push(t);
-        }
-    }
-    by_edge
-}
-
-/// Connected components (triangle indices) over shared edges.
-pub fn components(triangles: &[[u32; 3]]) -> Vec<Vec<usize>> {
-    let by_edge = triangles_by_edge(triangles);
-    let mut seen = vec![false; triangles.len()];
-    let mut out = Vec::new();
-    for start in 0..triangles.len() {
-        if seen[start] {
-            continue;
-        }
-        seen[start] = true;
-        let mut comp = vec![start];
-        let mut queue = VecDeque::from([start]);
-        while let Some(t) = queue.pop_front() {
-            let tri = triangles[t];
-            for k in 0..3 {
-                for &n in &by_edge[&edge(tri[k], tri[(k + 1) % 3])] {
-                    if !seen[n] {
-                        seen[n] = true;
-                        comp.push(n);
-                        queue.push_back(n);
-                    }
-                }
-            }
-        }
-        out.push(comp);
-    }
-    out
 }
 
 /// Repairs a welded triangle list into a closed, outward-oriented mesh, or says why it
@@ -245,14 +199,11 @@ fn repair(
         ));
     }
     // Non-manifold edges.
-    let by_edge = triangles_by_edge(&tris);
-    let mut keys: Vec<_> = by_edge.keys().copied().collect();
-    keys.sort_unstable();
-    for k in &keys {
-        let list = &by_edge[k];
+    let by_edge = EdgeMap::new(&tris);
+    for (k, list) in by_edge.iter() {
         if list.len() > 2 {
             return Err(TopologyError {
-                at: origin_of[list[2]].clone(),
+                at: origin_of[list[2] as usize].clone(),
                 message: format!(
                     "non-manifold edge shared by {} triangles {}: expected each edge in \
                      exactly two triangles",
@@ -276,7 +227,8 @@ fn repair(
             let tri = tris[t];
             for k in 0..3 {
                 let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                for &n in &by_edge[&edge(a, b)] {
+                for &n in by_edge.get(a, b) {
+                    let n = n as usize;
                     if n == t {
                         continue;
                     }
@@ -378,9 +330,9 @@ pub fn clean_soup(vertices: Vec<Point3<f64>>, triangles: Vec<[u32; 3]>) -> (Mesh
             seen.insert(key)
         })
         .collect();
-    let by_edge = triangles_by_edge(&tris);
-    let open = by_edge.values().filter(|l| l.len() == 1).count();
-    let non_manifold = by_edge.values().filter(|l| l.len() > 2).count();
+    let by_edge = EdgeMap::new(&tris);
+    let open = by_edge.iter().filter(|(_, l)| l.len() == 1).count();
+    let non_manifold = by_edge.iter().filter(|(_, l)| l.len() > 2).count();
     let report = format!(
         "kept as a triangle soup (repair = \"soup\"; kinematic sensing only): {} degenerate \
          or repeated triangle(s) dropped, {open} open edge(s), {non_manifold} edge(s) in more \
@@ -405,7 +357,7 @@ fn drop_coincident(
     cancel: bool,
 ) -> (Vec<[u32; 3]>, Vec<String>, usize, usize) {
     // Per set of corners: the triangles wound as the sorted corners (even) and against.
-    let mut groups: HashMap<[u32; 3], (Vec<usize>, Vec<usize>)> = HashMap::new();
+    let mut groups: FastMap<[u32; 3], (Vec<usize>, Vec<usize>)> = FastMap::default();
     for (i, t) in tris.iter().enumerate() {
         let mut key = *t;
         key.sort_unstable();
@@ -441,68 +393,4 @@ fn drop_coincident(
         .map(|(p, _)| p)
         .unzip();
     (kept, kept_origins, duplicates, cancelled)
-}
-
-/// Splits every vertex whose incident triangles form more than one fan — triangles joined
-/// through edges at the vertex that lie in at most two triangles — into one copy per fan
-/// (the first fan keeps the vertex). Returns the number of copies made.
-fn split_sheets(vertices: &mut Vec<Point3<f64>>, triangles: &mut [[u32; 3]]) -> usize {
-    let by_edge = triangles_by_edge(triangles);
-    let original = triangles.to_vec();
-    let mut incident: Vec<Vec<usize>> = vec![Vec::new(); vertices.len()];
-    for (t, tri) in triangles.iter().enumerate() {
-        for &v in tri {
-            incident[v as usize].push(t);
-        }
-    }
-    let mut copies = 0;
-    for v in 0..incident.len() {
-        let around = &incident[v];
-        if around.len() < 2 {
-            continue;
-        }
-        // Fans: connected components of `around` over manifold edges (v, w).
-        let mut fan = vec![usize::MAX; around.len()];
-        let mut fans = 0;
-        for start in 0..around.len() {
-            if fan[start] != usize::MAX {
-                continue;
-            }
-            fan[start] = fans;
-            let mut queue = VecDeque::from([start]);
-            while let Some(i) = queue.pop_front() {
-                let tri = original[around[i]];
-                for &w in tri.iter().filter(|&&w| w as usize != v) {
-                    let shared = &by_edge[&edge(v as u32, w)];
-                    if shared.len() > 2 {
-                        continue;
-                    }
-                    for &n in shared {
-                        if let Some(j) = around.iter().position(|&t| t == n)
-                            && fan[j] == usize::MAX
-                        {
-                            fan[j] = fans;
-                            queue.push_back(j);
-                        }
-                    }
-                }
-            }
-            fans += 1;
-        }
-        for f in 1..fans {
-            vertices.push(vertices[v]);
-            let copy = (vertices.len() - 1) as u32;
-            for (i, &t) in around.iter().enumerate() {
-                if fan[i] == f {
-                    for corner in triangles[t].iter_mut() {
-                        if *corner as usize == v {
-                            *corner = copy;
-                        }
-                    }
-                }
-            }
-            copies += 1;
-        }
-    }
-    copies
 }
