@@ -75,6 +75,24 @@ fn random_pose(rng: &mut impl rand::Rng) -> Isometry3<f64> {
     )
 }
 
+/// A plane (point, outward unit normal) at a random tilt and a random distance (0.05–1.2
+/// reach) from the whisker's pivot, facing it.
+fn random_plane(
+    rng: &mut impl rand::Rng,
+    w: &RigidWhisker,
+    pose: &Isometry3<f64>,
+) -> (Point3<f64>, Vector3<f64>) {
+    let pivot = pose * w.module.whisker_pose(w.retracted) * Point3::origin();
+    let n = Vector3::new(
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+    )
+    .normalize();
+    let reach = w.base_offset + w.module.beam.length;
+    (pivot - n * rng.random_range(0.05..1.2) * reach, n)
+}
+
 #[test]
 fn sweep_against_a_plane_gives_the_analytic_contact() {
     let mut rng = whisker_slam::rng::substream(7, "test/kinematic-plane");
@@ -84,16 +102,7 @@ fn sweep_against_a_plane_gives_the_analytic_contact() {
         let pose = random_pose(&mut rng);
         for m in modules() {
             let w = RigidWhisker::new(m, BASE_OFFSET);
-            // A plane at a random distance (0–1.2 reach) and tilt from the whisker's pivot.
-            let pivot = pose * w.module.whisker_pose(w.retracted) * Point3::origin();
-            let n = Vector3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-            )
-            .normalize();
-            let reach = w.base_offset + w.module.beam.length;
-            let q = pivot - n * rng.random_range(0.05..1.2) * reach;
+            let (q, n) = random_plane(&mut rng, &w, &pose);
             let target = plane_slab(q, n);
             let expected = analytic(&w, &pose, &q, &n);
             let got = target.sweep(&w, &pose);
@@ -144,15 +153,7 @@ fn a_soups_triangles_are_two_sided() {
         let pose = random_pose(&mut rng);
         for m in modules() {
             let w = RigidWhisker::new(m, BASE_OFFSET);
-            let pivot = pose * w.module.whisker_pose(w.retracted) * Point3::origin();
-            let n = Vector3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-            )
-            .normalize();
-            let reach = w.base_offset + w.module.beam.length;
-            let q = pivot - n * rng.random_range(0.05..1.2) * reach;
+            let (q, n) = random_plane(&mut rng, &w, &pose);
             let mut mesh = plane_slab_mesh(q, n);
             for t in &mut mesh.triangles {
                 t.swap(1, 2);

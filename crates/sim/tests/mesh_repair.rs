@@ -59,6 +59,16 @@ fn assert_solid(name: &str, loaded: &LoadedMesh, volume: f64, rel: f64, repair: 
     );
 }
 
+/// The faces of [`box_corners`] as outward counter-clockwise quads.
+const BOX_QUADS: [[u32; 4]; 6] = [
+    [0, 2, 3, 1],
+    [4, 5, 7, 6],
+    [0, 1, 5, 4],
+    [2, 6, 7, 3],
+    [0, 4, 6, 2],
+    [1, 3, 7, 5],
+];
+
 /// The corners of an a × b × c box from the origin, indexed by bits (x, y, z).
 fn box_corners(a: f64, b: f64, c: f64) -> Vec<[f64; 3]> {
     (0..8)
@@ -193,14 +203,7 @@ fn parts_sharing_a_face_become_their_union() {
             .iter()
             .map(|p| [p[0], p[1], p[2] + 0.5]),
     );
-    let quads = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
+    let quads = BOX_QUADS;
     let faces: Vec<Vec<u32>> = [0u32, 8]
         .iter()
         .flat_map(|&o| {
@@ -263,14 +266,25 @@ fn an_open_cylinder_gets_its_caps() {
     }
 }
 
+/// Radius and height of [`saddle_tube`].
+const SADDLE_R: f64 = 0.05;
+const SADDLE_H: f64 = 0.12;
+
+/// A 64-sided open tube whose upper rim is a saddle (z = h + 0.3 r sin 2θ), written
+/// into `dir`.
+fn saddle_tube(dir: &Path) -> PathBuf {
+    let (v, faces) = tube(64, SADDLE_R, |th| {
+        SADDLE_H + 0.3 * SADDLE_R * (2.0 * th).sin()
+    });
+    obj(dir, "saddle.obj", &v, &faces)
+}
+
 #[test]
 fn a_large_hole_that_is_not_planar_is_refused_naming_the_fallbacks() {
     // A 64-sided tube whose upper rim is a saddle (z = h + 0.3 r sin 2θ): capping it
     // would invent a surface.
     let dir = tempfile::tempdir().unwrap();
-    let (r, h) = (0.05, 0.12);
-    let (v, faces) = tube(64, r, |th| h + 0.3 * r * (2.0 * th).sin());
-    let path = obj(dir.path(), "saddle.obj", &v, &faces);
+    let path = saddle_tube(dir.path());
     let e = load(&path, &MeshOptions::default())
         .unwrap_err()
         .to_string();
@@ -360,19 +374,11 @@ fn what_auto_refuses_the_fallbacks_accept() {
     // refuses both; voxel makes a solid of each (the tube a shell about its wall, the fin a
     // slab), hull their convex hulls, soup keeps the triangles as they are.
     let dir = tempfile::tempdir().unwrap();
-    let (r, h) = (0.05, 0.12);
-    let (v, faces) = tube(64, r, |th| h + 0.3 * r * (2.0 * th).sin());
-    let saddle = obj(dir.path(), "saddle.obj", &v, &faces);
+    let (r, h) = (SADDLE_R, SADDLE_H);
+    let saddle = saddle_tube(dir.path());
     let mut v = box_corners(0.2, 0.3, 0.5);
     v.push([0.4, 0.5, 0.25]);
-    let mut faces: Vec<Vec<u32>> = vec![
-        vec![0, 2, 3, 1],
-        vec![4, 5, 7, 6],
-        vec![0, 1, 5, 4],
-        vec![2, 6, 7, 3],
-        vec![0, 4, 6, 2],
-        vec![1, 3, 7, 5],
-    ];
+    let mut faces: Vec<Vec<u32>> = BOX_QUADS.iter().map(|q| q.to_vec()).collect();
     faces.push(vec![3, 7, 8]); // the fin on the edge x = 0.2, y = 0.3
     let fin = obj(dir.path(), "fin.obj", &v, &faces);
     for path in [&saddle, &fin] {
@@ -413,14 +419,7 @@ fn a_double_sided_surface_keeps_each_face_once() {
     // would leave nothing, so one of each is kept.
     let dir = tempfile::tempdir().unwrap();
     let v = box_corners(0.2, 0.3, 0.5);
-    let quads = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
+    let quads = BOX_QUADS;
     let faces: Vec<Vec<u32>> = quads
         .iter()
         .flat_map(|q| {

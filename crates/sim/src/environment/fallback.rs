@@ -67,6 +67,18 @@ pub fn deviation(
     distances(&samples, vertices, triangles)
 }
 
+/// Any triangle soup as a parry triangle mesh for nearest-point queries.
+pub fn index_surface(vertices: &[Point3<f64>], triangles: &[[u32; 3]]) -> Result<TriMesh, String> {
+    TriMesh::new(
+        vertices
+            .iter()
+            .map(|p| Vector::new(p.x, p.y, p.z))
+            .collect(),
+        triangles.to_vec(),
+    )
+    .map_err(|e| format!("cannot index the surface: {e}"))
+}
+
 /// The (max, mean) distance (m) from `points` to the surface of the triangles
 /// (`vertices`, `triangles`: any soup).
 pub fn distances(
@@ -74,14 +86,7 @@ pub fn distances(
     vertices: &[Point3<f64>],
     triangles: &[[u32; 3]],
 ) -> Result<(f64, f64), String> {
-    let surface = TriMesh::new(
-        vertices
-            .iter()
-            .map(|p| Vector::new(p.x, p.y, p.z))
-            .collect(),
-        triangles.to_vec(),
-    )
-    .map_err(|e| format!("cannot index the surface: {e}"))?;
+    let surface = index_surface(vertices, triangles)?;
     let (mut max, mut sum) = (0.0f64, 0.0);
     for p in points {
         let q = Vector::new(p.x, p.y, p.z);

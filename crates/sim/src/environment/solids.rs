@@ -39,23 +39,21 @@ pub fn component_meshes(mesh: &Mesh) -> Vec<Mesh> {
 /// A mesh as a parry `ORIENTED` triangle mesh (one-sided contacts; an inside for point
 /// queries when the mesh is closed and outward-oriented).
 pub(crate) fn oriented_trimesh(mesh: &Mesh) -> Result<SharedShape, String> {
-    let vertices = mesh
-        .vertices
-        .iter()
-        .map(|p| Vector::new(p.x, p.y, p.z))
-        .collect();
-    SharedShape::trimesh_with_flags(vertices, mesh.triangles.clone(), TriMeshFlags::ORIENTED)
-        .map_err(|e| format!("cannot build a collision mesh: {e}"))
+    trimesh(mesh, TriMeshFlags::ORIENTED)
 }
 
 /// A mesh as a plain (two-sided) parry triangle mesh: what a triangle soup can be.
 pub(crate) fn plain_trimesh(mesh: &Mesh) -> Result<SharedShape, String> {
+    trimesh(mesh, TriMeshFlags::empty())
+}
+
+fn trimesh(mesh: &Mesh, flags: TriMeshFlags) -> Result<SharedShape, String> {
     let vertices = mesh
         .vertices
         .iter()
         .map(|p| Vector::new(p.x, p.y, p.z))
         .collect();
-    SharedShape::trimesh(vertices, mesh.triangles.clone())
+    SharedShape::trimesh_with_flags(vertices, mesh.triangles.clone(), flags)
         .map_err(|e| format!("cannot build a collision mesh: {e}"))
 }
 

@@ -30,7 +30,6 @@ use super::topology::{Mesh, components, signed_volume};
 use nalgebra::{Point3, Vector3};
 use parry3d_f64::math::Vector;
 use parry3d_f64::query::PointQuery;
-use parry3d_f64::shape::TriMesh;
 use parry3d_f64::transformation::voxelization::{FillMode, VoxelValue, VoxelizedVolume};
 use std::collections::HashMap;
 
@@ -295,14 +294,7 @@ fn settle(
     triangles: &[[u32; 3]],
     gap: f64,
 ) -> Result<(), String> {
-    let soup = TriMesh::new(
-        vertices
-            .iter()
-            .map(|p| Vector::new(p.x, p.y, p.z))
-            .collect(),
-        triangles.to_vec(),
-    )
-    .map_err(|e| format!("cannot index the surface: {e}"))?;
+    let soup = super::fallback::index_surface(vertices, triangles)?;
     let before = mesh.vertices.clone();
     let normal = |v: &[Point3<f64>], t: &[u32; 3]| {
         let [a, b, c] = t.map(|i| v[i as usize]);
