@@ -41,6 +41,10 @@ enum Command {
     Check {
         /// The scenario TOML file.
         scenario: PathBuf,
+        /// Also write each `[[objects]]` mesh as loaded (repaired or replaced, in its own
+        /// frame, metres, z up) to DIR/NAME.obj, to look at what the repair made of it.
+        #[arg(long, value_name = "DIR")]
+        meshes: Option<PathBuf>,
     },
     /// Characterise one whisker design: static point load, then ring-down.
     Characterize(characterize::Options),
@@ -138,7 +142,7 @@ fn main() -> ExitCode {
             seed,
             set,
         } => run::run(&scenario, out, seed, &set),
-        Command::Check { scenario } => run::check(&scenario),
+        Command::Check { scenario, meshes } => run::check(&scenario, meshes.as_deref()),
         Command::Characterize(options) => characterize::run(&options),
         Command::Bench {
             command: BenchCommand::Physics(options),

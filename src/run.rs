@@ -76,7 +76,9 @@ fn describe(file: &Path, scenario: &Scenario, plan: &Plan) -> String {
 }
 
 /// `whisker check`: validate and print what would run.
-pub fn check(file: &Path) -> CliResult {
+/// `whisker check`: validates and describes; with `meshes`, writes each object's mesh as
+/// loaded to `meshes/NAME.obj`.
+pub fn check(file: &Path, meshes: Option<&Path>) -> CliResult {
     let scenario = Scenario::load(file)?;
     let plan = Plan::new(&scenario, file)?;
     print!("{}", describe(file, &scenario, &plan));
@@ -91,8 +93,32 @@ pub fn check(file: &Path) -> CliResult {
             n.point_fraction, n.slope_sigma, n.detection_probability
         );
     }
-    for line in scenario.environment(file)?.report {
+    let loaded = scenario.environment(file)?;
+    for line in &loaded.report {
         println!("{line}");
+    }
+    if let Some(dir) = meshes {
+        crate::output::create_dir(dir)?;
+        let names = scenario.object_names();
+        for (name, piece) in names.iter().zip(&loaded.environment.pieces) {
+            let path = dir.join(format!("{name}.obj"));
+            let vertices: Vec<[f64; 3]> = piece
+                .mesh
+                .vertices
+                .iter()
+                .map(|p| [p.x, p.y, p.z])
+                .collect();
+            let text = whisker_sim::environment::mesh_io::obj_text(
+                &vertices,
+                &piece.mesh.triangles,
+                &format!(
+                    "{name} as loaded by {} (metres, z up, its own frame)",
+                    file.display()
+                ),
+            );
+            crate::output::write_atomic(&path, text.as_bytes())?;
+            println!("wrote      {}", path.display());
+        }
     }
     let dir = &scenario.output.dir;
     let rrd = if scenario.output.recording {

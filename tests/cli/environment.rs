@@ -326,7 +326,13 @@ fn a_mesh_auto_refuses_runs_as_a_soup_or_a_voxel_remesh() {
     let file = tmp.path().join("finned.obj");
     for repair in ["soup", "voxel"] {
         let scenario = finned_kettle(tmp.path(), repair);
-        let o = whisker(&["check", scenario.to_str().unwrap()]);
+        let written = tmp.path().join(format!("meshes-{repair}"));
+        let o = whisker(&[
+            "check",
+            scenario.to_str().unwrap(),
+            "--meshes",
+            written.to_str().unwrap(),
+        ]);
         assert!(o.status.success(), "{repair}: {}", stderr(&o));
         let text = stdout(&o);
         assert!(text.contains("triangles"), "{text}");
@@ -349,6 +355,16 @@ fn a_mesh_auto_refuses_runs_as_a_soup_or_a_voxel_remesh() {
                 text.contains("solid part") && text.contains("voxels"),
                 "{text}"
             );
+            // The remesh, written out and read back strictly, is a clean closed solid.
+            let again = load(
+                &written.join("finned.obj"),
+                &MeshOptions {
+                    repair: Repair::Strict,
+                    ..Default::default()
+                },
+            )
+            .unwrap_or_else(|e| panic!("{e}"));
+            assert!(again.repairs.is_empty(), "{:?}", again.repairs);
             let mm: f64 = text
                 .split("up to ")
                 .nth(1)
