@@ -527,6 +527,21 @@ fn decimation_keeps_a_closed_solid_and_flat_faces_exact() {
     let loaded = load(&path, &options).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(loaded.mesh.triangles.len(), 12, "a box's fewest triangles");
     assert_solid("decimated box", &loaded, 0.03, 1e-9, "decimated from 4800");
+    // A target above the triangle count leaves the mesh as it is, and says so.
+    let options = MeshOptions {
+        decimate: Some(Decimation {
+            triangles: 5000,
+            tolerance: 1e-6,
+        }),
+        ..Default::default()
+    };
+    let loaded = load(&path, &options).unwrap();
+    assert_eq!(loaded.mesh.triangles.len(), 4800);
+    assert!(
+        loaded.repairs[0].contains("not decimated"),
+        "{:?}",
+        loaded.repairs
+    );
     // A sphere of 5 cm: at most the target, or stopped by the tolerance; closed, and its
     // volume within the measured deviation (both ways) times the area.
     let r = 0.05;

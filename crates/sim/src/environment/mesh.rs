@@ -231,6 +231,14 @@ fn decimate_loaded(path: &Path, loaded: &mut LoadedMesh, d: Decimation) -> Resul
         ));
     }
     let before = &loaded.mesh;
+    if before.triangles.len() <= d.triangles {
+        loaded.repairs.push(format!(
+            "not decimated: {} triangles already, target {}",
+            before.triangles.len(),
+            d.triangles
+        ));
+        return Ok(());
+    }
     let after = super::decimate::decimate(before, d.triangles, d.tolerance);
     let fail = |e| MeshError::new(path, "decimate", e);
     let (out_max, out_mean) = deviation(
