@@ -50,6 +50,8 @@ pub struct ObjectConfig {
     /// Voxel size of `repair = "voxel"` (m, after units and scale) [the longest side of
     /// the bounding box / 64].
     pub voxel_size_m: Option<f64>,
+    /// Openings up to this width (m) sealed before the voxel fill [none].
+    pub voxel_closing_m: Option<f64>,
     /// Decimate the solid to at most this many triangles [no decimation].
     pub decimate: Option<usize>,
     /// Largest quadric error of a decimation collapse (m) [0.0005].
@@ -242,18 +244,22 @@ pub fn load(
         }
         let repair = Repair::parse(&o.repair)
             .ok_or_else(|| keyword("repair", &o.repair, Repair::CHOICES))?;
-        if let Some(v) = o.voxel_size_m {
+        for (name, value) in [
+            ("voxel_size_m", o.voxel_size_m),
+            ("voxel_closing_m", o.voxel_closing_m),
+        ] {
+            let Some(v) = value else { continue };
             if !(v.is_finite() && v > 0.0) {
                 return Err(CliError::field(
                     file,
-                    &format!("{field}.voxel_size_m"),
+                    &format!("{field}.{name}"),
                     format!("expected a positive length, got {v}"),
                 ));
             }
             if repair != Repair::Voxel {
                 return Err(CliError::field(
                     file,
-                    &format!("{field}.voxel_size_m"),
+                    &format!("{field}.{name}"),
                     format!("applies to repair = \"voxel\" only, not {:?}", o.repair),
                 ));
             }
@@ -308,6 +314,7 @@ pub fn load(
             repair,
             origin,
             voxel_size: o.voxel_size_m,
+            voxel_closing: o.voxel_closing_m,
             decimate,
         };
         let loaded = mesh::load(&path, &options)

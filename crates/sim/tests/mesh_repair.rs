@@ -581,3 +581,39 @@ fn decimation_keeps_a_closed_solid_and_flat_faces_exact() {
         sphere.volume()
     );
 }
+
+#[test]
+fn voxel_closing_turns_an_open_tube_from_a_shell_into_a_solid() {
+    // A 64-sided tube open at both ends (r = 5 cm, h = 12 cm) on 4 mm voxels: without
+    // closing the remesh is a shell about its wall (volume at most the wall's area times
+    // two voxels); sealing openings up to 12 cm wide (more than its 10 cm bore) makes it
+    // the solid cylinder, within a voxel's thickness over its surface.
+    let dir = tempfile::tempdir().unwrap();
+    let (r, h, size) = (0.05, 0.12, 0.004);
+    let (v, faces) = tube(64, r, |_| h);
+    let path = obj(dir.path(), "pipe.obj", &v, &faces);
+    let with = |closing| MeshOptions {
+        repair: Repair::Voxel,
+        voxel_size: Some(size),
+        voxel_closing: closing,
+        ..Default::default()
+    };
+    let wall = 2.0 * PI * r * h;
+    let shell = load(&path, &with(None)).unwrap_or_else(|e| panic!("{e}"));
+    assert!(shell.mesh.is_closed_and_consistent());
+    assert!(
+        shell.mesh.volume() < wall * 2.0 * size,
+        "{}",
+        shell.mesh.volume()
+    );
+    let solid = load(&path, &with(Some(0.12))).unwrap_or_else(|e| panic!("{e}"));
+    assert!(solid.mesh.is_closed_and_consistent());
+    assert!(solid.repairs[0].contains("sealed"), "{:?}", solid.repairs);
+    let cylinder = PI * r * r * h;
+    let surface = wall + 2.0 * PI * r * r;
+    assert!(
+        (solid.mesh.volume() - cylinder).abs() <= surface * size,
+        "{} vs {cylinder}",
+        solid.mesh.volume()
+    );
+}

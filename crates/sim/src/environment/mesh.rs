@@ -138,6 +138,9 @@ pub struct MeshOptions {
     /// Voxel size (m, after units and scale) of [`Repair::Voxel`]; None: the longest side
     /// of the bounding box / [`super::voxel::DEFAULT_DIVISIONS`].
     pub voxel_size: Option<f64>,
+    /// Width (m) of the openings [`Repair::Voxel`] seals before filling (a morphological
+    /// closing of ⌈width / 2 voxels⌉); None: none.
+    pub voxel_closing: Option<f64>,
     /// Decimation of the solid ([`super::decimate`]); None: none.
     pub decimate: Option<Decimation>,
 }
@@ -161,6 +164,7 @@ impl Default for MeshOptions {
             repair: Repair::Auto,
             origin: Origin::File,
             voxel_size: None,
+            voxel_closing: None,
             decimate: None,
         }
     }
@@ -330,10 +334,21 @@ fn load_in_file_frame(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, 
                 let size = options
                     .voxel_size
                     .unwrap_or_else(|| (hi - lo).max() / super::voxel::DEFAULT_DIVISIONS);
-                let remeshed = super::voxel::remesh(&vertices, &triangles, size)
+                let closing = options
+                    .voxel_closing
+                    .map_or(0, |w| (w / (2.0 * size)).ceil() as usize);
+                let remeshed = super::voxel::remesh(&vertices, &triangles, size, closing)
                     .map_err(|e| MeshError::new(path, "voxel_size", e))?;
+                let sealed = if closing > 0 {
+                    format!(
+                        ", openings up to {:.1} mm sealed",
+                        2.0 * closing as f64 * size * 1e3
+                    )
+                } else {
+                    String::new()
+                };
                 let what = format!(
-                    "replaced by a watertight remesh on {:.2} mm voxels ({} triangles; repair = \"voxel\")",
+                    "replaced by a watertight remesh on {:.2} mm voxels{sealed} ({} triangles; repair = \"voxel\")",
                     size * 1e3,
                     remeshed.triangles.len()
                 );
