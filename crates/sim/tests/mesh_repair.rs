@@ -617,3 +617,49 @@ fn voxel_closing_turns_an_open_tube_from_a_shell_into_a_solid() {
         solid.mesh.volume()
     );
 }
+
+#[test]
+fn large_planar_holes_that_no_centre_sees_whole_are_capped_by_ear_clipping() {
+    // A C-shaped prism (the 3 × 3 square without the 2 × 1 notch on its right, in 2 cm
+    // units), open at both ends, its outline cut into 48 edges: the centre of the outline
+    // lies in the notch, so no fan from it could cap the ends; clipping ears in the plane
+    // does, giving the prism of area 7 × (2 cm)² and height 5 cm exactly.
+    let dir = tempfile::tempdir().unwrap();
+    let corners = [
+        (0.0, 0.0),
+        (3.0, 0.0),
+        (3.0, 1.0),
+        (1.0, 1.0),
+        (1.0, 2.0),
+        (3.0, 2.0),
+        (3.0, 3.0),
+        (0.0, 3.0),
+    ];
+    let (unit, h, cuts) = (0.02, 0.05, 6);
+    let mut outline = Vec::new();
+    for k in 0..corners.len() {
+        let (a, b) = (corners[k], corners[(k + 1) % corners.len()]);
+        for j in 0..cuts {
+            let t = j as f64 / cuts as f64;
+            outline.push((
+                unit * (a.0 + (b.0 - a.0) * t),
+                unit * (a.1 + (b.1 - a.1) * t),
+            ));
+        }
+    }
+    let n = outline.len() as u32;
+    let mut v = Vec::new();
+    for &(x, y) in &outline {
+        v.push([x, y, 0.0]);
+        v.push([x, y, h]);
+    }
+    let faces: Vec<Vec<u32>> = (0..n)
+        .map(|k| {
+            let j = (k + 1) % n;
+            vec![2 * k, 2 * j, 2 * j + 1, 2 * k + 1]
+        })
+        .collect();
+    let loaded = auto(&obj(dir.path(), "c_prism.obj", &v, &faces));
+    let volume = 7.0 * unit * unit * h;
+    assert_solid("C prism", &loaded, volume, 1e-9, "2 of them planar");
+}

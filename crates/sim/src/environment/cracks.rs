@@ -6,11 +6,11 @@
 //!   halves beside it, so the surface looks open along a crack of zero width. The
 //!   triangle with the long edge is split at the vertex (a fan from its opposite corner),
 //!   which closes the crack without moving any point of the surface.
-//! - A **hole** is a loop of boundary edges. Holes of at most [`MAX_HOLE_EDGES`] edges,
-//!   and planar holes of any size whose centroid sees the whole rim (a fan from the
-//!   centroid does not fold: the open end of a scanned or extruded part), are closed by a
-//!   fan from the centroid of the rim. Other holes are refused: closing them would invent
-//!   a surface.
+//! - A **hole** is a loop of boundary edges. Holes of at most [`MAX_HOLE_EDGES`] edges
+//!   are closed by a fan from the centroid of the rim; larger ones only when the rim is
+//!   planar and encloses a simple polygon (the open end of a scanned or extruded part),
+//!   by ear clipping in its plane. Other holes are refused: closing them would invent a
+//!   surface.
 
 use super::edges::{EdgeMap, FastMap};
 use super::topology::TopologyError;
@@ -131,22 +131,69 @@ pub fn split_t_junctions(
     inserted
 }
 
-/// Whether a fan from the rim's centroid closes a large hole without folding: the rim
-/// lies within [`PLANAR_FRACTION`] of its diameter from its mean plane and every fan
-/// triangle faces the same way.
-fn planar_and_star_shaped(rim: &[Point3<f64>], centre: &Point3<f64>) -> bool {
-    let cross = |k: usize| {
-        let (a, b) = (rim[k], rim[(k + 1) % rim.len()]);
-        (a - centre).cross(&(b - centre))
-    };
-    let normal: Vector3<f64> = (0..rim.len()).map(cross).sum();
-    let Some(n) = normal.try_normalize(0.0) else {
-        return false;
-    };
+/// A cap for a large hole: the rim's triangulation by ear clipping in its mean plane, as
+/// triangles of rim positions in rim order — or None when the rim is not planar (within
+/// [`PLANAR_FRACTION`] of its diameter) or its projection is not a simple polygon.
+fn planar_cap(rim: &[Point3<f64>]) -> Option<Vec<[usize; 3]>> {
+    let n = rim.len();
+    let centre = Point3::from(rim.iter().map(|p| p.coords).sum::<Vector3<f64>>() / n as f64);
+    // Newell's normal: the rim runs counter-clockwise about it.
+    let normal: Vector3<f64> = (0..n)
+        .map(|k| (rim[k] - centre).cross(&(rim[(k + 1) % n] - centre)))
+        .sum();
+    let normal = normal.try_normalize(0.0)?;
     let diameter = 2.0 * rim.iter().map(|p| (p - centre).norm()).fold(0.0, f64::max);
-    rim.iter()
-        .all(|p| n.dot(&(p - centre)).abs() <= PLANAR_FRACTION * diameter)
-        && (0..rim.len()).all(|k| cross(k).dot(&n) > 0.0)
+    if rim
+        .iter()
+        .any(|p| normal.dot(&(p - centre)).abs() > PLANAR_FRACTION * diameter)
+    {
+        return None;
+    }
+    let u = normal
+        .cross(&Vector3::x())
+        .try_normalize(1e-6)
+        .unwrap_or_else(|| normal.cross(&Vector3::y()).normalize());
+    let w = normal.cross(&u);
+    let flat: Vec<(f64, f64)> = rim
+        .iter()
+        .map(|p| ((p - centre).dot(&u), (p - centre).dot(&w)))
+        .collect();
+    let cross = |a: usize, b: usize, c: usize| {
+        let (pa, pb, pc) = (flat[a], flat[b], flat[c]);
+        (pb.0 - pa.0) * (pc.1 - pa.1) - (pb.1 - pa.1) * (pc.0 - pa.0)
+    };
+    let mut left: Vec<usize> = (0..n).collect();
+    let mut cap = Vec::with_capacity(n - 2);
+    let (mut i, mut misses) = (0, 0);
+    while left.len() > 3 {
+        if misses > left.len() {
+            return None; // a full pass without an ear: not a simple polygon
+        }
+        let m = left.len();
+        let (a, b, c) = (left[(i + m - 1) % m], left[i % m], left[(i + 1) % m]);
+        let ear = cross(a, b, c) > 0.0
+            && left.iter().all(|&p| {
+                p == a
+                    || p == b
+                    || p == c
+                    || flat[p] == flat[a]
+                    || flat[p] == flat[b]
+                    || flat[p] == flat[c]
+                    || cross(a, b, p) < 0.0
+                    || cross(b, c, p) < 0.0
+                    || cross(c, a, p) < 0.0
+            });
+        if ear {
+            cap.push([a, b, c]);
+            left.remove(i % m);
+            misses = 0;
+        } else {
+            i += 1;
+            misses += 1;
+        }
+    }
+    cap.push([left[0], left[1], left[2]]);
+    Some(cap)
 }
 
 /// Closes the holes of a consistently wound mesh (see the module documentation) and says
@@ -186,28 +233,34 @@ pub fn close_holes(
                 }
             }
             let rim: Vec<Point3<f64>> = ring.iter().map(|&i| vertices[i as usize]).collect();
-            let centre =
-                Point3::from(rim.iter().map(|p| p.coords).sum::<Vector3<f64>>() / rim.len() as f64);
             if ring.len() > MAX_HOLE_EDGES {
-                if !planar_and_star_shaped(&rim, &centre) {
+                let Some(cap) = planar_cap(&rim) else {
                     return Err(TopologyError {
                         at: "mesh".into(),
                         message: format!(
                             "open mesh: a hole of {} boundary edges {} that is neither small \
-                             (at most {MAX_HOLE_EDGES} edges) nor a planar rim its centre \
-                             sees whole, so closing it would invent a surface",
+                             (at most {MAX_HOLE_EDGES} edges) nor a planar rim enclosing a \
+                             simple polygon, so closing it would invent a surface",
                             ring.len(),
                             point_at(&vertices[s as usize])
                         ),
                     });
+                };
+                // The cap runs against the rim (as the fan below does).
+                for [a, b, c] in cap {
+                    triangles.push([ring[c], ring[b], ring[a]]);
                 }
                 large += 1;
-            }
-            vertices.push(centre);
-            let c = (vertices.len() - 1) as u32;
-            for k in 0..ring.len() {
-                let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
-                triangles.push([b, a, c]);
+            } else {
+                let centre = Point3::from(
+                    rim.iter().map(|p| p.coords).sum::<Vector3<f64>>() / rim.len() as f64,
+                );
+                vertices.push(centre);
+                let c = (vertices.len() - 1) as u32;
+                for k in 0..ring.len() {
+                    let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
+                    triangles.push([b, a, c]);
+                }
             }
             holes += 1;
         }
