@@ -111,12 +111,14 @@ impl Decimator {
     }
 
     fn candidate(&self, a: u32, b: u32) -> Candidate {
+        let (a, b) = (a.min(b), a.max(b));
         let q = self.quadrics[a as usize] + self.quadrics[b as usize];
         let cost = |p: &Point3<f64>| {
             let h = Vector4::new(p.x, p.y, p.z, 1.0);
             (h.transpose() * q * h)[0].max(0.0)
         };
         let (pa, pb) = (self.positions[a as usize], self.positions[b as usize]);
+        let mid = nalgebra::center(&pa, &pb);
         let a3 = Matrix3::from_fn(|i, j| q[(i, j)]);
         let rhs = -Vector3::new(q[(0, 3)], q[(1, 3)], q[(2, 3)]);
         let scale = a3.norm();
@@ -124,8 +126,7 @@ impl Decimator {
             .then(|| a3.try_inverse().map(|inv| Point3::from(inv * rhs)))
             .flatten()
             // Only trusted near the edge: far-off optima come from near-singular systems.
-            .filter(|p| (p - nalgebra::center(&pa, &pb)).norm() <= 2.0 * (pb - pa).norm());
-        let mid = nalgebra::center(&pa, &pb);
+            .filter(|p| (p - mid).norm() <= 2.0 * (pb - pa).norm());
         let target = optimum
             .into_iter()
             .chain([pa, pb, mid])
@@ -133,8 +134,8 @@ impl Decimator {
             .expect("candidates");
         Candidate {
             cost: cost(&target),
-            a: a.min(b),
-            b: a.max(b),
+            a,
+            b,
             stamp: (self.version[a as usize], self.version[b as usize]),
             target,
         }
