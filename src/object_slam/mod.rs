@@ -24,9 +24,10 @@
 //! relaxation; a re-localisation is a *true revisit* when that error is within the
 //! thesis' step (11 cm and 12°; the Box 3 cm and 3°, §5.2.2.1), and *aliasing* otherwise.
 //! `--slam` picks the WhiskerRatSLAM (`Params::corrected` by default, or Alg 2 as
-//! printed). Identification uses the maps of the best set (both features, no merging, svr) of every object but the Skull, appended;
-//! each object, Skull included, is explored for one lap of A and of B while a leaky
-//! integrator per mapped object (decay 0.9 per whisk) is fed by re-localisations.
+//! printed). Identification uses the maps of the best set (both features, no merging,
+//! svr) of every object but the Skull, appended; each object, Skull included, is explored
+//! for one lap of A and of B while a leaky integrator per mapped object (decay 0.9 per
+//! whisk) is fed by re-localisations.
 
 pub mod physics;
 mod trajectory;

@@ -13,7 +13,7 @@
 //!   surface.
 
 use super::edges::{EdgeMap, FastMap};
-use super::topology::TopologyError;
+use super::topology::{TopologyError, point_at};
 use nalgebra::{Point3, Vector3};
 
 /// Largest hole (number of boundary edges) closed automatically whatever its shape.
@@ -22,10 +22,6 @@ pub const MAX_HOLE_EDGES: usize = 32;
 /// A large hole's rim counts as planar when no rim vertex is farther than this fraction
 /// of the rim's diameter from the rim's mean plane.
 pub const PLANAR_FRACTION: f64 = 0.01;
-
-fn point_at(p: &Point3<f64>) -> String {
-    format!("near ({:.4}, {:.4}, {:.4})", p.x, p.y, p.z)
-}
 
 /// Directed boundary edges (a → b as wound in their one triangle) with that triangle, in
 /// a fixed order.
@@ -131,12 +127,12 @@ pub fn split_t_junctions(
     inserted
 }
 
-/// A cap for a large hole: the rim's triangulation by ear clipping in its mean plane, as
-/// triangles of rim positions in rim order — or None when the rim is not planar (within
-/// [`PLANAR_FRACTION`] of its diameter) or its projection is not a simple polygon.
-fn planar_cap(rim: &[Point3<f64>]) -> Option<Vec<[usize; 3]>> {
+/// A cap for a large hole: the rim's triangulation by ear clipping in its mean plane
+/// (through `centre`, the rim's centroid), as triangles of rim positions in rim order — or
+/// None when the rim is not planar (within [`PLANAR_FRACTION`] of its diameter) or its
+/// projection is not a simple polygon.
+fn planar_cap(rim: &[Point3<f64>], centre: &Point3<f64>) -> Option<Vec<[usize; 3]>> {
     let n = rim.len();
-    let centre = Point3::from(rim.iter().map(|p| p.coords).sum::<Vector3<f64>>() / n as f64);
     // Newell's normal: the rim runs counter-clockwise about it.
     let normal: Vector3<f64> = (0..n)
         .map(|k| (rim[k] - centre).cross(&(rim[(k + 1) % n] - centre)))
@@ -233,8 +229,10 @@ pub fn close_holes(
                 }
             }
             let rim: Vec<Point3<f64>> = ring.iter().map(|&i| vertices[i as usize]).collect();
+            let centre =
+                Point3::from(rim.iter().map(|p| p.coords).sum::<Vector3<f64>>() / rim.len() as f64);
             if ring.len() > MAX_HOLE_EDGES {
-                let Some(cap) = planar_cap(&rim) else {
+                let Some(cap) = planar_cap(&rim, &centre) else {
                     return Err(TopologyError {
                         at: "mesh".into(),
                         message: format!(
@@ -252,9 +250,6 @@ pub fn close_holes(
                 }
                 large += 1;
             } else {
-                let centre = Point3::from(
-                    rim.iter().map(|p| p.coords).sum::<Vector3<f64>>() / rim.len() as f64,
-                );
                 vertices.push(centre);
                 let c = (vertices.len() - 1) as u32;
                 for k in 0..ring.len() {

@@ -7,10 +7,10 @@ use parry3d_f64::math::Vector;
 use parry3d_f64::query::PointQuery;
 use parry3d_f64::shape::TriMesh;
 
-/// Barycentric subdivisions per edge when sampling a hull's triangles (a hull's triangles
-/// are large; a voxel remesh's are about a voxel across and are sampled at their corners
-/// and centroids).
-pub const HULL_SAMPLES_PER_EDGE: usize = 4;
+/// Barycentric subdivisions per edge when sampling large triangles (a hull's, a decimated
+/// mesh's); a voxel remesh's are about a voxel across and are sampled at their corners and
+/// centroids.
+pub const SAMPLES_PER_EDGE: usize = 4;
 
 /// The convex hull of `points` as a closed, outward-oriented mesh.
 pub fn convex_hull(points: &[Point3<f64>]) -> Result<Mesh, String> {
@@ -35,16 +35,11 @@ pub fn convex_hull(points: &[Point3<f64>]) -> Result<Mesh, String> {
     })
 }
 
-/// How far the surface of `replacement` lies from the surface of the original triangles
-/// (`vertices`, `triangles`: any soup): (max, mean) distance (m) over points sampled on
-/// the replacement: with `subdivisions` > 1, a barycentric grid of that many divisions per
-/// edge on every triangle; otherwise every vertex and every triangle's centroid.
-pub fn deviation(
-    replacement: &Mesh,
-    vertices: &[Point3<f64>],
-    triangles: &[[u32; 3]],
-    subdivisions: usize,
-) -> Result<(f64, f64), String> {
+/// How far the surface of `replacement` lies from `original` (any soup, indexed by
+/// [`index_surface`]): (max, mean) distance (m) over points sampled on the replacement:
+/// with `subdivisions` > 1, a barycentric grid of that many divisions per edge on every
+/// triangle; otherwise every vertex and every triangle's centroid.
+pub fn deviation(replacement: &Mesh, original: &TriMesh, subdivisions: usize) -> (f64, f64) {
     let mut samples: Vec<Point3<f64>> = Vec::new();
     if subdivisions > 1 {
         let n = subdivisions;
@@ -64,7 +59,7 @@ pub fn deviation(
             Point3::from((a + b + c) / 3.0)
         }));
     }
-    distances(&samples, vertices, triangles)
+    distances(&samples, original)
 }
 
 /// Any triangle soup as a parry triangle mesh for nearest-point queries.
@@ -79,14 +74,8 @@ pub fn index_surface(vertices: &[Point3<f64>], triangles: &[[u32; 3]]) -> Result
     .map_err(|e| format!("cannot index the surface: {e}"))
 }
 
-/// The (max, mean) distance (m) from `points` to the surface of the triangles
-/// (`vertices`, `triangles`: any soup).
-pub fn distances(
-    points: &[Point3<f64>],
-    vertices: &[Point3<f64>],
-    triangles: &[[u32; 3]],
-) -> Result<(f64, f64), String> {
-    let surface = index_surface(vertices, triangles)?;
+/// The (max, mean) distance (m) from `points` to `surface`.
+pub fn distances(points: &[Point3<f64>], surface: &TriMesh) -> (f64, f64) {
     let (mut max, mut sum) = (0.0f64, 0.0);
     for p in points {
         let q = Vector::new(p.x, p.y, p.z);
@@ -94,5 +83,5 @@ pub fn distances(
         max = max.max(d);
         sum += d;
     }
-    Ok((max, sum / points.len().max(1) as f64))
+    (max, sum / points.len().max(1) as f64)
 }

@@ -6,7 +6,7 @@
 //! diagonal → repair or refuse ([`super::topology`]) as the [`Repair`] policy says. What
 //! was repaired is reported so that `whisker check` can show it.
 
-use super::fallback::{HULL_SAMPLES_PER_EDGE, convex_hull, deviation, distances};
+use super::fallback::{SAMPLES_PER_EDGE, convex_hull, deviation, distances, index_surface};
 use super::mesh_io;
 pub use super::topology::Mesh;
 use super::topology::{close_and_orient, components, signed_volume, weld};
@@ -244,16 +244,11 @@ fn decimate_loaded(path: &Path, loaded: &mut LoadedMesh, d: Decimation) -> Resul
         return Ok(());
     }
     let after = super::decimate::decimate(before, d.triangles, d.tolerance);
-    let fail = |e| MeshError::new(path, "decimate", e);
-    let (out_max, out_mean) = deviation(
-        &after,
-        &before.vertices,
-        &before.triangles,
-        HULL_SAMPLES_PER_EDGE,
-    )
-    .map_err(fail)?;
-    let (in_max, in_mean) =
-        distances(&before.vertices, &after.vertices, &after.triangles).map_err(fail)?;
+    let index = |m: &Mesh| {
+        index_surface(&m.vertices, &m.triangles).map_err(|e| MeshError::new(path, "decimate", e))
+    };
+    let (out_max, out_mean) = deviation(&after, &index(before)?, SAMPLES_PER_EDGE);
+    let (in_max, in_mean) = distances(&before.vertices, &index(&after)?);
     loaded.repairs.push(format!(
         "decimated from {} to {} triangles (target {}, quadric tolerance {:.2} mm): its \
          surface lies up to {:.2} mm (mean {:.3} mm) from the surface before, whose vertices \
@@ -322,6 +317,8 @@ fn load_in_file_frame(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, 
         .collect();
     match options.repair {
         Repair::Hull | Repair::Voxel => {
+            let surface = index_surface(&vertices, &triangles)
+                .map_err(|e| MeshError::new(path, "mesh", e))?;
             let (mesh, what, subdivisions) = if options.repair == Repair::Hull {
                 let hull = convex_hull(&vertices).map_err(|e| MeshError::new(path, "mesh", e))?;
                 let what = format!(
@@ -329,7 +326,7 @@ fn load_in_file_frame(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, 
                     vertices.len(),
                     hull.triangles.len()
                 );
-                (hull, what, HULL_SAMPLES_PER_EDGE)
+                (hull, what, SAMPLES_PER_EDGE)
             } else {
                 let size = options
                     .voxel_size
@@ -337,7 +334,7 @@ fn load_in_file_frame(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, 
                 let closing = options
                     .voxel_closing
                     .map_or(0, |w| (w / (2.0 * size)).ceil() as usize);
-                let remeshed = super::voxel::remesh(&vertices, &triangles, size, closing)
+                let remeshed = super::voxel::remesh(&vertices, &triangles, &surface, size, closing)
                     .map_err(|e| MeshError::new(path, "voxel_size", e))?;
                 let sealed = if closing > 0 {
                     format!(
@@ -354,8 +351,7 @@ fn load_in_file_frame(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, 
                 );
                 (remeshed, what, 1)
             };
-            let (max, mean) = deviation(&mesh, &vertices, &triangles, subdivisions)
-                .map_err(|e| MeshError::new(path, "mesh", e))?;
+            let (max, mean) = deviation(&mesh, &surface, subdivisions);
             let repairs = vec![format!(
                 "{what}: its surface lies up to {:.1} mm (mean {:.2} mm) from the file's",
                 max * 1e3,

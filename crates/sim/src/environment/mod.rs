@@ -2,9 +2,10 @@
 //! Fig 6.5) and the maze (§3.1, Fig 3.1).
 //!
 //! - [`mesh_io`] reads OBJ, STL and PLY files; [`topology`] welds, orients and closes
-//!   them ([`cracks`]: T-junctions and holes); [`fallback`] replaces what cannot be closed by its convex hull; [`mesh`] ties
-//!   them together with units, up axis and the repair policy, and builds the collision
-//!   shape.
+//!   them ([`edges`]: connectivity; [`cracks`]: T-junctions and holes); [`fallback`] and
+//!   [`voxel`] replace what cannot be closed by its convex hull or a watertight remesh;
+//!   [`decimate`] thins large solids; [`mesh`] ties them together with units, up axis,
+//!   the repair policy and decimation, and builds the collision shape.
 //! - [`shapes`] builds closed meshes from primitives (boxes, lathes, swept tubes, star
 //!   surfaces); [`assets`] uses it to generate the object catalogue of `assets/meshes`.
 //! - [`maze`] builds the re-configurable maze board.

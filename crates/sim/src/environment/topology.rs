@@ -39,7 +39,8 @@ pub struct TopologyError {
     pub message: String,
 }
 
-fn point_at(p: &Point3<f64>) -> String {
+/// Where a problem is, for messages.
+pub(crate) fn point_at(p: &Point3<f64>) -> String {
     format!("near ({:.4}, {:.4}, {:.4})", p.x, p.y, p.z)
 }
 
@@ -108,39 +109,15 @@ pub fn close_and_orient(
     triangles: Vec<[u32; 3]>,
     origins: Vec<String>,
 ) -> Result<(Mesh, Vec<String>), TopologyError> {
-    let mut pairs = 0;
-    let first = repair(
-        vertices.clone(),
-        triangles.clone(),
-        origins.clone(),
-        true,
-        &mut pairs,
-    );
-    if first.is_ok() || pairs == 0 {
-        return first;
-    }
-    repair(vertices, triangles, origins, false, &mut pairs)
-}
-
-/// [`close_and_orient`] with oppositely wound coincident triangles cancelled in pairs
-/// (`cancel`) or kept once; `pairs` receives how many such pairs there were.
-fn repair(
-    vertices: Vec<Point3<f64>>,
-    triangles: Vec<[u32; 3]>,
-    origins: Vec<String>,
-    cancel: bool,
-    pairs: &mut usize,
-) -> Result<(Mesh, Vec<String>), TopologyError> {
     let mut repairs = Vec::new();
-    let mut vertices = vertices;
-    let before_degenerate = triangles.len();
+    let before = triangles.len();
     // Degenerate triangles: repeated corners or zero area.
     let (tris, origin_of): (Vec<_>, Vec<_>) = triangles
         .into_iter()
         .zip(origins)
         .filter(|(t, _)| !degenerate(&vertices, t))
         .unzip();
-    let dropped = before_degenerate - tris.len();
+    let dropped = before - tris.len();
     if dropped > 0 {
         repairs.push(format!("dropped {dropped} degenerate triangle(s)"));
     }
@@ -153,30 +130,39 @@ fn repair(
     // Coincident triangles: the same three corners. Pairs wound oppositely cancel (a
     // zero-thickness double wall: a saw cut, or the face two stacked parts share); of the
     // rest, one copy is kept (the first of the majority winding).
-    let (tris, origin_of, duplicates, cancelled) = drop_coincident(tris, origin_of, cancel);
-    *pairs = cancelled / 2;
+    let cancelling = Coincident::new(&tris, true);
+    if cancelling.cancelled == 0 {
+        let (tris, origin_of) = cancelling.select(tris, origin_of);
+        repairs.extend(cancelling.report());
+        return close_solid(vertices, tris, origin_of, repairs);
+    }
+    let (first_tris, first_origins) = cancelling.select(tris.clone(), origin_of.clone());
+    let mut first_repairs = repairs.clone();
+    first_repairs.extend(cancelling.report());
+    let first = close_solid(vertices.clone(), first_tris, first_origins, first_repairs);
+    if first.is_ok() {
+        return first;
+    }
+    // Taken as a double-sided surface instead: one copy of each set of corners.
+    let keeping = Coincident::new(&tris, false);
+    let (tris, origin_of) = keeping.select(tris, origin_of);
+    repairs.extend(keeping.report());
+    close_solid(vertices, tris, origin_of, repairs)
+}
+
+/// The rest of [`close_and_orient`], once degenerate and coincident triangles are gone:
+/// T-junctions, sheets, the manifold check, winding, holes and outward orientation.
+fn close_solid(
+    mut vertices: Vec<Point3<f64>>,
+    mut tris: Vec<[u32; 3]>,
+    mut origin_of: Vec<String>,
+    mut repairs: Vec<String>,
+) -> Result<(Mesh, Vec<String>), TopologyError> {
     if tris.is_empty() {
         return Err(TopologyError {
             at: "mesh".into(),
             message: "every triangle cancelled against a coincident one wound oppositely".into(),
         });
-    }
-    let (mut tris, mut origin_of) = (tris, origin_of);
-    if duplicates > 0 {
-        repairs.push(format!(
-            "dropped {duplicates} duplicate triangle(s){}",
-            if cancel {
-                ""
-            } else {
-                " (each face of a double-sided surface once)"
-            }
-        ));
-    }
-    if cancelled > 0 {
-        repairs.push(format!(
-            "dropped {cancelled} coincident triangle(s) wound oppositely in pairs (zero-thickness \
-             double walls)"
-        ));
     }
     // T-junctions.
     let (lo, hi) = super::mesh::bounds(&vertices);
@@ -320,16 +306,12 @@ fn degenerate(vertices: &[Point3<f64>], t: &[u32; 3]) -> bool {
 /// mesh and what was done and found, in words.
 pub fn clean_soup(vertices: Vec<Point3<f64>>, triangles: Vec<[u32; 3]>) -> (Mesh, Vec<String>) {
     let before = triangles.len();
-    let mut seen = std::collections::HashSet::new();
     let tris: Vec<[u32; 3]> = triangles
         .into_iter()
         .filter(|t| !degenerate(&vertices, t))
-        .filter(|t| {
-            let mut key = *t;
-            key.sort_unstable();
-            seen.insert(key)
-        })
         .collect();
+    let units = vec![(); tris.len()];
+    let (tris, _) = Coincident::new(&tris, false).select(tris, units);
     let by_edge = EdgeMap::new(&tris);
     let open = by_edge.iter().filter(|(_, l)| l.len() == 1).count();
     let non_manifold = by_edge.iter().filter(|(_, l)| l.len() > 2).count();
@@ -348,49 +330,92 @@ pub fn clean_soup(vertices: Vec<Point3<f64>>, triangles: Vec<[u32; 3]>) -> (Mesh
     )
 }
 
-/// Drops coincident triangles (see [`close_and_orient`]); returns the kept triangles and
-/// origins, the number of duplicates dropped and the number of oppositely wound
-/// triangles cancelled in pairs (none unless `cancel`).
-fn drop_coincident(
-    tris: Vec<[u32; 3]>,
-    origins: Vec<String>,
+/// Which of a list of triangles survive the coincident-triangle rule of
+/// [`close_and_orient`], and how many were dropped.
+struct Coincident {
+    /// Per triangle: kept.
+    keep: Vec<bool>,
+    /// Same-winding copies dropped (with `cancel` off: every copy beyond the first).
+    duplicates: usize,
+    /// Oppositely wound triangles cancelled in pairs (none unless `cancel`).
+    cancelled: usize,
+    /// Whether pairs were cancelled.
     cancel: bool,
-) -> (Vec<[u32; 3]>, Vec<String>, usize, usize) {
-    // Per set of corners: the triangles wound as the sorted corners (even) and against.
-    let mut groups: FastMap<[u32; 3], (Vec<usize>, Vec<usize>)> = FastMap::default();
-    for (i, t) in tris.iter().enumerate() {
-        let mut key = *t;
-        key.sort_unstable();
-        let even = (0..3).any(|k| [t[k], t[(k + 1) % 3], t[(k + 2) % 3]] == key);
-        let g = groups.entry(key).or_default();
-        if even { &mut g.0 } else { &mut g.1 }.push(i);
-    }
-    let mut keep = vec![false; tris.len()];
-    let (mut duplicates, mut cancelled) = (0, 0);
-    for (even, odd) in groups.values() {
-        let pairs = if cancel { even.len().min(odd.len()) } else { 0 };
-        cancelled += 2 * pairs;
-        // The copies left: with `cancel`, those of the majority winding beyond the pairs;
-        // without, all of them.
-        let rest: Vec<usize> = if !cancel {
-            even.iter().chain(odd).copied().collect()
-        } else if even.len() > odd.len() {
-            even.clone()
-        } else {
-            odd.clone()
-        };
-        let left = rest.len() - pairs;
-        if left > 0 {
-            keep[*rest.iter().min().expect("non-empty")] = true;
-            duplicates += left - 1;
+}
+
+impl Coincident {
+    /// With `cancel`, oppositely wound pairs cancel and one copy of the majority winding
+    /// beyond them is kept; without, one copy of every set of corners is kept. The copy
+    /// kept is always the first in the list.
+    fn new(tris: &[[u32; 3]], cancel: bool) -> Self {
+        // Per set of corners: the triangles wound as the sorted corners (even) and against.
+        let mut groups: FastMap<[u32; 3], (Vec<usize>, Vec<usize>)> = FastMap::default();
+        for (i, t) in tris.iter().enumerate() {
+            let mut key = *t;
+            key.sort_unstable();
+            let even = (0..3).any(|k| [t[k], t[(k + 1) % 3], t[(k + 2) % 3]] == key);
+            let g = groups.entry(key).or_default();
+            if even { &mut g.0 } else { &mut g.1 }.push(i);
+        }
+        let mut keep = vec![false; tris.len()];
+        let (mut duplicates, mut cancelled) = (0, 0);
+        for (even, odd) in groups.values() {
+            let pairs = if cancel { even.len().min(odd.len()) } else { 0 };
+            cancelled += 2 * pairs;
+            // The copies left: with `cancel`, those of the majority winding beyond the
+            // pairs; without, all of them.
+            let rest: Vec<usize> = if !cancel {
+                even.iter().chain(odd).copied().collect()
+            } else if even.len() > odd.len() {
+                even.clone()
+            } else {
+                odd.clone()
+            };
+            let left = rest.len() - pairs;
+            if left > 0 {
+                keep[*rest.iter().min().expect("non-empty")] = true;
+                duplicates += left - 1;
+            }
+        }
+        Self {
+            keep,
+            duplicates,
+            cancelled,
+            cancel,
         }
     }
-    let (kept, kept_origins) = tris
-        .into_iter()
-        .zip(origins)
-        .zip(&keep)
-        .filter(|(_, k)| **k)
-        .map(|(p, _)| p)
-        .unzip();
-    (kept, kept_origins, duplicates, cancelled)
+
+    /// The kept triangles and their origins, in their order.
+    fn select<T>(&self, tris: Vec<[u32; 3]>, origins: Vec<T>) -> (Vec<[u32; 3]>, Vec<T>) {
+        tris.into_iter()
+            .zip(origins)
+            .zip(&self.keep)
+            .filter(|(_, k)| **k)
+            .map(|(p, _)| p)
+            .unzip()
+    }
+
+    /// What was dropped, in words.
+    fn report(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if self.duplicates > 0 {
+            out.push(format!(
+                "dropped {} duplicate triangle(s){}",
+                self.duplicates,
+                if self.cancel {
+                    ""
+                } else {
+                    " (each face of a double-sided surface once)"
+                }
+            ));
+        }
+        if self.cancelled > 0 {
+            out.push(format!(
+                "dropped {} coincident triangle(s) wound oppositely in pairs (zero-thickness \
+                 double walls)",
+                self.cancelled
+            ));
+        }
+        out
+    }
 }

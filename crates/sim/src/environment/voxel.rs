@@ -5,7 +5,7 @@
 //!    [`VoxelizedVolume`](parry3d_f64::transformation::voxelization::VoxelizedVolume)),
 //!    and those a face-to-face walk from outside cannot reach (so a closed surface
 //!    becomes solid, sealed hollows included, and an open one a shell about one voxel
-//!    thick around its sheets).
+//!    thick around its sheets, unless a closing seals its openings first: [`remesh`]).
 //! 2. Make the voxel set *well-composed* (Latecki, "3D well-composed pictures", 1997):
 //!    fill voxels until no 2 × 2 square holds two voxels that meet only along an edge
 //!    (critical configuration C1) and no 2 × 2 × 2 block holds two that meet only at a
@@ -21,9 +21,9 @@
 //!    along the line to its nearest point on the soup until it is [`SETTLE_GAP`] voxels
 //!    from it (so the two faces of a slab around a sheet stay apart), and put back any
 //!    vertex of a triangle that this would turn over. Vertices farther away cap an
-//!    opening and stay. Without this step the surface lies about a voxel outside a solid (every
-//!    voxel the surface passes through is kept), which on a 5 cm sphere at 2.5 mm voxels
-//!    adds 12 % to the volume; with it, 1 %.
+//!    opening and stay. Without this step the surface lies about a voxel outside a solid
+//!    (every voxel the surface passes through is kept), which on a 5 cm sphere at 2.5 mm
+//!    voxels adds 12 % to the volume; with it, 1 %.
 //!
 //! The caller reports how far the result lies from the soup ([`super::fallback::deviation`]).
 
@@ -31,6 +31,7 @@ use super::topology::{Mesh, components, signed_volume};
 use nalgebra::{Point3, Vector3};
 use parry3d_f64::math::Vector;
 use parry3d_f64::query::PointQuery;
+use parry3d_f64::shape::TriMesh;
 use parry3d_f64::transformation::voxelization::{FillMode, VoxelValue, VoxelizedVolume};
 use std::collections::HashMap;
 
@@ -57,7 +58,8 @@ pub const MAX_VOXELS: usize = 64_000_000;
 /// bounding box divided by this.
 pub const DEFAULT_DIVISIONS: f64 = 64.0;
 
-/// A dense occupancy grid with one empty voxel of margin on every side.
+/// A dense occupancy grid with a margin of empty voxels on every side (one, plus the
+/// closing radius).
 struct Grid {
     n: [usize; 3],
     occupied: Vec<bool>,
@@ -232,9 +234,13 @@ impl Grid {
 /// before the fill (a morphological closing of the surface voxels: dilated by `closing`,
 /// filled, eroded back by `closing`, Nooruddin & Turk 2003), so that a scan with a hole
 /// in it becomes solid instead of a shell; it also fills concave gaps that narrow.
+///
+/// `surface` is the soup indexed for nearest-point queries
+/// ([`super::fallback::index_surface`]), for settling.
 pub fn remesh(
     vertices: &[Point3<f64>],
     triangles: &[[u32; 3]],
+    surface: &TriMesh,
     size: f64,
     closing: usize,
 ) -> Result<Mesh, String> {
@@ -302,6 +308,12 @@ pub fn remesh(
         vertices: Vec::new(),
         triangles: Vec::new(),
     };
+    let unit = |axis: usize| {
+        let mut e = [0; 3];
+        e[axis] = 1;
+        e
+    };
+    let add = |p: [usize; 3], e: [usize; 3]| [p[0] + e[0], p[1] + e[1], p[2] + e[2]];
     let mut vertex = |p: [usize; 3], mesh: &mut Mesh| {
         *index.entry(p).or_insert_with(|| {
             mesh.vertices.push(lattice(p));
@@ -317,13 +329,6 @@ pub fn remesh(
                 }
                 for a in 0..3 {
                     let (u, w) = ((a + 1) % 3, (a + 2) % 3);
-                    let unit = |axis: usize| {
-                        let mut e = [0; 3];
-                        e[axis] = 1;
-                        e
-                    };
-                    let add =
-                        |p: [usize; 3], e: [usize; 3]| [p[0] + e[0], p[1] + e[1], p[2] + e[2]];
                     for positive in [false, true] {
                         let mut n = v;
                         if positive {
@@ -356,25 +361,12 @@ pub fn remesh(
         return Err("the voxelised surface is empty".into());
     }
     taubin(&mut mesh);
-    settle(
-        &mut mesh,
-        vertices,
-        triangles,
-        SETTLE_GAP * size,
-        SETTLE_REACH * size,
-    )?;
+    settle(&mut mesh, surface, SETTLE_GAP * size, SETTLE_REACH * size);
     Ok(mesh)
 }
 
 /// Step 5 of the module documentation.
-fn settle(
-    mesh: &mut Mesh,
-    vertices: &[Point3<f64>],
-    triangles: &[[u32; 3]],
-    gap: f64,
-    reach: f64,
-) -> Result<(), String> {
-    let soup = super::fallback::index_surface(vertices, triangles)?;
+fn settle(mesh: &mut Mesh, soup: &TriMesh, gap: f64, reach: f64) {
     let before = mesh.vertices.clone();
     let normal = |v: &[Point3<f64>], t: &[u32; 3]| {
         let [a, b, c] = t.map(|i| v[i as usize]);
@@ -419,7 +411,6 @@ fn settle(
             }
         }
     }
-    Ok(())
 }
 
 /// Taubin λ|μ smoothing with uniform weights over the mesh's edges.
