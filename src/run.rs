@@ -100,8 +100,14 @@ pub fn check(file: &Path, meshes: Option<&Path>) -> CliResult {
     if let Some(dir) = meshes {
         crate::output::create_dir(dir)?;
         let names = scenario.object_names();
-        for (name, piece) in names.iter().zip(&loaded.environment.pieces) {
-            let path = dir.join(format!("{name}.obj"));
+        for (i, (name, piece)) in names.iter().zip(&loaded.environment.pieces).enumerate() {
+            // A file name per object: separators replaced, and the index added to a name
+            // that several objects share (two copies of one mesh).
+            let mut stem = name.replace(['/', '\\'], "_");
+            if names.iter().filter(|n| *n == name).count() > 1 {
+                stem = format!("{stem}-{i}");
+            }
+            let path = dir.join(format!("{stem}.obj"));
             let vertices: Vec<[f64; 3]> = piece
                 .mesh
                 .vertices

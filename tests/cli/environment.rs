@@ -465,3 +465,37 @@ fn physics_runs_with_an_object_write_the_anticipated_and_detected_contacts() {
         );
     }
 }
+
+#[test]
+fn check_writes_one_mesh_file_per_object_even_when_names_repeat() {
+    // The objects scenario with a second Kettle: both are written, as kettle-0 and
+    // kettle-1, each the Kettle as loaded (same triangle count as the catalogue file).
+    let tmp = tempfile::tempdir().unwrap();
+    let path = quiet_objects(tmp.path(), 5);
+    let kettle = repo("assets/meshes/kettle.obj");
+    let mut text = std::fs::read_to_string(&path).unwrap();
+    text += &format!(
+        "\n[[objects]]\nmesh = {:?}\nposition_m = [0.9, 0.0, 0.0]\n",
+        kettle.display().to_string()
+    );
+    std::fs::write(&path, text).unwrap();
+    let dir = tmp.path().join("meshes");
+    let o = whisker(&[
+        "check",
+        path.to_str().unwrap(),
+        "--meshes",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let triangles = load(&kettle, &MeshOptions::default())
+        .unwrap()
+        .mesh
+        .triangles
+        .len();
+    for name in ["kettle-0.obj", "kettle-1.obj"] {
+        let written =
+            load(&dir.join(name), &MeshOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(written.mesh.triangles.len(), triangles, "{name}");
+    }
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);
+}
