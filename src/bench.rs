@@ -1,20 +1,37 @@
 //! `whisker bench physics`: how fast the physics sensing mode runs.
 //!
-//! Cases: one whisker whisking freely, the 18-whisker array whisking freely, and the
-//! array whisking against a box in front of it (every ring touches it), each with 1 and
-//! 2 worker threads. Reported: the real-time factor (simulated seconds per wall-clock
-//! second), the CPU cost per whisker (thread-seconds per simulated second per whisker),
-//! and every case's speed relative to the single free whisker on one thread, measured in
-//! the same run. Timing is a benchmark, never a test.
+//! Cases: the 18-whisker array whisking freely, against the Box (the catalogue object at
+//! the pose where the most whiskers touch it, as in `whisker soak`) and in the maze (the
+//! most-touched point of a 50 mm grid 100 mm above the board, facing down), each on 1 and
+//! 2 worker threads and by three code paths measured side by side in the same run:
+//!
+//! - `released`: Rapier 0.36.1 as released (dense mass matrix, `MultibodyMassMatrix::Dense`)
+//!   and the array stepped with a barrier per sample (`PhysicsArray::step`), the code path
+//!   before issue #18;
+//! - `exact`: the vendored patches 1–2 (`vendor/PATCHES.md`), bit-identical to `released`,
+//!   and one task per whisker for the whole run (`PhysicsArray::run`);
+//! - `once-per-step`: also patch 3 (the mass matrix factorised once per step), the default.
+//!
+//! Then the scaling with segment count (8, 12, 16, 24) against the Box on 2 threads by
+//! every path. Reported: the real-time factor (simulated seconds per wall-clock second),
+//! the CPU cost per whisker (thread-seconds per simulated second per whisker, the peer's
+//! unit: WHISKiT Physics needs about 7 for one whisker, `shared/notes/physics.md`), and
+//! each path's speed-up over `released`. Timing is a benchmark, never a test.
 
 use crate::error::{CliError, CliResult};
-use nalgebra::{Isometry3, Translation3, UnitQuaternion};
-use rapier3d_f64::prelude::SharedShape;
+use nalgebra::Isometry3;
 use serde_json::json;
+use std::path::PathBuf;
 use std::time::Instant;
-use whisker_sim::sensing::physics::{EnvironmentPiece, PhysicsArray, WhiskerConfig};
+use whisker_sim::sensing::physics::{
+    DT, EnvironmentPiece, PhysicsArray, SolverPath, WhiskerConfig,
+};
 use whisker_sim::whisker::array;
 use whisker_sim::whisker::beam::Bending;
+
+/// CPU-seconds per simulated second for one whisker of WHISKiT Physics, the reference
+/// simulator (`shared/notes/physics.md`, "The peer to beat").
+const WHISKIT_CPU_S_PER_S: f64 = 7.0;
 
 /// Options of `whisker bench physics`.
 #[derive(clap::Args, Debug)]
@@ -31,14 +48,18 @@ pub struct Options {
     /// Segments per whisker [default: the array's].
     #[arg(long)]
     pub segments: Option<usize>,
-    /// Print a JSON list of {case, threads, real_time_factor, …}.
+    /// The scenario whose `[maze]` is the maze case.
+    #[arg(long, default_value = "scenarios/maze.toml")]
+    pub maze: PathBuf,
+    /// Skip the segment-count scaling (8/12/16/24).
+    #[arg(long)]
+    pub no_scaling: bool,
+    /// Time only this code path (e.g. under a profiler) [default: both].
+    #[arg(long, value_enum)]
+    pub path: Option<Path>,
+    /// Print a JSON list of {case, threads, path, real_time_factor, …}.
     #[arg(long)]
     pub json: bool,
-}
-
-/// The first `count` modules' configurations with the benchmark's settings.
-fn configs(count: usize, o: &Options) -> Vec<WhiskerConfig> {
-    array_configs(count, o.bending.into(), o.segments, o.substeps)
 }
 
 /// The first `count` modules' configurations: default whiskers, follicle, 1 Hz open-loop
@@ -66,29 +87,121 @@ pub fn array_configs(
         .collect()
 }
 
-/// Wall-clock seconds to simulate `duration` of `whiskers` whiskers in `environment`.
-fn time_case(
-    whiskers: usize,
-    environment: &[EnvironmentPiece],
-    duration: f64,
-    threads: usize,
-    o: &Options,
-) -> Result<f64, String> {
+/// A code path of the physics sensing mode: Rapier's multibody path, and for
+/// `released` the array stepped with a barrier per sample as before issue #18.
+#[derive(Clone, Copy, Debug, PartialEq, clap::ValueEnum)]
+pub enum Path {
+    /// Rapier 0.36.1 as released, a barrier per sample.
+    Released,
+    /// Patches 1–2 (bit-identical), one task per whisker.
+    Exact,
+    /// Patches 1–3 (the default), one task per whisker.
+    OncePerStep,
+}
+
+impl Path {
+    fn solver(self) -> SolverPath {
+        match self {
+            Path::Released => SolverPath::Released,
+            Path::Exact => SolverPath::Exact,
+            Path::OncePerStep => SolverPath::OncePerStep,
+        }
+    }
+}
+
+/// One timed case.
+struct Case<'a> {
+    name: &'a str,
+    environment: &'a [EnvironmentPiece],
+    pose: Isometry3<f64>,
+    segments: Option<usize>,
+}
+
+/// Wall-clock seconds to simulate `duration` of the 18 whiskers of `case` by `path`.
+fn time_case(case: &Case, path: Path, threads: usize, o: &Options) -> Result<f64, String> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .map_err(|e| e.to_string())?;
     pool.install(|| {
-        let dt = whisker_sim::sensing::physics::DT;
-        let pose = Isometry3::identity();
-        let mut array = PhysicsArray::new(configs(whiskers, o), environment, &pose, 0, dt);
-        let steps = (duration / dt).round() as usize;
+        let mut configs = array_configs(
+            array::modules().len(),
+            o.bending.into(),
+            case.segments.or(o.segments),
+            o.substeps,
+        );
+        for c in &mut configs {
+            c.solver = path.solver();
+        }
+        let mut array = PhysicsArray::new(configs, case.environment, &case.pose, 0, DT);
+        let steps = (o.duration / DT).round() as usize;
         let start = Instant::now();
-        for _ in 0..steps {
-            array.step(&pose);
+        match path {
+            Path::Released => {
+                for _ in 0..steps {
+                    array.step(&case.pose);
+                }
+            }
+            Path::Exact | Path::OncePerStep => {
+                array.run(steps, |_| case.pose);
+            }
         }
         Ok(start.elapsed().as_secs_f64())
     })
+}
+
+/// One measured row.
+struct Row {
+    case: String,
+    segments: usize,
+    threads: usize,
+    path: Path,
+    rtf: f64,
+    cpu: f64,
+    speedup: Option<f64>,
+}
+
+/// Times `case` by both paths on each of `threads`, printing progress.
+fn measure(case: &Case, threads: &[usize], o: &Options, rows: &mut Vec<Row>) -> CliResult {
+    let whiskers = array::modules().len() as f64;
+    let segments = case
+        .segments
+        .or(o.segments)
+        .unwrap_or(array::modules()[0].beam.segments);
+    for &t in threads {
+        let mut released_wall = None;
+        for path in [Path::Released, Path::Exact, Path::OncePerStep] {
+            if o.path.is_some_and(|p| p != path) {
+                continue;
+            }
+            let wall = time_case(case, path, t, o).map_err(CliError::Failure)?;
+            let rtf = o.duration / wall;
+            let speedup = match path {
+                Path::Released => {
+                    released_wall = Some(wall);
+                    None
+                }
+                _ => released_wall.map(|r| r / wall),
+            };
+            if !o.json {
+                eprintln!(
+                    "  {:<26} {segments:>2} segments {t} thread(s) {:<9} {rtf:.3}× real time",
+                    case.name,
+                    path.solver().name()
+                );
+            }
+            rows.push(Row {
+                case: case.name.to_string(),
+                segments,
+                threads: t,
+                path,
+                rtf,
+                cpu: t as f64 * wall / o.duration / whiskers,
+                speedup,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Runs `whisker bench physics`.
@@ -112,71 +225,111 @@ pub fn physics(o: &Options) -> CliResult {
             o.duration
         )));
     }
-    // A 60 × 60 × 2 cm box whose face is 3 cm in front of the array: protracting
-    // whiskers of every ring reach it.
-    let wall: EnvironmentPiece = (
-        SharedShape::cuboid(0.3, 0.3, 0.01),
-        Isometry3::from_parts(
-            Translation3::new(0.0, 0.0, 0.04),
-            UnitQuaternion::identity(),
-        ),
+    let boxed = crate::soak::object_case("box")?;
+    let maze = crate::soak::maze_case(&o.maze)?;
+    let (box_pieces, maze_pieces) = (
+        boxed.environment.physics_pieces(),
+        maze.environment.physics_pieces(),
     );
-    let cases: [(&str, usize, Vec<EnvironmentPiece>); 3] = [
-        ("1 whisker, free whisking", 1, vec![]),
-        ("18 whiskers, free whisking", 18, vec![]),
-        ("18 whiskers, whisking against a box", 18, vec![wall]),
+    let cases = [
+        Case {
+            name: "free whisking",
+            environment: &[],
+            pose: Isometry3::identity(),
+            segments: None,
+        },
+        Case {
+            name: "against the Box",
+            environment: &box_pieces,
+            pose: boxed.pose,
+            segments: None,
+        },
+        Case {
+            name: "in the maze",
+            environment: &maze_pieces,
+            pose: maze.pose,
+            segments: None,
+        },
     ];
     let mut rows = Vec::new();
-    let mut baseline = None;
-    for (name, whiskers, environment) in &cases {
-        for threads in [1, 2] {
-            let wall_s = time_case(*whiskers, environment, o.duration, threads, o)
-                .map_err(CliError::Failure)?;
-            let rtf = o.duration / wall_s;
-            let cpu_per_whisker = threads as f64 * wall_s / o.duration / *whiskers as f64;
-            let per_whisker_rate = rtf * *whiskers as f64;
-            let base = *baseline.get_or_insert(per_whisker_rate);
-            rows.push((
-                name.to_string(),
-                threads,
-                rtf,
-                cpu_per_whisker,
-                per_whisker_rate / base,
-            ));
-            if !o.json {
-                eprintln!("  {name:<38} {threads} thread(s): {rtf:.3}× real time");
-            }
+    for case in &cases {
+        measure(case, &[1, 2], o, &mut rows)?;
+    }
+    if !o.no_scaling {
+        for n in [8, 12, 16, 24] {
+            let case = Case {
+                name: "against the Box",
+                segments: Some(n),
+                ..cases[1]
+            };
+            measure(&case, &[2], o, &mut rows)?;
         }
     }
+    print(&rows, &boxed.touching, &maze.touching, o);
+    Ok(())
+}
+
+/// Prints the table (or the JSON list).
+fn print(rows: &[Row], box_touching: &[usize], maze_touching: &[usize], o: &Options) {
     if o.json {
         let list: Vec<_> = rows
             .iter()
-            .map(|(case, threads, rtf, cpu, rel)| {
-                json!({"case": case, "threads": threads, "real_time_factor": rtf, "cpu_s_per_sim_s_per_whisker": cpu, "whisker_rate_vs_baseline": rel})
+            .map(|r| {
+                json!({
+                    "case": r.case,
+                    "whiskers": array::modules().len(),
+                    "segments": r.segments,
+                    "threads": r.threads,
+                    "path": r.path.solver().name(),
+                    "real_time_factor": r.rtf,
+                    "cpu_s_per_sim_s_per_whisker": r.cpu,
+                    "speedup_vs_released": r.speedup,
+                    "cpu_vs_whiskit": r.cpu / WHISKIT_CPU_S_PER_S,
+                })
             })
             .collect();
         println!(
             "{}",
             serde_json::to_string_pretty(&list).expect("plain JSON")
         );
-    } else {
+        return;
+    }
+    println!(
+        "physics sensing of the 18-whisker array, {} s simulated per case at 2 kHz, {:?} bending, {} substep(s); \
+         {} whiskers touch the Box and {} the maze by the kinematic sweep",
+        o.duration,
+        o.bending,
+        o.substeps,
+        box_touching.len(),
+        maze_touching.len()
+    );
+    println!(
+        "{:<18} {:>8} {:>7} {:>9} {:>16} {:>24} {:>11} {:>13}",
+        "case",
+        "segments",
+        "threads",
+        "path",
+        "real-time factor",
+        "CPU s / sim s / whisker",
+        "vs WHISKiT",
+        "speed-up"
+    );
+    for r in rows {
         println!(
-            "physics sensing, {} s simulated per case at 2 kHz, {} segments per whisker, {:?} bending, {} substep(s)",
-            o.duration,
-            o.segments.unwrap_or(array::modules()[0].beam.segments),
-            o.bending,
-            o.substeps
-        );
-        println!(
-            "{:<38} {:>7} {:>16} {:>22} {:>14}",
-            "case", "threads", "real-time factor", "CPU s / sim s / whisker", "vs baseline"
-        );
-        for (case, threads, rtf, cpu, rel) in rows {
-            println!("{case:<38} {threads:>7} {rtf:>16.3} {cpu:>22.3} {rel:>13.2}×");
-        }
-        println!(
-            "baseline: 1 whisker, free whisking, 1 thread (whisker-seconds simulated per wall second)"
+            "{:<18} {:>8} {:>7} {:>9} {:>16.3} {:>24.3} {:>10.3}× {:>13}",
+            r.case,
+            r.segments,
+            r.threads,
+            r.path.solver().name(),
+            r.rtf,
+            r.cpu,
+            r.cpu / WHISKIT_CPU_S_PER_S,
+            r.speedup.map_or(String::new(), |s| format!("{s:.2}×"))
         );
     }
-    Ok(())
+    println!(
+        "released: Rapier 0.36.1 as released, a barrier per sample; exact: vendor/PATCHES.md 1-2 (bit-identical), \
+         once-per-step: 1-3 (the default); both one task per whisker. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
+         (below 1: cheaper). Speed-up: released wall time / the path's, same case and threads."
+    );
 }

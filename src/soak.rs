@@ -15,7 +15,7 @@ use crate::scenario::Scenario;
 use nalgebra::{Isometry3, Vector3};
 use rayon::prelude::*;
 use serde_json::json;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 use whisker_sim::environment::Environment;
 use whisker_sim::environment::assets::{CATALOGUE, placed};
@@ -79,26 +79,28 @@ fn run_case(
     let mut deepest: f64 = 0.0;
     let mut broken = false;
     let mut first_tunnel: Option<(f64, String, f64)> = None;
-    for k in 1..=steps {
-        array.step(&pose);
-        if k % 20 == 0 || k == steps {
-            let per: Vec<(f64, bool)> = array
-                .units
-                .par_iter()
-                .map(|u| (u.shaft_depth(solids), u.is_broken()))
-                .collect();
-            let (depth, bad) = per
-                .iter()
-                .fold((0.0f64, false), |a, b| (a.0.max(b.0), a.1 || b.1));
-            if first_tunnel.is_none() && depth > TUNNEL_DEPTH {
-                let w = per.iter().position(|p| p.0 == depth).unwrap_or(0);
-                first_tunnel = Some((k as f64 * DT, array.units[w].config.module.pixel(), depth));
-            }
-            deepest = deepest.max(depth);
-            broken |= bad;
-            if broken {
-                break;
-            }
+    // The array runs 20 steps per task between checks (`PhysicsArray::run`).
+    let mut k = 0;
+    while k < steps {
+        let chunk = 20.min(steps - k);
+        array.run(chunk, |_| pose);
+        k += chunk;
+        let per: Vec<(f64, bool)> = array
+            .units
+            .par_iter()
+            .map(|u| (u.shaft_depth(solids), u.is_broken()))
+            .collect();
+        let (depth, bad) = per
+            .iter()
+            .fold((0.0f64, false), |a, b| (a.0.max(b.0), a.1 || b.1));
+        if first_tunnel.is_none() && depth > TUNNEL_DEPTH {
+            let w = per.iter().position(|p| p.0 == depth).unwrap_or(0);
+            first_tunnel = Some((k as f64 * DT, array.units[w].config.module.pixel(), depth));
+        }
+        deepest = deepest.max(depth);
+        broken |= bad;
+        if broken {
+            break;
         }
         if !o.json && k % 2000 == 0 {
             eprint!(
@@ -146,6 +148,68 @@ fn run_case(
     (record, passed)
 }
 
+/// An environment and the array pose where the most whiskers touch it.
+pub struct Case {
+    /// The environment.
+    pub environment: Environment,
+    /// The array's pose.
+    pub pose: Isometry3<f64>,
+    /// Indices of the whiskers that touch it by the kinematic sweep.
+    pub touching: Vec<usize>,
+}
+
+/// The catalogue object `name` at the `bench sensing` candidate pose where the most
+/// whiskers touch it.
+pub fn object_case(name: &str) -> Result<Case, CliError> {
+    let asset = CATALOGUE
+        .iter()
+        .find(|a| a.name == name)
+        .ok_or_else(|| CliError::Input(format!("no catalogue object {name:?}")))?;
+    let (environment, shape) = placed(asset).map_err(CliError::Failure)?;
+    let (pose, touching) =
+        viewpoints::busiest(&environment, &shape, asset.size).ok_or_else(|| {
+            CliError::Failure(format!(
+                "{}: no candidate pose where the whiskers reach it without starting inside",
+                asset.name
+            ))
+        })?;
+    Ok(Case {
+        environment,
+        pose,
+        touching,
+    })
+}
+
+/// The `[maze]` of the scenario `file`, the array 100 mm above the board facing down, at
+/// the point of a 50 mm grid where the most whiskers touch the walls.
+pub fn maze_case(file: &Path) -> Result<Case, CliError> {
+    let scenario = Scenario::load(file)?;
+    let maze = scenario
+        .maze
+        .as_ref()
+        .ok_or_else(|| CliError::field(file, "maze", "expected a [maze] section"))?;
+    let environment = scenario.environment(file)?.environment;
+    let frame =
+        whisker_slam::pose::from_xyz_rpy(maze.position_m, maze.rpy_deg.map(f64::to_radians));
+    let down = Isometry3::rotation(Vector3::x() * std::f64::consts::PI);
+    let mut grid = Vec::new();
+    for i in 0..28 {
+        for j in 0..20 {
+            let (x, y) = (0.025 + 0.05 * i as f64, 0.025 + 0.05 * j as f64);
+            if x < maze.board_m[0] && y < maze.board_m[1] {
+                grid.push(frame * Isometry3::translation(x, y, 0.10) * down);
+            }
+        }
+    }
+    let (pose, touching) =
+        viewpoints::most_touching(&environment, &grid).unwrap_or((grid[0], Vec::new()));
+    Ok(Case {
+        environment,
+        pose,
+        touching,
+    })
+}
+
 /// `whisker soak`.
 pub fn soak(o: &Options) -> CliResult {
     if !(o.duration.is_finite() && o.duration > 0.0) {
@@ -154,20 +218,7 @@ pub fn soak(o: &Options) -> CliResult {
             o.duration
         )));
     }
-    let mut cases: Vec<(String, Environment, Isometry3<f64>, Vec<usize>)> = Vec::new();
-    for asset in &CATALOGUE {
-        if !o.objects.is_empty() && !o.objects.iter().any(|n| n == asset.name) {
-            continue;
-        }
-        let (environment, shape) = placed(asset).map_err(CliError::Failure)?;
-        let (pose, n) = viewpoints::busiest(&environment, &shape, asset.size).ok_or_else(|| {
-            CliError::Failure(format!(
-                "{}: no candidate pose where the whiskers reach it without starting inside",
-                asset.name
-            ))
-        })?;
-        cases.push((asset.name.to_string(), environment, pose, n));
-    }
+    let mut cases: Vec<(String, Case)> = Vec::new();
     for name in &o.objects {
         if !CATALOGUE.iter().any(|a| a.name == name) {
             return Err(CliError::Input(format!(
@@ -175,35 +226,27 @@ pub fn soak(o: &Options) -> CliResult {
             )));
         }
     }
-    if let Some(file) = &o.maze {
-        let scenario = Scenario::load(file)?;
-        let maze = scenario
-            .maze
-            .as_ref()
-            .ok_or_else(|| CliError::field(file, "maze", "expected a [maze] section"))?;
-        let environment = scenario.environment(file)?.environment;
-        let frame =
-            whisker_slam::pose::from_xyz_rpy(maze.position_m, maze.rpy_deg.map(f64::to_radians));
-        let down = Isometry3::rotation(Vector3::x() * std::f64::consts::PI);
-        let mut grid = Vec::new();
-        for i in 0..28 {
-            for j in 0..20 {
-                let (x, y) = (0.025 + 0.05 * i as f64, 0.025 + 0.05 * j as f64);
-                if x < maze.board_m[0] && y < maze.board_m[1] {
-                    grid.push(frame * Isometry3::translation(x, y, 0.10) * down);
-                }
-            }
+    for asset in &CATALOGUE {
+        if o.objects.is_empty() || o.objects.iter().any(|n| n == asset.name) {
+            cases.push((asset.name.to_string(), object_case(asset.name)?));
         }
-        let (pose, n) =
-            viewpoints::most_touching(&environment, &grid).unwrap_or((grid[0], Vec::new()));
-        cases.push(("maze".into(), environment, pose, n));
+    }
+    if let Some(file) = &o.maze {
+        cases.push(("maze".into(), maze_case(file)?));
     }
     let mut records = Vec::new();
     let mut all = true;
-    for (name, environment, pose, n) in &cases {
-        let solids = Solids::new(environment)
+    for (name, case) in &cases {
+        let solids = Solids::new(&case.environment)
             .map_err(|e| CliError::Failure(format!("soak: {name}: {e}")))?;
-        let (r, ok) = run_case(name, environment, &solids, *pose, n, o);
+        let (r, ok) = run_case(
+            name,
+            &case.environment,
+            &solids,
+            case.pose,
+            &case.touching,
+            o,
+        );
         records.push(r);
         all &= ok;
     }

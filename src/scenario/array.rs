@@ -326,6 +326,7 @@ impl ArrayConfig {
                 rcp_threshold: None,
                 sensor,
                 substeps: self.substeps.unwrap_or(DEFAULT_SUBSTEPS),
+                solver: Default::default(),
             });
         }
         Ok(out)

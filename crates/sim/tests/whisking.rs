@@ -42,6 +42,7 @@ fn config(module: Module, frequency: f64, rcp: Option<f64>) -> WhiskerConfig {
         rcp_threshold: rcp,
         sensor: SensorModel::default(),
         substeps: DEFAULT_SUBSTEPS,
+        solver: Default::default(),
     }
 }
 

@@ -47,6 +47,46 @@ pub struct WhiskerConfig {
     pub sensor: SensorModel,
     /// Rapier substeps per 0.5 ms step (its `num_solver_iterations`).
     pub substeps: usize,
+    /// Which of Rapier's multibody code paths steps the whisker.
+    pub solver: SolverPath,
+}
+
+/// Which of the vendored Rapier's multibody code paths steps a whisker (`vendor/PATCHES.md`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SolverPath {
+    /// Rapier 0.36.1 as released: the dense mass matrix, assembled and factorised at every
+    /// substep. Kept for `whisker bench physics`' before/after comparison.
+    Released,
+    /// Patches 1–2: the mass matrix restricted to each link's ancestors, copied for
+    /// factorisation in one block. Bit-identical to `Released`.
+    Exact,
+    /// Patches 1–3: as `Exact`, the mass matrix assembled and factorised once per step
+    /// instead of at each of its substeps (not bit-identical; the accuracy tests hold).
+    #[default]
+    OncePerStep,
+}
+
+impl SolverPath {
+    /// Every path, oldest first.
+    pub const ALL: [SolverPath; 3] = [Self::Released, Self::Exact, Self::OncePerStep];
+
+    /// Sets the path's Rapier parameters.
+    pub fn apply(self, p: &mut IntegrationParameters) {
+        p.multibody_mass_matrix = match self {
+            Self::Released => MultibodyMassMatrix::Dense,
+            Self::Exact | Self::OncePerStep => MultibodyMassMatrix::Truncated,
+        };
+        p.multibody_mass_matrix_once_per_step = self == Self::OncePerStep;
+    }
+
+    /// Its name in benchmarks.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Released => "released",
+            Self::Exact => "exact",
+            Self::OncePerStep => "once-per-step",
+        }
+    }
 }
 
 impl WhiskerConfig {
@@ -60,6 +100,7 @@ impl WhiskerConfig {
             rcp_threshold: None,
             sensor: SensorModel::default(),
             substeps: DEFAULT_SUBSTEPS,
+            solver: SolverPath::default(),
         }
     }
 
@@ -135,6 +176,7 @@ impl WhiskerUnit {
         world.gravity = Vector::new(0.0, 0.0, -9.81);
         contact_parameters(&mut world.integration_parameters, dt);
         world.integration_parameters.num_solver_iterations = config.substeps.max(1);
+        config.solver.apply(&mut world.integration_parameters);
         for (shape, pose) in environment {
             world.insert_collider(
                 ColliderBuilder::new(shape.clone())
@@ -313,11 +355,40 @@ impl PhysicsArray {
             .collect()
     }
 
+    /// Advances every whisker `steps` steps, the array frame at `array_pose(t)` at the end
+    /// of the step that ends at time t; per whisker (module order), its `steps` samples.
+    ///
+    /// Each whisker runs all its steps in one task: the whiskers share nothing (RCP is
+    /// per whisker and the pose is known in advance), so the samples are the same as
+    /// from `steps` calls of [`Self::step`], without a barrier per sample (§2 L6 of the
+    /// physics-speed note: a whisker in contact costs many times a free one).
+    pub fn run(
+        &mut self,
+        steps: usize,
+        array_pose: impl Fn(f64) -> Isometry3<f64> + Sync,
+    ) -> Vec<Vec<Sample>> {
+        self.units
+            .par_iter_mut()
+            .map(|u| {
+                (0..steps)
+                    .map(|_| {
+                        let t = (u.steps + 1) as f64 * u.world.integration_parameters.dt;
+                        u.step(&array_pose(t))
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
     /// Simulates one whisk cycle of the first whisker's pattern (1/f seconds; the
     /// array's whiskers share a frequency by default) with the array frame at
     /// `array_pose(t)` at time t, and returns it as a [`WhiskCycle`] numbered `index`
     /// (empty, with nothing simulated, for an array of no whiskers).
-    pub fn whisk(&mut self, index: u64, array_pose: impl Fn(f64) -> Isometry3<f64>) -> WhiskCycle {
+    pub fn whisk(
+        &mut self,
+        index: u64,
+        array_pose: impl Fn(f64) -> Isometry3<f64> + Sync,
+    ) -> WhiskCycle {
         if self.units.is_empty() {
             return WhiskCycle {
                 index,
@@ -329,13 +400,7 @@ impl PhysicsArray {
         let dt = self.units[0].world.integration_parameters.dt;
         let start_s = self.units[0].time() + dt;
         let n = (1.0 / (self.units[0].config.pattern.frequency * dt)).round() as usize;
-        let mut samples = vec![Vec::with_capacity(n); self.units.len()];
-        for i in 0..n {
-            let pose = array_pose(start_s + i as f64 * dt);
-            for (w, s) in self.step(&pose).into_iter().enumerate() {
-                samples[w].push(s);
-            }
-        }
+        let samples = self.run(n, array_pose);
         WhiskCycle {
             index,
             start_s,

@@ -18,6 +18,7 @@
 use super::beam::BeamDesign;
 use super::body::Whisker;
 use super::follicle::FollicleDesign;
+use crate::sensing::physics::SolverPath;
 use nalgebra::{Isometry3, Vector3};
 use rapier3d_f64::prelude::*;
 use std::f64::consts::TAU;
@@ -67,6 +68,8 @@ fn test_rig(
     let mut world = PhysicsWorld::new();
     world.gravity = Vector::ZERO;
     world.integration_parameters.dt = dt;
+    // The multibody path physics sensing uses (patches of vendor/PATCHES.md).
+    SolverPath::default().apply(&mut world.integration_parameters);
     let groups = InteractionGroups::new(Group::GROUP_3, Group::NONE, InteractionTestMode::And);
     let whisker = Whisker::build(&mut world, Isometry3::identity(), beam, follicle, groups);
     (world, whisker)

@@ -1,3 +1,4 @@
+// Modified by whisker-slam (vendor/PATCHES.md): changes are marked "whisker-slam patch".
 #[cfg(all(doc, feature = "alloc"))]
 use super::RigidBodyActivation;
 use crate::math::Real;
@@ -27,6 +28,23 @@ pub enum FrictionModel {
     ///
     /// This results in one Coulomb friction constraint per contact point.
     Coulomb,
+}
+
+/// How multibody mass matrices are assembled (whisker-slam patch 1, `vendor/PATCHES.md`).
+///
+/// A link's body Jacobian is zero in every column past its own degrees of freedom (its
+/// ancestors come first in assembly order), so its terms of the mass matrix and of the
+/// Coriolis matrix only touch the leading `k × k` block, `k` = the link's assembly id plus
+/// its DoFs. [`Self::Truncated`] restricts the dense products to that block; it skips
+/// only products with exact zeros, so its results are bit-identical to [`Self::Dense`].
+#[derive(Default, Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde-serialize", derive(Serialize, Deserialize))]
+pub enum MultibodyMassMatrix {
+    /// Rapier 0.36.1 as released: every product runs over all the multibody's DoFs.
+    Dense,
+    /// Products restricted to each link's ancestor DoFs (bit-identical to `Dense`).
+    #[default]
+    Truncated,
 }
 
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -328,6 +346,14 @@ pub struct IntegrationParameters {
     /// The type of friction constraints used in the simulation.
     #[cfg(feature = "dim3")]
     pub friction_model: FrictionModel,
+    /// How multibody mass matrices are assembled (default: [`MultibodyMassMatrix::Truncated`]).
+    /// whisker-slam patch 1 (`vendor/PATCHES.md`).
+    pub multibody_mass_matrix: MultibodyMassMatrix,
+    /// If enabled, multibody mass matrices are assembled and factorised once per step, at its
+    /// first substep, instead of at every substep (default: `false`, as released). Velocities,
+    /// forces and accelerations are still updated every substep; contact constraints already
+    /// use the step's first factorisation. whisker-slam patch 3 (`vendor/PATCHES.md`).
+    pub multibody_mass_matrix_once_per_step: bool,
 }
 
 impl IntegrationParameters {
@@ -432,6 +458,8 @@ impl Default for IntegrationParameters {
             soft_bodies: Default::default(),
             #[cfg(feature = "dim3")]
             friction_model: FrictionModel::default(),
+            multibody_mass_matrix: MultibodyMassMatrix::default(),
+            multibody_mass_matrix_once_per_step: false,
         }
     }
 }

@@ -1,3 +1,4 @@
+// Modified by whisker-slam (vendor/PATCHES.md): changes are marked "whisker-slam patch".
 //! Structures related to dynamics: bodies, impulse_joints, etc.
 
 #[cfg(feature = "alloc")]
@@ -5,7 +6,10 @@ pub use self::ccd::CCDSolver;
 pub use self::coefficient_combine_rule::CoefficientCombineRule;
 #[cfg(feature = "dim3")]
 pub use self::integration_parameters::FrictionModel;
-pub use self::integration_parameters::{IntegrationParameters, SpringCoefficients};
+// whisker-slam patch 1: `MultibodyMassMatrix`.
+pub use self::integration_parameters::{
+    IntegrationParameters, MultibodyMassMatrix, SpringCoefficients,
+};
 #[cfg(feature = "alloc")]
 pub use self::island_manager::IslandManager;
 #[cfg(feature = "alloc")]

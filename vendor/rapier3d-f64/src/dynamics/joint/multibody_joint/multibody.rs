@@ -1,10 +1,11 @@
+// Modified by whisker-slam (vendor/PATCHES.md): changes are marked "whisker-slam patch".
 use super::multibody_link::{MultibodyLink, MultibodyLinkVec};
 use super::multibody_workspace::MultibodyWorkspace;
 use crate::alloc_prelude::*;
 use crate::dynamics::integration_parameters::SpringCoefficients;
 use crate::dynamics::solver::{GenericJointConstraint, WritebackId};
 use crate::dynamics::{
-    IntegrationParameters, RigidBodyHandle, RigidBodySet, RigidBodyType, RigidBodyVelocity,
+    IntegrationParameters, MultibodyMassMatrix, RigidBodyHandle, RigidBodySet, RigidBodyType, RigidBodyVelocity,
 };
 use crate::math::{
     ANG_DIM, AngDim, AngVector, DIM, DVector, Dim, Jacobian, Pose, Real, SPATIAL_DIM,
@@ -816,7 +817,19 @@ impl Multibody {
         }
     }
 
-    pub(crate) fn update_mass_matrix(&mut self, dt: Real, bodies: &RigidBodySet) {
+    /// Assembles the augmented mass matrices and factorises them.
+    ///
+    /// whisker-slam patch 1: with [`MultibodyMassMatrix::Truncated`], each link's products
+    /// run over the leading `k × k` block only, `k` = its assembly id + its DoFs: its body
+    /// Jacobian and its Coriolis rows are exactly zero past column `k` (ancestors come first
+    /// in assembly order, which the contiguity assertion below checks), so only products of
+    /// exact zeros are skipped and the matrices are bit-identical to `Dense`.
+    pub(crate) fn update_mass_matrix(
+        &mut self,
+        dt: Real,
+        bodies: &RigidBodySet,
+        mode: MultibodyMassMatrix,
+    ) {
         if self.ndofs == 0 {
             return; // Nothing to do.
         }
@@ -858,6 +871,11 @@ impl Multibody {
                 "Internal error: contiguity assumption on assembly_id does not hold."
             );
             curr_assembly_id += link.joint.ndofs();
+            // whisker-slam patch 1: the columns (and rows) this link's terms can touch.
+            let k = match mode {
+                MultibodyMassMatrix::Dense => self.ndofs,
+                MultibodyMassMatrix::Truncated => curr_assembly_id,
+            };
 
             if link.joint.kinematic {
                 for k in link.assembly_id..link.assembly_id + link.joint.ndofs() {
@@ -887,17 +905,26 @@ impl Multibody {
             let rb_mass_matrix_wo_gyro = concat_rb_mass_matrix(rb_mass, rb_inertia.into());
             #[allow(clippy::useless_conversion)] // Needed in 3D, no-op in 2D
             let rb_mass_matrix = concat_rb_mass_matrix(rb_mass, augmented_inertia.into());
-            self.augmented_mass
-                .quadform(1.0, &rb_mass_matrix_wo_gyro, body_jacobian, 1.0);
-            self.acc_augmented_mass
-                .quadform(1.0, &rb_mass_matrix, body_jacobian, 1.0);
+            let body_jacobian = body_jacobian.columns(0, k);
+            self.augmented_mass.view_mut((0, 0), (k, k)).quadform(
+                1.0,
+                &rb_mass_matrix_wo_gyro,
+                &body_jacobian,
+                1.0,
+            );
+            self.acc_augmented_mass.view_mut((0, 0), (k, k)).quadform(
+                1.0,
+                &rb_mass_matrix,
+                &body_jacobian,
+                1.0,
+            );
 
             /*
              *
              * Coriolis matrix.
              *
              */
-            let rb_j = &self.body_jacobians[i];
+            let rb_j = self.body_jacobians[i].columns(0, k);
             let rb_j_w = rb_j.fixed_rows::<ANG_DIM>(DIM);
 
             let ndofs = link.joint.ndofs();
@@ -906,19 +933,23 @@ impl Multibody {
                 let parent_id = link.parent_internal_id;
                 let parent_link = &self.links[parent_id];
                 let parent_rb = &bodies[parent_link.rigid_body];
-                let parent_j = &self.body_jacobians[parent_id];
+                let parent_j = self.body_jacobians[parent_id].columns(0, k);
                 let parent_j_w = parent_j.fixed_rows::<ANG_DIM>(DIM);
                 let parent_w = SimdAngVector::<Real>::from(parent_rb.vels.angvel).gcross_matrix();
 
                 let (coriolis_v, parent_coriolis_v) = self.coriolis_v.index_mut2(i, parent_id);
                 let (coriolis_w, parent_coriolis_w) = self.coriolis_w.index_mut2(i, parent_id);
+                let mut coriolis_v = coriolis_v.columns_mut(0, k);
+                let mut coriolis_w = coriolis_w.columns_mut(0, k);
+                let parent_coriolis_v = parent_coriolis_v.columns(0, k);
+                let parent_coriolis_w = parent_coriolis_w.columns(0, k);
 
-                coriolis_v.copy_from(parent_coriolis_v);
-                coriolis_w.copy_from(parent_coriolis_w);
+                coriolis_v.copy_from(&parent_coriolis_v);
+                coriolis_w.copy_from(&parent_coriolis_w);
 
                 // [c1 - c0].gcross() * (JDot + JDot/u * qdot)"
                 let shift_cross_tr = vect_to_na(link.shift02).gcross_matrix_tr();
-                coriolis_v.gemm(1.0, &shift_cross_tr, parent_coriolis_w, 1.0);
+                coriolis_v.gemm(1.0, &shift_cross_tr, &parent_coriolis_w, 1.0);
 
                 // JDot (but the 2.0 originates from the sum of two identical terms in JDot and JDot/u * gdot)
                 let dvel_cross = vect_to_na(
@@ -969,13 +1000,13 @@ impl Multibody {
                 self.coriolis_w[i].fill(0.0);
             }
 
-            let coriolis_v = &mut self.coriolis_v[i];
-            let coriolis_w = &mut self.coriolis_w[i];
+            let mut coriolis_v = self.coriolis_v[i].columns_mut(0, k);
+            let coriolis_w = self.coriolis_w[i].columns(0, k);
 
             {
                 // [c3 - c2].gcross() * (JDot + JDot/u * qdot)
                 let shift_cross_tr = vect_to_na(link.shift23).gcross_matrix_tr();
-                coriolis_v.gemm(1.0, &shift_cross_tr, coriolis_w, 1.0);
+                coriolis_v.gemm(1.0, &shift_cross_tr, &coriolis_w, 1.0);
 
                 // JDot
                 let dvel_cross = vect_to_na(rb.vels.angvel.gcross(link.shift23)).gcross_matrix_tr();
@@ -990,15 +1021,13 @@ impl Multibody {
                 );
             }
 
-            let coriolis_v = &mut self.coriolis_v[i];
-            let coriolis_w = &mut self.coriolis_w[i];
-
             /*
              * Meld with the mass matrix.
              */
+            let mut i_coriolis_dt = self.i_coriolis_dt.columns_mut(0, k);
             {
-                let mut i_coriolis_dt_v = self.i_coriolis_dt.fixed_rows_mut::<DIM>(0);
-                i_coriolis_dt_v.copy_from(coriolis_v);
+                let mut i_coriolis_dt_v = i_coriolis_dt.fixed_rows_mut::<DIM>(0);
+                i_coriolis_dt_v.copy_from(&coriolis_v);
                 let rb_mass_dt = vect_to_na(rb_mass * dt);
                 i_coriolis_dt_v
                     .column_iter_mut()
@@ -1007,18 +1036,22 @@ impl Multibody {
 
             #[cfg(feature = "dim2")]
             {
-                let mut i_coriolis_dt_w = self.i_coriolis_dt.fixed_rows_mut::<ANG_DIM>(DIM);
+                let mut i_coriolis_dt_w = i_coriolis_dt.fixed_rows_mut::<ANG_DIM>(DIM);
                 // NOTE: this is just an axpy, but on row columns.
-                i_coriolis_dt_w.zip_apply(coriolis_w, |o, x| *o = x * dt * rb_inertia);
+                i_coriolis_dt_w.zip_apply(&coriolis_w, |o, x| *o = x * dt * rb_inertia);
             }
             #[cfg(feature = "dim3")]
             {
-                let mut i_coriolis_dt_w = self.i_coriolis_dt.fixed_rows_mut::<ANG_DIM>(DIM);
-                i_coriolis_dt_w.gemm(dt, &mat_to_na(rb_inertia), coriolis_w, 0.0);
+                let mut i_coriolis_dt_w = i_coriolis_dt.fixed_rows_mut::<ANG_DIM>(DIM);
+                i_coriolis_dt_w.gemm(dt, &mat_to_na(rb_inertia), &coriolis_w, 0.0);
             }
 
-            self.acc_augmented_mass
-                .gemm_tr(1.0, rb_j, &self.i_coriolis_dt, 1.0);
+            self.acc_augmented_mass.view_mut((0, 0), (k, k)).gemm_tr(
+                1.0,
+                &rb_j,
+                &i_coriolis_dt,
+                1.0,
+            );
         }
 
         /*
@@ -1072,16 +1105,18 @@ impl Multibody {
             .rearrange_rows(&mut self.augmented_mass, true);
 
         // TODO: avoid allocation inside LU at each timestep.
-        self.acc_inv_augmented_mass = LU::new(
-            self.acc_augmented_mass
-                .view((0, 0), (effective_dim, effective_dim))
-                .into_owned(),
-        );
-        self.inv_augmented_mass = LU::new(
-            self.augmented_mass
-                .view((0, 0), (effective_dim, effective_dim))
-                .into_owned(),
-        );
+        // whisker-slam patch 2: without kinematic DoFs the whole matrix is factorised, and
+        // `clone` copies its storage in one block, where `view(..).into_owned()` copies
+        // element by element through an iterator (~6 % of a whisker step). Same values.
+        let owned = |m: &DMatrix<Real>| {
+            if effective_dim == m.nrows() {
+                m.clone()
+            } else {
+                m.view((0, 0), (effective_dim, effective_dim)).into_owned()
+            }
+        };
+        self.acc_inv_augmented_mass = LU::new(owned(&self.acc_augmented_mass));
+        self.inv_augmented_mass = LU::new(owned(&self.augmented_mass));
     }
 
     /// Per-DoF inverse joint-space inertia `diag(M⁻¹)` at the current configuration, where `M`
@@ -1094,7 +1129,8 @@ impl Multibody {
         // so `ndofs` is final, then assemble `M`. `dt = 0` drops the `dt·damping` and
         // `dt²·stiffness` diagonal terms, leaving exactly `M + armature`.
         self.forward_kinematics(bodies, false);
-        self.update_mass_matrix(0.0, bodies);
+        // whisker-slam patch 1: the assembly mode.
+        self.update_mass_matrix(0.0, bodies, MultibodyMassMatrix::default());
 
         let n = self.ndofs;
         let mut out = DVector::zeros(n);

@@ -1,3 +1,4 @@
+// Modified by whisker-slam (vendor/PATCHES.md): changes are marked "whisker-slam patch".
 //! Staged-solver entry points on [`ContactConstraintsSet`] and
 //! [`VelocitySolver`]: generic (multibody) constraint init and the
 //! multibody-only halves of buffer init and position integration.
@@ -106,7 +107,8 @@ impl VelocitySolver {
                 .get_multibody_mut_internal(link.multibody)
                 .unwrap();
             multibody.update_velocities(bodies);
-            multibody.update_mass_matrix(params.dt, bodies);
+            // whisker-slam patch 1: the assembly mode.
+            multibody.update_mass_matrix(params.dt, bodies, params.multibody_mass_matrix);
             multibody.update_acceleration(params.dt, bodies);
 
             let mut solver_vels_incr = self
@@ -144,7 +146,11 @@ impl VelocitySolver {
 
             if !is_last_substep {
                 multibody.update_velocities(bodies);
-                multibody.update_mass_matrix(params.dt, bodies);
+                // whisker-slam patch 3: optionally keep the step's first mass matrix.
+                if !params.multibody_mass_matrix_once_per_step {
+                    // whisker-slam patch 1: the assembly mode.
+                    multibody.update_mass_matrix(params.dt, bodies, params.multibody_mass_matrix);
+                }
                 multibody.update_acceleration(params.dt, bodies);
 
                 let mut solver_vels_incr = self
