@@ -3,14 +3,16 @@
 //! Cases: the 18-whisker array whisking freely, against the Box (the catalogue object at
 //! the pose where the most whiskers touch it, as in `whisker soak`) and in the maze (the
 //! most-touched point of a 50 mm grid 100 mm above the board, facing down), each on 1 and
-//! 2 worker threads and by three code paths measured side by side in the same run:
+//! 2 worker threads and by four code paths measured side by side in the same run:
 //!
 //! - `released`: Rapier 0.36.1 as released (dense mass matrix, `MultibodyMassMatrix::Dense`)
 //!   and the array stepped with a barrier per sample (`PhysicsArray::step`), the code path
 //!   before issue #18;
 //! - `exact`: the vendored patches 1–2 (`vendor/PATCHES.md`), bit-identical to `released`,
 //!   and one task per whisker for the whole run (`PhysicsArray::run`);
-//! - `once-per-step`: also patch 3 (the mass matrix factorised once per step), the default.
+//! - `once-per-step`: also patch 3 (the mass matrix factorised once per step), the default;
+//! - `explicit-coriolis`: also patch 4 (explicit gyroscopic and Coriolis terms), not the
+//!   default: a whisker bent over the Mug's handle goes unstable with it.
 //!
 //! Then the scaling with segment count (8, 12, 16, 24) against the Box on 2 threads by
 //! every path. Reported: the real-time factor (simulated seconds per wall-clock second),
@@ -97,14 +99,18 @@ pub enum Path {
     Exact,
     /// Patches 1–3 (the default), one task per whisker.
     OncePerStep,
+    /// Patches 1–4 (unstable in the Mug soak), one task per whisker.
+    ExplicitCoriolis,
 }
 
 impl Path {
-    fn solver(self) -> SolverPath {
+    /// Rapier's multibody path.
+    pub fn solver(self) -> SolverPath {
         match self {
             Path::Released => SolverPath::Released,
             Path::Exact => SolverPath::Exact,
             Path::OncePerStep => SolverPath::OncePerStep,
+            Path::ExplicitCoriolis => SolverPath::ExplicitCoriolis,
         }
     }
 }
@@ -142,7 +148,7 @@ fn time_case(case: &Case, path: Path, threads: usize, o: &Options) -> Result<f64
                     array.step(&case.pose);
                 }
             }
-            Path::Exact | Path::OncePerStep => {
+            _ => {
                 array.run(steps, |_| case.pose);
             }
         }
@@ -170,7 +176,12 @@ fn measure(case: &Case, threads: &[usize], o: &Options, rows: &mut Vec<Row>) -> 
         .unwrap_or(array::modules()[0].beam.segments);
     for &t in threads {
         let mut released_wall = None;
-        for path in [Path::Released, Path::Exact, Path::OncePerStep] {
+        for path in [
+            Path::Released,
+            Path::Exact,
+            Path::OncePerStep,
+            Path::ExplicitCoriolis,
+        ] {
             if o.path.is_some_and(|p| p != path) {
                 continue;
             }
@@ -304,7 +315,7 @@ fn print(rows: &[Row], box_touching: &[usize], maze_touching: &[usize], o: &Opti
         maze_touching.len()
     );
     println!(
-        "{:<18} {:>8} {:>7} {:>9} {:>16} {:>24} {:>11} {:>13}",
+        "{:<18} {:>8} {:>7} {:>17} {:>16} {:>24} {:>11} {:>13}",
         "case",
         "segments",
         "threads",
@@ -316,7 +327,7 @@ fn print(rows: &[Row], box_touching: &[usize], maze_touching: &[usize], o: &Opti
     );
     for r in rows {
         println!(
-            "{:<18} {:>8} {:>7} {:>9} {:>16.3} {:>24.3} {:>10.3}× {:>13}",
+            "{:<18} {:>8} {:>7} {:>17} {:>16.3} {:>24.3} {:>10.3}× {:>13}",
             r.case,
             r.segments,
             r.threads,
@@ -329,7 +340,8 @@ fn print(rows: &[Row], box_touching: &[usize], maze_touching: &[usize], o: &Opti
     }
     println!(
         "released: Rapier 0.36.1 as released, a barrier per sample; exact: vendor/PATCHES.md 1-2 (bit-identical), \
-         once-per-step: 1-3 (the default); both one task per whisker. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
+         once-per-step: 1-3 (the default), \
+         explicit-coriolis: 1-4 (unstable in the Mug soak); all three one task per whisker. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
          (below 1: cheaper). Speed-up: released wall time / the path's, same case and threads."
     );
 }

@@ -53,6 +53,9 @@ pub struct Options {
     /// Rapier substeps per 0.5 ms step.
     #[arg(long, default_value_t = whisker_sim::sensing::physics::DEFAULT_SUBSTEPS)]
     pub substeps: usize,
+    /// Rapier's multibody code path (vendor/PATCHES.md) [default: once-per-step].
+    #[arg(long, value_enum)]
+    pub path: Option<crate::bench::Path>,
     /// Print one JSON list.
     #[arg(long)]
     pub json: bool,
@@ -72,6 +75,12 @@ fn run_case(
             .into_iter()
             .filter(|c| o.all_whiskers || touching.contains(&c.module.index))
             .filter(|c| o.whiskers.is_empty() || o.whiskers.contains(&c.module.pixel()))
+            .map(|mut c| {
+                if let Some(path) = o.path {
+                    c.solver = path.solver();
+                }
+                c
+            })
             .collect();
     let mut array = PhysicsArray::new(configs, &environment.physics_pieces(), &pose, 0, DT);
     let steps = (o.duration / DT).round() as usize;

@@ -354,6 +354,12 @@ pub struct IntegrationParameters {
     /// forces and accelerations are still updated every substep; contact constraints already
     /// use the step's first factorisation. whisker-slam patch 3 (`vendor/PATCHES.md`).
     pub multibody_mass_matrix_once_per_step: bool,
+    /// If enabled (default: `true`, as released), multibody accelerations are solved with a
+    /// second mass matrix that carries the gyroscopic and Coriolis terms semi-implicitly
+    /// (guarded against energy injection); if disabled, those terms are explicit forces and
+    /// the plain augmented mass matrix is used, so one assembly and one factorisation fewer.
+    /// whisker-slam patch 4 (`vendor/PATCHES.md`).
+    pub multibody_semi_implicit_coriolis: bool,
 }
 
 impl IntegrationParameters {
@@ -460,6 +466,7 @@ impl Default for IntegrationParameters {
             friction_model: FrictionModel::default(),
             multibody_mass_matrix: MultibodyMassMatrix::default(),
             multibody_mass_matrix_once_per_step: false,
+            multibody_semi_implicit_coriolis: true,
         }
     }
 }

@@ -526,7 +526,16 @@ impl Multibody {
             .extend((0..num_jacobians).map(|_| Jacobian::zeros(0)));
     }
 
-    pub(crate) fn update_acceleration(&mut self, dt: Real, bodies: &RigidBodySet) {
+    ///
+    /// whisker-slam patch 4: with `semi_implicit_coriolis` false, the accelerations are
+    /// solved with the plain augmented mass matrix (the energy guard's own fallback), and the
+    /// guard is not needed.
+    pub(crate) fn update_acceleration(
+        &mut self,
+        dt: Real,
+        bodies: &RigidBodySet,
+        semi_implicit_coriolis: bool,
+    ) {
         if self.ndofs == 0 {
             return; // Nothing to do.
         }
@@ -537,7 +546,8 @@ impl Multibody {
         // occasionally cause instabilities due to the matrix being near singular.
         // To prevent that, we enable a check that verifies the result and fallbacks
         // to the explicit term if needed
-        let check_implicit_coriolis_divergence = dt * self.velocities.amax() >= 1.0e-3;
+        let check_implicit_coriolis_divergence =
+            semi_implicit_coriolis && dt * self.velocities.amax() >= 1.0e-3;
         // Generalized forces that derive from positions or external inputs
         // (gravity, user forces, spring position terms).
         let mut pos_forces = DVector::zeros(if check_implicit_coriolis_divergence {
@@ -652,9 +662,15 @@ impl Multibody {
             DVector::zeros(0)
         };
 
+        // whisker-slam patch 4: the plain matrix when the Coriolis terms are explicit.
+        let inverse = if semi_implicit_coriolis {
+            &self.acc_inv_augmented_mass
+        } else {
+            &self.inv_augmented_mass
+        };
         self.augmented_mass_indices
             .with_rearranged_rows_mut(&mut self.accelerations, |accs| {
-                self.acc_inv_augmented_mass.solve_mut(accs);
+                inverse.solve_mut(accs);
             });
 
         if check_implicit_coriolis_divergence {
@@ -824,11 +840,16 @@ impl Multibody {
     /// Jacobian and its Coriolis rows are exactly zero past column `k` (ancestors come first
     /// in assembly order, which the contiguity assertion below checks), so only products of
     /// exact zeros are skipped and the matrices are bit-identical to `Dense`.
+    ///
+    /// whisker-slam patch 4: with `semi_implicit_coriolis` false, only the plain augmented
+    /// mass matrix is assembled and factorised (the gyroscopic and Coriolis terms stay
+    /// explicit forces in [`Self::update_acceleration`]).
     pub(crate) fn update_mass_matrix(
         &mut self,
         dt: Real,
         bodies: &RigidBodySet,
         mode: MultibodyMassMatrix,
+        semi_implicit_coriolis: bool,
     ) {
         if self.ndofs == 0 {
             return; // Nothing to do.
@@ -912,6 +933,10 @@ impl Multibody {
                 &body_jacobian,
                 1.0,
             );
+            // whisker-slam patch 4: the rest of the loop only builds `acc_augmented_mass`.
+            if !semi_implicit_coriolis {
+                continue;
+            }
             self.acc_augmented_mass.view_mut((0, 0), (k, k)).quadform(
                 1.0,
                 &rb_mass_matrix,
@@ -1115,7 +1140,10 @@ impl Multibody {
                 m.view((0, 0), (effective_dim, effective_dim)).into_owned()
             }
         };
-        self.acc_inv_augmented_mass = LU::new(owned(&self.acc_augmented_mass));
+        // whisker-slam patch 4: the semi-implicit matrix only when it is used.
+        if semi_implicit_coriolis {
+            self.acc_inv_augmented_mass = LU::new(owned(&self.acc_augmented_mass));
+        }
         self.inv_augmented_mass = LU::new(owned(&self.augmented_mass));
     }
 
@@ -1130,7 +1158,7 @@ impl Multibody {
         // `dt²·stiffness` diagonal terms, leaving exactly `M + armature`.
         self.forward_kinematics(bodies, false);
         // whisker-slam patch 1: the assembly mode.
-        self.update_mass_matrix(0.0, bodies, MultibodyMassMatrix::default());
+        self.update_mass_matrix(0.0, bodies, MultibodyMassMatrix::default(), true);
 
         let n = self.ndofs;
         let mut out = DVector::zeros(n);

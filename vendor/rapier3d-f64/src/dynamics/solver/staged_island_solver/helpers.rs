@@ -107,9 +107,15 @@ impl VelocitySolver {
                 .get_multibody_mut_internal(link.multibody)
                 .unwrap();
             multibody.update_velocities(bodies);
-            // whisker-slam patch 1: the assembly mode.
-            multibody.update_mass_matrix(params.dt, bodies, params.multibody_mass_matrix);
-            multibody.update_acceleration(params.dt, bodies);
+            // whisker-slam patches 1 and 4: the assembly mode, semi-implicit Coriolis.
+            let semi_implicit = params.multibody_semi_implicit_coriolis;
+            multibody.update_mass_matrix(
+                params.dt,
+                bodies,
+                params.multibody_mass_matrix,
+                semi_implicit,
+            );
+            multibody.update_acceleration(params.dt, bodies, semi_implicit);
 
             let mut solver_vels_incr = self
                 .generic_solver_vels_increment
@@ -147,11 +153,17 @@ impl VelocitySolver {
             if !is_last_substep {
                 multibody.update_velocities(bodies);
                 // whisker-slam patch 3: optionally keep the step's first mass matrix.
+                // whisker-slam patches 1 and 4: the assembly mode, semi-implicit Coriolis.
+                let semi_implicit = params.multibody_semi_implicit_coriolis;
                 if !params.multibody_mass_matrix_once_per_step {
-                    // whisker-slam patch 1: the assembly mode.
-                    multibody.update_mass_matrix(params.dt, bodies, params.multibody_mass_matrix);
+                    multibody.update_mass_matrix(
+                        params.dt,
+                        bodies,
+                        params.multibody_mass_matrix,
+                        semi_implicit,
+                    );
                 }
-                multibody.update_acceleration(params.dt, bodies);
+                multibody.update_acceleration(params.dt, bodies, semi_implicit);
 
                 let mut solver_vels_incr = self
                     .generic_solver_vels_increment
