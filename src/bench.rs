@@ -26,7 +26,7 @@ use serde_json::json;
 use std::path::PathBuf;
 use std::time::Instant;
 use whisker_sim::sensing::physics::{
-    DT, EnvironmentPiece, PhysicsArray, SolverPath, WhiskerConfig,
+    DT, EnvironmentPiece, PhysicsArray, SolverPath, StageTimes, WhiskerConfig,
 };
 use whisker_sim::whisker::array;
 use whisker_sim::whisker::beam::Bending;
@@ -56,9 +56,13 @@ pub struct Options {
     /// Skip the segment-count scaling (8/12/16/24).
     #[arg(long)]
     pub no_scaling: bool,
-    /// Time only this code path (e.g. under a profiler) [default: both].
+    /// Time only this code path (e.g. under a profiler) [default: all].
     #[arg(long, value_enum)]
     pub path: Option<Path>,
+    /// Instead: Rapier's stage timers for the array against the Box on 1 thread (the
+    /// released and default paths, or --path); needs `--features profiler`.
+    #[arg(long)]
+    pub stages: bool,
     /// Print a JSON list of {case, threads, path, real_time_factor, …}.
     #[arg(long)]
     pub json: bool,
@@ -123,8 +127,14 @@ struct Case<'a> {
     segments: Option<usize>,
 }
 
-/// Wall-clock seconds to simulate `duration` of the 18 whiskers of `case` by `path`.
-fn time_case(case: &Case, path: Path, threads: usize, o: &Options) -> Result<f64, String> {
+/// Wall-clock seconds to simulate `duration` of the 18 whiskers of `case` by `path`, and
+/// Rapier's stage timers summed over the whiskers.
+fn time_case(
+    case: &Case,
+    path: Path,
+    threads: usize,
+    o: &Options,
+) -> Result<(f64, StageTimes), String> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -152,7 +162,12 @@ fn time_case(case: &Case, path: Path, threads: usize, o: &Options) -> Result<f64
                 array.run(steps, |_| case.pose);
             }
         }
-        Ok(start.elapsed().as_secs_f64())
+        let wall = start.elapsed().as_secs_f64();
+        let stages = array
+            .units
+            .iter()
+            .fold(StageTimes::default(), |a, u| a.plus(u.stages));
+        Ok((wall, stages))
     })
 }
 
@@ -185,7 +200,7 @@ fn measure(case: &Case, threads: &[usize], o: &Options, rows: &mut Vec<Row>) -> 
             if o.path.is_some_and(|p| p != path) {
                 continue;
             }
-            let wall = time_case(case, path, t, o).map_err(CliError::Failure)?;
+            let (wall, _) = time_case(case, path, t, o).map_err(CliError::Failure)?;
             let rtf = o.duration / wall;
             let speedup = match path {
                 Path::Released => {
@@ -262,6 +277,9 @@ pub fn physics(o: &Options) -> CliResult {
             segments: None,
         },
     ];
+    if o.stages {
+        return stages(&cases[1], o);
+    }
     let mut rows = Vec::new();
     for case in &cases {
         measure(case, &[1, 2], o, &mut rows)?;
@@ -344,4 +362,62 @@ fn print(rows: &[Row], box_touching: &[usize], maze_touching: &[usize], o: &Opti
          explicit-coriolis: 1-4 (unstable in the Mug soak); all three one task per whisker. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
          (below 1: cheaper). Speed-up: released wall time / the path's, same case and threads."
     );
+}
+
+/// `--stages`: where Rapier's steps spend their time, against the Box on 1 thread.
+fn stages(case: &Case, o: &Options) -> CliResult {
+    let paths = match o.path {
+        Some(p) => vec![p],
+        None => vec![Path::Released, Path::OncePerStep],
+    };
+    let mut list = Vec::new();
+    for path in paths {
+        let (wall, t) = time_case(case, path, 1, o).map_err(CliError::Failure)?;
+        if t.step == 0.0 {
+            return Err(CliError::Input(
+                "--stages: this build has no stage timers; build with \
+                 `cargo build --release --features profiler`"
+                    .into(),
+            ));
+        }
+        let rows = [
+            ("user changes (driver pose)", t.user_changes),
+            ("body update", t.update),
+            ("broad phase", t.broad_phase),
+            ("narrow phase", t.narrow_phase),
+            ("islands", t.islands),
+            ("solver: assembly (first substep)", t.velocity_assembly),
+            ("solver: substeps", t.velocity_resolution),
+            (
+                "solver: other",
+                t.solver - t.velocity_assembly - t.velocity_resolution,
+            ),
+            ("CCD", t.ccd),
+            ("whisker-slam outside Rapier's step", wall - t.step),
+        ];
+        if o.json {
+            let mut m = serde_json::Map::new();
+            for (name, s) in rows {
+                m.insert(name.into(), json!(s));
+            }
+            list.push(json!({"path": path.solver().name(), "wall_s": wall, "stages_s": m}));
+        } else {
+            println!(
+                "{}: 18 whiskers {} for {} s on 1 thread, {wall:.2} s wall",
+                path.solver().name(),
+                case.name,
+                o.duration
+            );
+            for (name, s) in rows {
+                println!("  {name:<36} {s:>8.3} s {:>6.1} %", 100.0 * s / wall);
+            }
+        }
+    }
+    if o.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&list).expect("plain JSON")
+        );
+    }
+    Ok(())
 }

@@ -21,6 +21,7 @@ use crate::whisker::control::{Controller, RcpThreshold, WhiskingPattern};
 use crate::whisker::follicle::FollicleDesign;
 use crate::whisker::sensor::SensorModel;
 use nalgebra::Isometry3;
+use rapier3d_f64::counters::{Counters, Timer};
 use rapier3d_f64::prelude::*;
 use rayon::prelude::*;
 use whisker_slam::rng::{self, StreamRng};
@@ -152,9 +153,71 @@ pub struct WhiskerUnit {
     pub whisker: Whisker,
     /// Its motor controller.
     pub controller: Controller,
+    /// Rapier's stage timers summed over every step (zero unless built with the
+    /// `profiler` feature).
+    pub stages: StageTimes,
     rng: StreamRng,
     last: Sample,
     steps: u64,
+}
+
+/// Seconds spent in each stage of Rapier's steps, summed (from its `profiler` counters).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StageTimes {
+    /// Whole steps.
+    pub step: f64,
+    /// Propagating user changes (the driver's new pose).
+    pub user_changes: f64,
+    /// Updating kinematics and dynamics of bodies.
+    pub update: f64,
+    /// Broad phase.
+    pub broad_phase: f64,
+    /// Narrow phase.
+    pub narrow_phase: f64,
+    /// Islands and solver structures.
+    pub islands: f64,
+    /// Solver: assembly (first substep's multibody mass matrices, constraints).
+    pub velocity_assembly: f64,
+    /// Solver: substeps (PGS, later substeps' multibody updates, integration).
+    pub velocity_resolution: f64,
+    /// The whole solver stage.
+    pub solver: f64,
+    /// Continuous collision detection.
+    pub ccd: f64,
+}
+
+impl StageTimes {
+    /// Adds the timers of Rapier's last step.
+    pub fn add(&mut self, c: &Counters) {
+        let s = |t: &Timer| t.time().as_secs_f64();
+        self.step += s(&c.step_time);
+        self.user_changes += s(&c.stages.user_changes);
+        self.update += s(&c.stages.update_time);
+        self.broad_phase += s(&c.cd.broad_phase_time);
+        self.narrow_phase += s(&c.cd.narrow_phase_time);
+        self.islands +=
+            s(&c.stages.island_construction_time) + s(&c.stages.island_constraints_collection_time);
+        self.velocity_assembly += s(&c.solver.velocity_assembly_time);
+        self.velocity_resolution += s(&c.solver.velocity_resolution_time);
+        self.solver += s(&c.stages.solver_time);
+        self.ccd += s(&c.stages.ccd_time);
+    }
+
+    /// The sum of `self` and `other`.
+    pub fn plus(self, o: StageTimes) -> StageTimes {
+        StageTimes {
+            step: self.step + o.step,
+            user_changes: self.user_changes + o.user_changes,
+            update: self.update + o.update,
+            broad_phase: self.broad_phase + o.broad_phase,
+            narrow_phase: self.narrow_phase + o.narrow_phase,
+            islands: self.islands + o.islands,
+            velocity_assembly: self.velocity_assembly + o.velocity_assembly,
+            velocity_resolution: self.velocity_resolution + o.velocity_resolution,
+            solver: self.solver + o.solver,
+            ccd: self.ccd + o.ccd,
+        }
+    }
 }
 
 /// Applies the contact settings described in the module documentation.
@@ -224,6 +287,7 @@ impl WhiskerUnit {
             world,
             whisker,
             controller,
+            stages: StageTimes::default(),
             rng,
             last: Sample {
                 angle_rad: theta,
@@ -246,6 +310,7 @@ impl WhiskerUnit {
         let pose = array_pose * self.config.module.whisker_pose(theta);
         self.whisker.drive(&mut self.world, pose);
         self.world.step();
+        self.stages.add(&self.world.physics_pipeline.counters);
         self.steps += 1;
         let magnet = self.whisker.magnet_displacement(&self.world);
         self.last = self.config.sensor.read(theta, magnet, &mut self.rng);
