@@ -53,7 +53,7 @@ pub struct Options {
     /// Rapier substeps per 0.5 ms step.
     #[arg(long, default_value_t = whisker_sim::sensing::physics::DEFAULT_SUBSTEPS)]
     pub substeps: usize,
-    /// Rapier's multibody code path (vendor/PATCHES.md) [default: once-per-step].
+    /// Rapier's multibody code path (vendor/PATCHES.md) [default: exact].
     #[arg(long, value_enum)]
     pub path: Option<crate::bench::Path>,
     /// Print one JSON list.
