@@ -23,6 +23,7 @@
 //! each path's speed-up over `released`. Timing is a benchmark, never a test.
 
 use crate::error::{CliError, CliResult};
+use clap::builder::TypedValueParser;
 use nalgebra::Isometry3;
 use serde_json::json;
 use std::path::PathBuf;
@@ -59,8 +60,8 @@ pub struct Options {
     #[arg(long)]
     pub no_scaling: bool,
     /// Time only this code path (e.g. under a profiler) [default: all].
-    #[arg(long, value_enum)]
-    pub path: Option<Path>,
+    #[arg(long, value_parser = solver_path_parser())]
+    pub path: Option<SolverPath>,
     /// Instead: Rapier's stage timers for the array against the Box on 1 thread (the
     /// released, exact and once-per-step paths, or --path); needs `--features profiler`.
     #[arg(long)]
@@ -95,30 +96,15 @@ pub fn array_configs(
         .collect()
 }
 
-/// A code path of the physics sensing mode: Rapier's multibody path, and for
-/// `released` the array stepped with a barrier per sample as before issue #18.
-#[derive(Clone, Copy, Debug, PartialEq, clap::ValueEnum)]
-pub enum Path {
-    /// Rapier 0.36.1 as released, a barrier per sample.
-    Released,
-    /// Patches 1–2 (bit-identical; the default), one task per whisker.
-    Exact,
-    /// Patches 1–3 (fails the Mug soak), one task per whisker.
-    OncePerStep,
-    /// Patches 1–4 (fails the Mug soak), one task per whisker.
-    ExplicitCoriolis,
-}
-
-impl Path {
-    /// Rapier's multibody path.
-    pub fn solver(self) -> SolverPath {
-        match self {
-            Path::Released => SolverPath::Released,
-            Path::Exact => SolverPath::Exact,
-            Path::OncePerStep => SolverPath::OncePerStep,
-            Path::ExplicitCoriolis => SolverPath::ExplicitCoriolis,
-        }
-    }
+/// Parses a code path by its name ([`SolverPath::name`]: `released`, `exact`, …) for
+/// `--path` here and in `whisker soak`.
+pub fn solver_path_parser() -> impl clap::builder::TypedValueParser<Value = SolverPath> {
+    clap::builder::PossibleValuesParser::new(SolverPath::ALL.map(SolverPath::name)).map(|name| {
+        *SolverPath::ALL
+            .iter()
+            .find(|p| p.name() == name)
+            .expect("clap accepts only the paths' names")
+    })
 }
 
 /// One timed case.
@@ -133,7 +119,7 @@ struct Case<'a> {
 /// Rapier's stage timers summed over the whiskers.
 fn time_case(
     case: &Case,
-    path: Path,
+    path: SolverPath,
     threads: usize,
     o: &Options,
 ) -> Result<(f64, StageTimes), String> {
@@ -149,19 +135,21 @@ fn time_case(
             o.substeps,
         );
         for c in &mut configs {
-            c.solver = path.solver();
+            c.solver = path;
         }
         let mut array = PhysicsArray::new(configs, case.environment, &case.pose, 0, DT);
         let steps = (o.duration / DT).round() as usize;
+        let poses = vec![case.pose; steps];
         let start = Instant::now();
+        // The released path also steps as before #18: a barrier per sample.
         match path {
-            Path::Released => {
-                for _ in 0..steps {
-                    array.step(&case.pose);
+            SolverPath::Released => {
+                for pose in &poses {
+                    array.step(pose);
                 }
             }
             _ => {
-                array.run(steps, |_| case.pose);
+                array.run(&poses);
             }
         }
         let wall = start.elapsed().as_secs_f64();
@@ -178,13 +166,13 @@ struct Row {
     case: String,
     segments: usize,
     threads: usize,
-    path: Path,
+    path: SolverPath,
     rtf: f64,
     cpu: f64,
     speedup: Option<f64>,
 }
 
-/// Times `case` by both paths on each of `threads`, printing progress.
+/// Times `case` by every path (or `--path`) on each of `threads`, printing progress.
 fn measure(case: &Case, threads: &[usize], o: &Options, rows: &mut Vec<Row>) -> CliResult {
     let whiskers = array::modules().len() as f64;
     let segments = case
@@ -193,19 +181,14 @@ fn measure(case: &Case, threads: &[usize], o: &Options, rows: &mut Vec<Row>) -> 
         .unwrap_or(array::modules()[0].beam.segments);
     for &t in threads {
         let mut released_wall = None;
-        for path in [
-            Path::Released,
-            Path::Exact,
-            Path::OncePerStep,
-            Path::ExplicitCoriolis,
-        ] {
+        for path in SolverPath::ALL {
             if o.path.is_some_and(|p| p != path) {
                 continue;
             }
             let (wall, _) = time_case(case, path, t, o).map_err(CliError::Failure)?;
             let rtf = o.duration / wall;
             let speedup = match path {
-                Path::Released => {
+                SolverPath::Released => {
                     released_wall = Some(wall);
                     None
                 }
@@ -215,7 +198,7 @@ fn measure(case: &Case, threads: &[usize], o: &Options, rows: &mut Vec<Row>) -> 
                 eprintln!(
                     "  {:<26} {segments:>2} segments {t} thread(s) {:<9} {rtf:.3}× real time",
                     case.name,
-                    path.solver().name()
+                    path.name()
                 );
             }
             rows.push(Row {
@@ -311,7 +294,7 @@ fn print(rows: &[Row], box_touching: &[usize], maze_touching: &[usize], o: &Opti
                     "whiskers": array::modules().len(),
                     "segments": r.segments,
                     "threads": r.threads,
-                    "path": r.path.solver().name(),
+                    "path": r.path.name(),
                     "real_time_factor": r.rtf,
                     "cpu_s_per_sim_s_per_whisker": r.cpu,
                     "speedup_vs_released": r.speedup,
@@ -351,7 +334,7 @@ fn print(rows: &[Row], box_touching: &[usize], maze_touching: &[usize], o: &Opti
             r.case,
             r.segments,
             r.threads,
-            r.path.solver().name(),
+            r.path.name(),
             r.rtf,
             r.cpu,
             r.cpu / WHISKIT_CPU_S_PER_S,
@@ -370,7 +353,11 @@ fn print(rows: &[Row], box_touching: &[usize], maze_touching: &[usize], o: &Opti
 fn stages(case: &Case, o: &Options) -> CliResult {
     let paths = match o.path {
         Some(p) => vec![p],
-        None => vec![Path::Released, Path::Exact, Path::OncePerStep],
+        None => vec![
+            SolverPath::Released,
+            SolverPath::Exact,
+            SolverPath::OncePerStep,
+        ],
     };
     let mut list = Vec::new();
     for path in paths {
@@ -402,11 +389,11 @@ fn stages(case: &Case, o: &Options) -> CliResult {
             for (name, s) in rows {
                 m.insert(name.into(), json!(s));
             }
-            list.push(json!({"path": path.solver().name(), "wall_s": wall, "stages_s": m}));
+            list.push(json!({"path": path.name(), "wall_s": wall, "stages_s": m}));
         } else {
             println!(
                 "{}: 18 whiskers {} for {} s on 1 thread, {wall:.2} s wall",
-                path.solver().name(),
+                path.name(),
                 case.name,
                 o.duration
             );

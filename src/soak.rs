@@ -21,7 +21,7 @@ use whisker_sim::environment::Environment;
 use whisker_sim::environment::assets::{CATALOGUE, placed};
 use whisker_sim::environment::solids::Solids;
 use whisker_sim::environment::viewpoints;
-use whisker_sim::sensing::physics::{DT, PhysicsArray};
+use whisker_sim::sensing::physics::{DT, PhysicsArray, SolverPath};
 use whisker_sim::whisker::array;
 
 /// Depth of a shaft's centre line inside a solid that counts as tunnelling (m).
@@ -54,8 +54,8 @@ pub struct Options {
     #[arg(long, default_value_t = whisker_sim::sensing::physics::DEFAULT_SUBSTEPS)]
     pub substeps: usize,
     /// Rapier's multibody code path (vendor/PATCHES.md) [default: exact].
-    #[arg(long, value_enum)]
-    pub path: Option<crate::bench::Path>,
+    #[arg(long, value_parser = crate::bench::solver_path_parser())]
+    pub path: Option<SolverPath>,
     /// Print one JSON list.
     #[arg(long)]
     pub json: bool,
@@ -77,7 +77,7 @@ fn run_case(
             .filter(|c| o.whiskers.is_empty() || o.whiskers.contains(&c.module.pixel()))
             .map(|mut c| {
                 if let Some(path) = o.path {
-                    c.solver = path.solver();
+                    c.solver = path;
                 }
                 c
             })
@@ -89,11 +89,12 @@ fn run_case(
     let mut broken = false;
     let mut first_tunnel: Option<(f64, String, f64)> = None;
     // The array runs 20 steps per task between checks (`PhysicsArray::run`).
+    let chunk = [pose; 20];
     let mut k = 0;
     while k < steps {
-        let chunk = 20.min(steps - k);
-        array.run(chunk, |_| pose);
-        k += chunk;
+        let n = chunk.len().min(steps - k);
+        array.run(&chunk[..n]);
+        k += n;
         let per: Vec<(f64, bool)> = array
             .units
             .par_iter()

@@ -143,20 +143,11 @@ impl ArraySimulation {
     /// Simulates up to time `t` (s), the arm following the plan's trajectory; the front
     /// end processes every whisk cycle completed.
     pub fn advance_to(&mut self, plan: &Plan, t: f64, recording: Option<&Recording>) -> CliResult {
-        let mut n = 0;
-        while (self.steps + n + 1) as f64 * self.dt <= t + 1e-9 {
-            n += 1;
-        }
-        // Every whisker runs its `n` steps in one task (`PhysicsArray::run`).
-        let chain = &self.chain;
-        let streams = self
-            .array
-            .run(n as usize, |time| chain.fk(&plan.trajectory.sample(time)));
-        for i in 0..n as usize {
+        while (self.steps + 1) as f64 * self.dt <= t + 1e-9 {
             self.steps += 1;
             let time = self.steps as f64 * self.dt;
             let pose = self.chain.fk(&plan.trajectory.sample(time));
-            let samples: Vec<_> = streams.iter().map(|s| s[i]).collect();
+            let samples = self.array.step(&pose);
             let _ = write!(self.csv, "{time}");
             for s in &samples {
                 let _ = write!(self.csv, ",{},{},{}", s.angle_rad, s.x, s.y);

@@ -82,10 +82,10 @@ pub fn images(
         .collect();
     let mut by_cycle: Vec<(TactileImage, TactileImage)> = Vec::with_capacity(cycles);
     for c in 0..cycles {
-        let streams: Vec<Vec<Reading>> = array.run(per_cycle, |t| pose_at(path, t, g));
         let poses: Vec<_> = (0..per_cycle)
             .map(|i| pose_at(path, (c * per_cycle + i + 1) as f64 * DT, g))
             .collect();
+        let streams: Vec<Vec<Reading>> = array.run(&poses);
         let mut heights = [vec![None; rigid.len()], vec![None; rigid.len()]];
         for (w, stream) in streams.iter().enumerate() {
             let whisker = &rigid[w];

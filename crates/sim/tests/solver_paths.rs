@@ -61,7 +61,7 @@ fn body_bits(a: &PhysicsArray) -> Vec<u64> {
 fn exact_path_is_bit_identical_to_released_rapier() {
     let run = |mode| {
         let mut a = bent(&[0, 6, 12], 2.0, mode, true);
-        let streams = a.run(1300, |_| Isometry3::identity());
+        let streams = a.run(&[Isometry3::identity(); 1300]);
         (streams, body_bits(&a))
     };
     let (dense, dense_bodies) = run(SolverPath::Released);
@@ -102,7 +102,8 @@ fn running_per_whisker_equals_stepping_per_sample() {
             }
         }
         let mut ran = build();
-        let per_whisker = ran.run(700, pose);
+        let poses: Vec<_> = (0..700).map(|k| pose((k + 1) as f64 * DT)).collect();
+        let per_whisker = ran.run(&poses);
         assert!(per_sample[1].iter().any(|s| s.y.abs() > 200.0), "contact");
         for w in 0..3 {
             assert_eq!(bits(&per_sample[w]), bits(&per_whisker[w]), "whisker {w}");
@@ -145,7 +146,7 @@ fn streams(
     path: SolverPath,
     poles: bool,
 ) -> Vec<Vec<Sample>> {
-    bent(whiskers, frequency, path, poles).run(steps, |_| Isometry3::identity())
+    bent(whiskers, frequency, path, poles).run(&vec![Isometry3::identity(); steps])
 }
 
 fn rms(v: impl Iterator<Item = f64>) -> f64 {

@@ -437,28 +437,17 @@ impl PhysicsArray {
             .collect()
     }
 
-    /// Advances every whisker `steps` steps, the array frame at `array_pose(t)` at the end
-    /// of the step that ends at time t; per whisker (module order), its `steps` samples.
+    /// Advances every whisker one step per pose of `poses`, the array frame at `poses[k]`
+    /// at the end of step k; per whisker (module order), its samples.
     ///
     /// Each whisker runs all its steps in one task: the whiskers share nothing (RCP is
-    /// per whisker and the pose is known in advance), so the samples are the same as
-    /// from `steps` calls of [`Self::step`], without a barrier per sample (§2 L6 of the
+    /// per whisker and the poses are known in advance), so the samples are the same as
+    /// from one [`Self::step`] per pose, without a barrier per sample (§2 L6 of the
     /// physics-speed note: a whisker in contact costs many times a free one).
-    pub fn run(
-        &mut self,
-        steps: usize,
-        array_pose: impl Fn(f64) -> Isometry3<f64> + Sync,
-    ) -> Vec<Vec<Sample>> {
+    pub fn run(&mut self, poses: &[Isometry3<f64>]) -> Vec<Vec<Sample>> {
         self.units
             .par_iter_mut()
-            .map(|u| {
-                (0..steps)
-                    .map(|_| {
-                        let t = (u.steps + 1) as f64 * u.world.integration_parameters.dt;
-                        u.step(&array_pose(t))
-                    })
-                    .collect()
-            })
+            .map(|u| poses.iter().map(|pose| u.step(pose)).collect())
             .collect()
     }
 
@@ -466,11 +455,7 @@ impl PhysicsArray {
     /// array's whiskers share a frequency by default) with the array frame at
     /// `array_pose(t)` at time t, and returns it as a [`WhiskCycle`] numbered `index`
     /// (empty, with nothing simulated, for an array of no whiskers).
-    pub fn whisk(
-        &mut self,
-        index: u64,
-        array_pose: impl Fn(f64) -> Isometry3<f64> + Sync,
-    ) -> WhiskCycle {
+    pub fn whisk(&mut self, index: u64, array_pose: impl Fn(f64) -> Isometry3<f64>) -> WhiskCycle {
         if self.units.is_empty() {
             return WhiskCycle {
                 index,
@@ -482,7 +467,10 @@ impl PhysicsArray {
         let dt = self.units[0].world.integration_parameters.dt;
         let start_s = self.units[0].time() + dt;
         let n = (1.0 / (self.units[0].config.pattern.frequency * dt)).round() as usize;
-        let samples = self.run(n, array_pose);
+        let poses: Vec<_> = (0..n)
+            .map(|i| array_pose(start_s + i as f64 * dt))
+            .collect();
+        let samples = self.run(&poses);
         WhiskCycle {
             index,
             start_s,
