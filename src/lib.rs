@@ -11,6 +11,7 @@ pub mod bench_sensing;
 pub mod bench_slam;
 pub mod characterize;
 pub mod contacts;
+pub mod dataset;
 pub mod error;
 pub mod explore;
 pub mod frontend;

@@ -62,6 +62,11 @@ enum Command {
     ObjectSlam(object_slam::Options),
     /// Planar RatSLAM on the maze with tactile images (thesis Ch 3): ARR, ARCR, EM.
     MazeSlam(maze_slam::Options),
+    /// Write a seeded dataset in the lab's log layout with ground truth beside it
+    /// (docs/dataset.md), or add noise to a clean one (`dataset noise`).
+    Dataset(whisker::dataset::Args),
+    /// Run the front end and the SLAM a dataset's manifest names, from the dataset alone.
+    Slam(whisker::dataset::SlamOptions),
     /// Radial distance to contact (thesis Ch 4): data sets, the Table 4.1 models, validation.
     Radial {
         #[command(subcommand)]
@@ -161,6 +166,8 @@ fn main() -> ExitCode {
         Command::ObjectSlam(options) => object_slam::run(&options),
         Command::Radial { command } => radial::run(&command),
         Command::MazeSlam(options) => maze_slam::run(&options),
+        Command::Dataset(args) => whisker::dataset::run(&args),
+        Command::Slam(options) => whisker::dataset::slam(&options),
         Command::Assets {
             command: AssetsCommand::Generate { out },
         } => assets_cmd::generate_all(&out),

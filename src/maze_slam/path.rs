@@ -45,14 +45,18 @@ fn circuit(corners: &[(f64, f64)], reverse: bool, from: &mut Sample) -> Vec<Samp
     out
 }
 
-/// The whole run: 3 clockwise circuits, 3 anticlockwise, one of each (§3.2); the index
-/// where each circuit starts.
-pub fn path(corners: &[(f64, f64)]) -> (Vec<Sample>, Vec<usize>) {
+/// The circuits of the run (§3.2): 3 clockwise, 3 anticlockwise, one of each (`true` =
+/// anticlockwise, i.e. the corners reversed).
+pub const CIRCUITS: [bool; 8] = [false, false, false, true, true, true, false, true];
+
+/// The whole run: the first `circuits` of [`CIRCUITS`] (all 8 by default, §3.2); the
+/// index where each circuit starts.
+pub fn path(corners: &[(f64, f64)], circuits: usize) -> (Vec<Sample>, Vec<usize>) {
     let (x, y) = corners[0];
     let mut at = Sample { x, y, th: 0.0 };
     let mut out = vec![at];
     let mut starts = Vec::new();
-    for reverse in [false, false, false, true, true, true, false, true] {
+    for &reverse in &CIRCUITS[..circuits.min(CIRCUITS.len())] {
         starts.push(out.len());
         out.extend(circuit(corners, reverse, &mut at));
     }

@@ -26,7 +26,7 @@ use whisker_slam::sensor::Sample as Reading;
 pub type Images = (Vec<TactileImage>, Vec<TactileImage>);
 
 /// The pose at time `t` (s): the path interpolated between updates at 1.5 Hz.
-fn pose_at(path: &[Sample], t: f64, g: &Geometry) -> Isometry3<f64> {
+pub fn pose_at(path: &[Sample], t: f64, g: &Geometry) -> Isometry3<f64> {
     let u = (t * super::UPDATE_HZ).min((path.len() - 1) as f64);
     let k = (u.floor() as usize).min(path.len().saturating_sub(2));
     let f = u - k as f64;
@@ -39,83 +39,155 @@ fn pose_at(path: &[Sample], t: f64, g: &Geometry) -> Isometry3<f64> {
     g.pose(&s)
 }
 
+/// The front end that turns one whisk cycle's 2 kHz streams into the cycle's two tactile
+/// images, the same from the simulator and from a log.
+#[derive(Debug, Clone)]
+pub struct ImageFrontEnd {
+    /// Each whisker's detection parameters.
+    pub params: Vec<FrontEndParams>,
+    /// Each whisker's straight shaft (for the tip heights).
+    pub rigid: Vec<RigidWhisker>,
+    /// Whisk frequency (Hz).
+    pub frequency: f64,
+}
+
+impl ImageFrontEnd {
+    /// The front end of whiskers `configs` (RCP thresholds already calibrated) with the
+    /// scenario's `detection` levels. With RCP the whisker retracts as soon as |y| reaches
+    /// its threshold (20 σ of free whisking: tens of counts), so a contact's peak is
+    /// little above the threshold: the levels in counts — confirmation, prominence and
+    /// contact_angle's |dy/dt| threshold — are scaled down together so that the
+    /// confirmation is at most half each whisker's threshold (5000 counts/s would
+    /// otherwise never be reached: a third of the RCP contact_angle images came out
+    /// blank).
+    pub fn new(configs: &[WhiskerConfig], detection: &FrontEndParams) -> Self {
+        let params = configs
+            .iter()
+            .map(|c| {
+                let mut p = *detection;
+                if let Some(t) = c.rcp_threshold
+                    && p.confirm_counts > 0.5 * t
+                {
+                    let scale = 0.5 * t / p.confirm_counts;
+                    p.confirm_counts *= scale;
+                    p.peaks.min_prominence *= scale;
+                    p.contact_angle_rate *= scale;
+                }
+                p
+            })
+            .collect();
+        Self {
+            params,
+            rigid: configs.iter().map(WhiskerConfig::rigid).collect(),
+            frequency: configs[0].pattern.frequency,
+        }
+    }
+
+    /// One whisk cycle's images (by max_angle, by contact_angle) from each whisker's
+    /// samples.
+    pub fn cycle(&self, streams: &[Vec<Reading>], g: &Geometry) -> (TactileImage, TactileImage) {
+        let mut heights = [vec![None; self.rigid.len()], vec![None; self.rigid.len()]];
+        for (w, stream) in streams.iter().enumerate() {
+            let whisker = &self.rigid[w];
+            let length = whisker.module.beam.length;
+            let Some(e) = detect(stream, 1.0 / DT, length, &self.params[w]) else {
+                continue;
+            };
+            for (k, angle) in [Some(e.max_angle), e.contact_angle].into_iter().enumerate() {
+                heights[k][w] = angle.map(|a| g.tip_height(whisker, a));
+            }
+        }
+        (g.image(&heights[0]), g.image(&heights[1]))
+    }
+
+    /// The images of each of `updates` updates from the images of each whisk cycle: an
+    /// update uses the latest cycle completed before it (blank before the first).
+    pub fn per_update(&self, by_cycle: &[(TactileImage, TactileImage)], updates: usize) -> Images {
+        let mut max = Vec::with_capacity(updates);
+        let mut contact = Vec::with_capacity(updates);
+        for k in 0..updates {
+            // Cycle c is complete at t = (c + 1)/f.
+            let t = k as f64 / super::UPDATE_HZ;
+            let done = (t * self.frequency + 1e-9).floor() as usize;
+            let (a, b) = match done.checked_sub(1).and_then(|c| by_cycle.get(c)) {
+                Some(&(a, b)) => (a, b),
+                None => (TactileImage::default(), TactileImage::default()),
+            };
+            max.push(a);
+            contact.push(b);
+        }
+        (max, contact)
+    }
+}
+
+/// Samples per whisk cycle at whisk `frequency` (Hz).
+pub fn per_cycle(frequency: f64) -> usize {
+    (1.0 / (frequency * DT)).round() as usize
+}
+
+/// Whole whisk cycles at `frequency` (Hz) completed over a path of `updates` updates.
+pub fn cycles(updates: usize, frequency: f64) -> usize {
+    let duration = (updates - 1) as f64 / super::UPDATE_HZ;
+    (duration * frequency).floor() as usize
+}
+
+/// `configs` with their RCP thresholds calibrated (mode `rcp`, noise from `seed`).
+pub fn calibrated(
+    mut configs: Vec<WhiskerConfig>,
+    rcp: Option<RcpThreshold>,
+    seed: u64,
+) -> Vec<WhiskerConfig> {
+    if let Some(mode) = rcp {
+        calibrate_array_rcp(&mut configs, mode, seed, DT);
+    }
+    configs
+}
+
+/// Simulates the whole path with whiskers `configs` (calibrated) and hands each whisk
+/// cycle's streams, in order, to `each`.
+pub fn simulate<E>(
+    path: &[Sample],
+    environment: &[EnvironmentPiece],
+    configs: Vec<WhiskerConfig>,
+    seed: u64,
+    g: &Geometry,
+    mut each: impl FnMut(usize, Vec<Vec<Reading>>) -> Result<(), E>,
+) -> Result<(), E> {
+    let frequency = configs[0].pattern.frequency;
+    let (per_cycle, cycles) = (per_cycle(frequency), cycles(path.len(), frequency));
+    let mut array = PhysicsArray::new(configs, environment, &pose_at(path, 0.0, g), seed, DT);
+    for c in 0..cycles {
+        let poses: Vec<_> = (0..per_cycle)
+            .map(|i| pose_at(path, (c * per_cycle + i + 1) as f64 * DT, g))
+            .collect();
+        each(c, array.run(&poses))?;
+        if (c + 1) % 60 == 0 {
+            eprintln!("  {} of {cycles} whisk cycles simulated", c + 1);
+        }
+    }
+    Ok(())
+}
+
 /// Simulates the whole path and returns both images for every update.
 pub fn images(
     path: &[Sample],
     environment: &[EnvironmentPiece],
-    mut configs: Vec<WhiskerConfig>,
+    configs: Vec<WhiskerConfig>,
     rcp: Option<RcpThreshold>,
     detection: &FrontEndParams,
     seed: u64,
     g: &Geometry,
 ) -> Images {
-    if let Some(mode) = rcp {
-        calibrate_array_rcp(&mut configs, mode, seed, DT);
-    }
-    let thresholds: Vec<Option<f64>> = configs.iter().map(|c| c.rcp_threshold).collect();
-    let rigid: Vec<RigidWhisker> = configs.iter().map(WhiskerConfig::rigid).collect();
-    let frequency = configs[0].pattern.frequency;
-    let per_cycle = (1.0 / (frequency * DT)).round() as usize;
-    let duration = (path.len() - 1) as f64 / super::UPDATE_HZ;
-    let cycles = (duration * frequency).floor() as usize;
-    let mut array = PhysicsArray::new(configs, environment, &pose_at(path, 0.0, g), seed, DT);
-    // With RCP the whisker retracts as soon as |y| reaches its threshold (20 σ of free
-    // whisking: tens of counts), so a contact's peak is little above the threshold: the
-    // front end's levels in counts — confirmation, prominence and contact_angle's |dy/dt|
-    // threshold — are scaled down together so that the confirmation is at most half each
-    // whisker's threshold (5000 counts/s would otherwise never be reached: a third of
-    // the RCP contact_angle images came out blank).
-    let params: Vec<FrontEndParams> = thresholds
-        .iter()
-        .map(|t| {
-            let mut p = *detection;
-            if let Some(t) = t
-                && p.confirm_counts > 0.5 * t
-            {
-                let scale = 0.5 * t / p.confirm_counts;
-                p.confirm_counts *= scale;
-                p.peaks.min_prominence *= scale;
-                p.contact_angle_rate *= scale;
-            }
-            p
-        })
-        .collect();
-    let mut by_cycle: Vec<(TactileImage, TactileImage)> = Vec::with_capacity(cycles);
-    for c in 0..cycles {
-        let poses: Vec<_> = (0..per_cycle)
-            .map(|i| pose_at(path, (c * per_cycle + i + 1) as f64 * DT, g))
-            .collect();
-        let streams: Vec<Vec<Reading>> = array.run(&poses);
-        let mut heights = [vec![None; rigid.len()], vec![None; rigid.len()]];
-        for (w, stream) in streams.iter().enumerate() {
-            let whisker = &rigid[w];
-            let Some(e) = detect(stream, 1.0 / DT, whisker.module.beam.length, &params[w]) else {
-                continue;
-            };
-            let pose = poses[e.onset.min(poses.len() - 1)];
-            for (k, angle) in [Some(e.max_angle), e.contact_angle].into_iter().enumerate() {
-                heights[k][w] = angle.map(|a| g.tip_height(whisker, &pose, a));
-            }
-        }
-        by_cycle.push((g.image(&heights[0]), g.image(&heights[1])));
-        if (c + 1) % 60 == 0 {
-            eprintln!("  {} of {cycles} whisk cycles simulated", c + 1);
-        }
-    }
-    let mut max = Vec::with_capacity(path.len());
-    let mut contact = Vec::with_capacity(path.len());
-    for k in 0..path.len() {
-        // Cycle c is complete at t = (c + 1)/f.
-        let t = k as f64 / super::UPDATE_HZ;
-        let done = (t * frequency + 1e-9).floor() as usize;
-        let (a, b) = match done.checked_sub(1).and_then(|c| by_cycle.get(c)) {
-            Some(&(a, b)) => (a, b),
-            None => (TactileImage::default(), TactileImage::default()),
-        };
-        max.push(a);
-        contact.push(b);
-    }
-    (max, contact)
+    let configs = calibrated(configs, rcp, seed);
+    let front = ImageFrontEnd::new(&configs, detection);
+    let mut by_cycle = Vec::new();
+    let done: Result<(), std::convert::Infallible> =
+        simulate(path, environment, configs, seed, g, |_, streams| {
+            by_cycle.push(front.cycle(&streams, g));
+            Ok(())
+        });
+    let Ok(()) = done;
+    front.per_update(&by_cycle, path.len())
 }
 
 #[cfg(test)]
@@ -162,7 +234,12 @@ mod tests {
             &g,
         );
         let target = environment.sweep_target();
-        let kinematic = super::super::kinematic_images(&path, &target, ContactNoise::NONE, 0, &g);
+        let whiskers = super::super::kinematic_whiskers();
+        let kinematic: Vec<TactileImage> =
+            super::super::kinematic_contacts(&path, &target, ContactNoise::NONE, 0, &g)
+                .iter()
+                .map(|c| g.contact_image(c, &whiskers))
+                .collect();
         let lit =
             |img: &TactileImage| -> Vec<usize> { (0..18).filter(|&i| img.pixels[i] > 0).collect() };
         assert!(lit(&max[0]).is_empty() && lit(&contact[0]).is_empty());

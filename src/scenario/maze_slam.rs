@@ -40,6 +40,11 @@ pub struct MazeSlamConfig {
     /// start of the 4th circuit (§3.3.1).
     #[serde(default)]
     pub kidnap: bool,
+    /// How many circuits of the run to make, from the start of §3.2's protocol (3
+    /// clockwise, 3 anticlockwise, one of each): 8 by default; at least 2 (the first is
+    /// the metrics' base set), at least 4 with `kidnap`. Fewer make quick, short runs.
+    #[serde(default = "all_circuits")]
+    pub circuits: usize,
     /// `[maze_slam.ratslam]`: RatSLAM's parameters (`pose_cells`, `local_view`,
     /// `experience_map`; Table 3.1 by default).
     #[serde(default)]
@@ -54,10 +59,15 @@ impl Default for MazeSlamConfig {
         Self {
             images: both(),
             kidnap: false,
+            circuits: all_circuits(),
             ratslam: RatSlamParams::default(),
             odometry: OdometryNoise::default(),
         }
     }
+}
+
+fn all_circuits() -> usize {
+    crate::maze_slam::path::CIRCUITS.len()
 }
 
 fn both() -> Vec<AngleEstimate> {
@@ -72,6 +82,14 @@ impl MazeSlamConfig {
                 file,
                 "maze_slam.images",
                 "expected at least one of \"max_angle\", \"contact_angle\"",
+            ));
+        }
+        let most = all_circuits();
+        if !(2..=most).contains(&self.circuits) {
+            return Err(CliError::field(
+                file,
+                "maze_slam.circuits",
+                format!("expected 2 to {most}, got {}", self.circuits),
             ));
         }
         self.ratslam

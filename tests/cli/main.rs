@@ -3,6 +3,8 @@
 //! 2, file and field named, nothing written).
 
 mod arm_tour;
+mod dataset;
+mod dataset_malformed;
 mod environment;
 mod explore;
 mod inputs;

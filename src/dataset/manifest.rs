@@ -1,0 +1,339 @@
+//! `dataset.json`, a dataset's manifest (docs/dataset.md): the format and its version,
+//! what was recorded and how (array, sensors, noise, the experiment's parameters) and
+//! every file with its size and SHA-256. Read strictly: unknown fields, a newer version,
+//! a missing log file or a checksum mismatch exit with code 2 naming the file.
+
+use crate::error::{CliError, CliResult};
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+use std::path::{Path, PathBuf};
+use whisker_slam::frontend::contact::FrontEndParams;
+use whisker_slam::ratslam::RatSlamParams;
+use whisker_slam::ratslam::odometry::OdometryNoise;
+
+/// The manifest's file name.
+pub const FILE: &str = "dataset.json";
+/// The `format` field.
+pub const FORMAT: &str = "whisker-slam dataset";
+/// The format version this build writes and reads (and the newest it reads).
+pub const VERSION: u32 = 1;
+
+/// `dataset.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Manifest {
+    /// Always [`FORMAT`].
+    pub format: String,
+    /// The format version ([`VERSION`]).
+    pub version: u32,
+    /// The program that wrote it (`whisker <version>`).
+    pub written_by: String,
+    /// The experiment whose SLAM the dataset feeds.
+    pub experiment: Experiment,
+    /// What the log holds: raw 2 kHz streams or detected contacts.
+    pub level: Level,
+    /// The seed of the run that wrote it.
+    pub seed: u64,
+    /// The whiskers, in column order.
+    pub array: ArrayInfo,
+    /// The sensors (level `streams`).
+    pub sensor: Option<SensorInfo>,
+    /// The noise in the log.
+    pub noise: NoiseInfo,
+    /// The maze experiment's parameters (experiment `maze-slam`).
+    pub maze: Option<MazeInfo>,
+    /// Every file, relative to the dataset's directory, with its role and checksum.
+    pub files: Vec<FileEntry>,
+}
+
+/// `experiment`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Experiment {
+    /// Planar RatSLAM with tactile images (Ch 3).
+    MazeSlam,
+}
+
+/// `level`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Level {
+    /// `log/whisks/*.csv`: every whisker's 2 kHz samples (the lab layout, §3.1.3).
+    Streams,
+    /// `log/contacts.csv`: the contacts of every whisk (kinematic sensing has no signal).
+    Contacts,
+}
+
+impl Level {
+    /// The name in the manifest.
+    pub fn name(self) -> &'static str {
+        match self {
+            Level::Streams => "streams",
+            Level::Contacts => "contacts",
+        }
+    }
+}
+
+/// `array`: the whiskers in column order.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ArrayInfo {
+    /// Tactile-image labels, `A1` … `F3`.
+    pub labels: Vec<String>,
+    /// Shaft lengths (m).
+    pub lengths_m: Vec<f64>,
+    /// Distance from the whisk axis to the shaft's base along the shaft (m).
+    pub base_offsets_m: Vec<f64>,
+}
+
+/// `sensor`: how the whisk files' integers are read.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorInfo {
+    /// Samples per second per whisker.
+    pub sample_rate_hz: f64,
+    /// Whisk frequency (Hz): one whisk file per cycle.
+    pub whisk_hz: f64,
+    /// Rows per whisk file.
+    pub samples_per_whisk: usize,
+    /// Number of whisk files.
+    pub whisks: usize,
+    /// Radians per angle count.
+    pub angle_resolution_rad: f64,
+    /// Deflection saturation (counts).
+    pub saturation_counts: f64,
+}
+
+/// `noise`: what noise the log holds and where it came from.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NoiseInfo {
+    /// Seed of noise added by `whisker dataset noise` (None: noise from the simulation,
+    /// drawn from the run's seed).
+    pub added_with_seed: Option<u64>,
+    /// Sensor noise (None: none).
+    pub sensor: Option<SensorNoise>,
+    /// Odometry error model (None: none).
+    pub odometry: Option<OdometryNoise>,
+    /// Contact noise of level `contacts` (None: none).
+    pub contacts: Option<ContactNoiseInfo>,
+}
+
+impl NoiseInfo {
+    /// Whether the log holds no noise at all.
+    pub fn is_clean(&self) -> bool {
+        self.sensor.is_none() && self.odometry.is_none() && self.contacts.is_none()
+    }
+}
+
+/// Sensor noise: Gaussian, before quantisation.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorNoise {
+    /// σ of each deflection reading (counts).
+    pub deflection_counts: f64,
+    /// σ of each angle reading (rad).
+    pub angle_rad: f64,
+}
+
+/// Contact noise (§6.1.3.1.2).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactNoiseInfo {
+    /// σ of each contact-point coordinate / the whisker's length.
+    pub point_fraction: f64,
+    /// σ of the slope.
+    pub slope_sigma: f64,
+    /// Probability that a contact is registered.
+    pub detection_probability: f64,
+}
+
+/// `maze`: the maze experiment's parameters (§3.1–§3.3).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MazeInfo {
+    /// SLAM updates per second.
+    pub update_hz: f64,
+    /// Number of updates.
+    pub updates: usize,
+    /// Height of the array's plane (world z, m).
+    pub plane_z_m: f64,
+    /// Height of the board's top (world z, m).
+    pub board_z_m: f64,
+    /// Yaw of the array at heading 0 (rad).
+    pub yaw0_rad: f64,
+    /// The update where each circuit starts.
+    pub circuit_starts: Vec<usize>,
+    /// Run the kidnapped variant too.
+    pub kidnap: bool,
+    /// The image sets and the front end's estimate of each (`max_angle`,
+    /// `contact_angle`; `contacts` at level contacts).
+    pub image_sets: Vec<(String, String)>,
+    /// Each whisker's front-end detection parameters (level streams).
+    pub frontend: Option<Vec<FrontEndParams>>,
+    /// RatSLAM's parameters.
+    pub ratslam: RatSlamParams,
+}
+
+/// One file of the dataset.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FileEntry {
+    /// Path relative to the dataset's directory, `/`-separated.
+    pub path: String,
+    /// `log` (what a real robot records) or `truth` (ground truth: may be deleted).
+    pub role: Role,
+    /// Size in bytes.
+    pub bytes: u64,
+    /// SHA-256 of the contents, lower-case hex.
+    pub sha256: String,
+}
+
+/// A file's role.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Role {
+    /// Part of the log a real robot would record.
+    Log,
+    /// Ground truth, absent from real logs.
+    Truth,
+}
+
+/// Lower-case hex SHA-256 of `bytes`.
+pub fn sha256(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+impl FileEntry {
+    /// The entry of `bytes` written at `path` (relative).
+    pub fn of(path: &str, role: Role, bytes: &[u8]) -> Self {
+        Self {
+            path: path.into(),
+            role,
+            bytes: bytes.len() as u64,
+            sha256: sha256(bytes),
+        }
+    }
+}
+
+impl Manifest {
+    /// Reads and checks `dir/dataset.json`: the format, the version, the fields; then
+    /// every listed file: log files must exist, and every file present must have its
+    /// size and checksum (truth files may be missing: ground truth is then unavailable).
+    pub fn read(dir: &Path) -> CliResult<Self> {
+        let path = dir.join(FILE);
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            CliError::Input(format!(
+                "{}: cannot read the dataset's manifest: {e}",
+                path.display()
+            ))
+        })?;
+        let bad = |m: String| CliError::Input(format!("{}: {m}", path.display()));
+        let value: serde_json::Value =
+            serde_json::from_str(&text).map_err(|e| bad(format!("not JSON: {e}")))?;
+        if value.get("format").and_then(|f| f.as_str()) != Some(FORMAT) {
+            return Err(bad(format!("field `format`: expected {FORMAT:?}")));
+        }
+        match value.get("version").and_then(|v| v.as_u64()) {
+            Some(v) if v > u64::from(VERSION) => {
+                return Err(bad(format!(
+                    "field `version`: format version {v} is newer than this whisker reads \
+                     ({VERSION}); update whisker"
+                )));
+            }
+            Some(v) if v >= 1 => {}
+            _ => return Err(bad(format!("field `version`: expected 1 to {VERSION}"))),
+        }
+        let manifest: Manifest = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+        manifest.check(&path)?;
+        for entry in &manifest.files {
+            entry.verify(dir)?;
+        }
+        Ok(manifest)
+    }
+
+    /// Internal consistency: one label, length and offset per whisker; the experiment's
+    /// section present.
+    fn check(&self, path: &Path) -> CliResult {
+        let bad = |field: &str, m: &str| CliError::field(path, field, m);
+        let n = self.array.labels.len();
+        if n == 0 || self.array.lengths_m.len() != n || self.array.base_offsets_m.len() != n {
+            return Err(bad(
+                "array",
+                "expected as many lengths_m and base_offsets_m as labels (at least one)",
+            ));
+        }
+        if self.level == Level::Streams && self.sensor.is_none() {
+            return Err(bad("sensor", "level \"streams\" needs a sensor section"));
+        }
+        match self.experiment {
+            Experiment::MazeSlam if self.maze.is_none() => {
+                Err(bad("maze", "experiment \"maze-slam\" needs a maze section"))
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// The entry of `path` (relative), if listed.
+    pub fn entry(&self, path: &str) -> Option<&FileEntry> {
+        self.files.iter().find(|f| f.path == path)
+    }
+
+    /// Whether every truth file listed is present (ground truth available).
+    pub fn has_truth(&self, dir: &Path) -> bool {
+        self.files
+            .iter()
+            .filter(|f| f.role == Role::Truth)
+            .all(|f| dir.join(&f.path).exists())
+    }
+
+    /// `dir/path` for a listed file; an error naming the manifest if it is not listed.
+    pub fn file(&self, dir: &Path, path: &str) -> CliResult<PathBuf> {
+        match self.entry(path) {
+            Some(_) => Ok(dir.join(path)),
+            None => Err(CliError::Input(format!(
+                "{}: field `files`: {path} is not listed",
+                dir.join(FILE).display()
+            ))),
+        }
+    }
+}
+
+impl FileEntry {
+    /// Checks the file under `dir`: present (unless ground truth), its size and checksum.
+    fn verify(&self, dir: &Path) -> CliResult {
+        if self.path.split('/').any(|p| p == ".." || p.is_empty()) || self.path.starts_with('/') {
+            return Err(CliError::Input(format!(
+                "{}: field `files`: {:?} is not a relative path inside the dataset",
+                dir.join(FILE).display(),
+                self.path
+            )));
+        }
+        let path = dir.join(&self.path);
+        let bytes = match std::fs::read(&path) {
+            Ok(b) => b,
+            Err(_) if self.role == Role::Truth && !path.exists() => return Ok(()),
+            Err(e) => {
+                return Err(CliError::Input(format!(
+                    "{}: cannot read (listed in {FILE} as a log file): {e}",
+                    path.display()
+                )));
+            }
+        };
+        if bytes.len() as u64 != self.bytes || sha256(&bytes) != self.sha256 {
+            return Err(CliError::Input(format!(
+                "{}: checksum mismatch: {} bytes, SHA-256 {}; {FILE} lists {} bytes, {} \
+                 (the file was changed after the dataset was written)",
+                path.display(),
+                bytes.len(),
+                sha256(&bytes),
+                self.bytes,
+                self.sha256
+            )));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,461 @@
+//! Maze datasets (experiment `maze-slam`, thesis Ch 3): the run of `whisker maze-slam` for
+//! one seed written as a log, and read back into the same RatSLAM input.
+//!
+//! Physics sensing writes level `streams`: one whisk file per 1 Hz whisk cycle, the array
+//! moving along the path meanwhile; replay runs the same front end on them. Kinematic
+//! sensing has no signal: it writes level `contacts` (one whisk per update, the sweep's
+//! contact angles). Either way `log/odometry.csv` holds the odometry of every 1.5 Hz
+//! update (turn, then distance: the order RatSLAM integrates) with the §3.1.2 error, and
+//! `log/poses.csv` the end effector's pose at 1 Hz as the robot's odometry puts it.
+//! Ground truth: `truth/poses.csv` (the true planar pose of every update),
+//! `truth/odometry.csv` (noise-free), `truth/contacts.csv` (the rigid sweep without
+//! noise: per update for kinematic sensing, at each whisk cycle's start pose for
+//! physics) and `truth/scenario.toml`.
+
+use super::manifest::{
+    ContactNoiseInfo, Experiment, Level, Manifest, MazeInfo, NoiseInfo, Role, SensorInfo,
+    SensorNoise,
+};
+use super::records::{self, POSE_COLUMNS};
+use super::table::{Table, columns};
+use super::{Staging, array_info, rigid_whiskers};
+use crate::error::{CliError, CliResult};
+use crate::maze_slam::path::Sample;
+use crate::maze_slam::physics::{self as maze_physics, ImageFrontEnd};
+use crate::maze_slam::{
+    Geometry, Options, Sensed, Setup, UPDATE_HZ, kinematic_contacts, kinematic_whiskers,
+    noisy_steps, physics_sets, true_steps,
+};
+use crate::scenario::Scenario;
+use crate::scenario::maze_slam::AngleEstimate;
+use nalgebra::UnitQuaternion;
+use rayon::prelude::*;
+use std::fmt::Write;
+use std::path::Path;
+use whisker_sim::sensing::kinematic::KinematicArray;
+use whisker_sim::sensing::noise::ContactNoise;
+use whisker_sim::sensing::physics::DT;
+use whisker_sim::whisker::control::WhiskingPattern;
+use whisker_slam::ratslam::RatSlamParams;
+use whisker_slam::ratslam::experience_map::wrap;
+use whisker_slam::rng::substream_key;
+use whisker_slam::sensor::SAMPLE_RATE_HZ;
+
+pub const ODOMETRY_COLUMNS: &str = "update,time_s,turn_rad,distance_m";
+const TRUTH_COLUMNS: &str = "update,time_s,x_m,y_m,heading_rad";
+
+/// Writes seed `seed` of maze scenario `scenario` (read from `file`) into `s`; `clean`
+/// leaves out every noise.
+pub fn write(
+    file: &Path,
+    scenario: &Scenario,
+    seed: u64,
+    clean: bool,
+    s: &mut Staging,
+) -> CliResult<Manifest> {
+    let o = Options::of(file);
+    let setup = Setup::new(&o, scenario)?;
+    let environment = scenario.environment(file)?.environment;
+    let (g, truth) = (&setup.geometry, &setup.truth);
+    let config = &scenario.maze_slam;
+    let target = environment.sweep_target();
+    let clean_steps = true_steps(truth);
+    let steps = if clean {
+        clean_steps.clone()
+    } else {
+        noisy_steps(&clean_steps, &config.odometry, seed)
+    };
+    let (level, whiskers, sensor, frontend, sensor_noise, contact_noise, image_sets, whisk_hz);
+    let mut anticipated = Vec::new();
+    match &setup.physics {
+        None => {
+            whiskers = kinematic_whiskers();
+            let noise = if clean {
+                ContactNoise::NONE
+            } else {
+                scenario.kinematic.noise(file)?
+            };
+            let key = substream_key(seed, "maze-slam/sensing");
+            let cycles = kinematic_contacts(truth, &target, noise, key, g);
+            let labels = array_info(&whiskers).labels;
+            s.put(
+                "log/contacts.csv",
+                Role::Log,
+                records::contacts_csv(&cycles, &labels).as_bytes(),
+            )?;
+            anticipated = kinematic_contacts(truth, &target, ContactNoise::NONE, 0, g);
+            level = Level::Contacts;
+            (sensor, frontend, sensor_noise) = (None, None, None);
+            contact_noise = (noise != ContactNoise::NONE).then_some(ContactNoiseInfo {
+                point_fraction: noise.point_fraction,
+                slope_sigma: noise.slope_sigma,
+                detection_probability: noise.detection_probability,
+            });
+            image_sets = vec![(setup.set_names[0].clone(), "contacts".to_string())];
+            whisk_hz = UPDATE_HZ;
+        }
+        Some((configs, rcp)) => {
+            let mut configs = configs.clone();
+            if clean {
+                for c in &mut configs {
+                    c.sensor.noise_counts = 0.0;
+                    c.sensor.angle_noise_rad = 0.0;
+                }
+            }
+            let key = substream_key(seed, "maze-slam/physics");
+            let configs = maze_physics::calibrated(configs, *rcp, key);
+            let front = ImageFrontEnd::new(&configs, &scenario.frontend.detection);
+            whiskers = front.rigid.clone();
+            let labels = array_info(&whiskers).labels;
+            let model = configs[0].sensor;
+            whisk_hz = front.frequency;
+            let whisks = maze_physics::cycles(truth.len(), whisk_hz);
+            let mut sweep = KinematicArray::new(
+                whiskers.clone(),
+                vec![WhiskingPattern::default(); whiskers.len()],
+                ContactNoise::NONE,
+                0,
+            );
+            let pieces = environment.physics_pieces();
+            maze_physics::simulate(truth, &pieces, configs, key, g, |c, streams| {
+                let csv = records::whisk_csv(&labels, &streams, model.angle_resolution_rad)?;
+                s.put(
+                    &format!("log/whisks/{}", records::whisk_name(c)),
+                    Role::Log,
+                    csv.as_bytes(),
+                )?;
+                let t = c as f64 / whisk_hz;
+                let pose = maze_physics::pose_at(truth, t, g);
+                anticipated.push(sweep.sense(&target, c as u64, t, &pose));
+                Ok::<(), CliError>(())
+            })?;
+            level = Level::Streams;
+            sensor = Some(SensorInfo {
+                sample_rate_hz: SAMPLE_RATE_HZ,
+                whisk_hz,
+                samples_per_whisk: maze_physics::per_cycle(whisk_hz),
+                whisks,
+                angle_resolution_rad: model.angle_resolution_rad,
+                saturation_counts: model.saturation_counts,
+            });
+            sensor_noise =
+                (model.noise_counts > 0.0 || model.angle_noise_rad > 0.0).then_some(SensorNoise {
+                    deflection_counts: model.noise_counts,
+                    angle_rad: model.angle_noise_rad,
+                });
+            contact_noise = None;
+            frontend = Some(front.params.clone());
+            image_sets = config
+                .images
+                .iter()
+                .zip(&setup.set_names)
+                .map(|(e, n)| (n.clone(), e.name().to_string()))
+                .collect();
+        }
+    }
+    let array = array_info(&whiskers);
+    // The odometry, the pose log, ground truth.
+    let mut poses = String::from(TRUTH_COLUMNS) + "\n";
+    for (k, p) in truth.iter().enumerate() {
+        let t = k as f64 / UPDATE_HZ;
+        let _ = writeln!(poses, "{k},{t:?},{:?},{:?},{:?}", p.x, p.y, p.th);
+    }
+    s.put(
+        "log/odometry.csv",
+        Role::Log,
+        odometry_csv(&steps).as_bytes(),
+    )?;
+    s.put(
+        "log/poses.csv",
+        Role::Log,
+        pose_log(truth[0], &steps, g, level, whisk_hz).as_bytes(),
+    )?;
+    s.put("truth/poses.csv", Role::Truth, poses.as_bytes())?;
+    s.put(
+        "truth/odometry.csv",
+        Role::Truth,
+        odometry_csv(&clean_steps).as_bytes(),
+    )?;
+    s.put(
+        "truth/contacts.csv",
+        Role::Truth,
+        records::contacts_csv(&anticipated, &array.labels).as_bytes(),
+    )?;
+    let table = Scenario::resolved_table(file)?;
+    let text = toml::to_string(&table).map_err(|e| CliError::Failure(e.to_string()))?;
+    s.put("truth/scenario.toml", Role::Truth, text.as_bytes())?;
+    Ok(Manifest {
+        format: super::manifest::FORMAT.into(),
+        version: super::manifest::VERSION,
+        written_by: super::written_by(),
+        experiment: Experiment::MazeSlam,
+        level,
+        seed,
+        array,
+        sensor,
+        noise: NoiseInfo {
+            added_with_seed: None,
+            sensor: sensor_noise,
+            odometry: (!clean && config.odometry.enabled).then_some(config.odometry),
+            contacts: contact_noise,
+        },
+        maze: Some(MazeInfo {
+            update_hz: UPDATE_HZ,
+            updates: truth.len(),
+            plane_z_m: g.plane_z,
+            board_z_m: g.board_z,
+            yaw0_rad: g.yaw0,
+            circuit_starts: setup.starts.clone(),
+            kidnap: config.kidnap,
+            image_sets,
+            frontend,
+            ratslam: config.ratslam,
+        }),
+        files: Vec::new(),
+    })
+}
+
+/// An odometry file's text: per update, its time, turn (rad) and distance (m).
+pub fn odometry_csv(steps: &[(f64, f64)]) -> String {
+    let mut csv = String::from(ODOMETRY_COLUMNS) + "\n";
+    for (k, (d, turn)) in steps.iter().enumerate() {
+        let _ = writeln!(csv, "{k},{:?},{turn:?},{d:?}", k as f64 / UPDATE_HZ);
+    }
+    csv
+}
+
+/// Reads an odometry file of `n` updates (any `n` if None): (distance, turn) per update.
+pub fn read_odometry(path: &Path, n: Option<usize>) -> CliResult<Vec<(f64, f64)>> {
+    let table = Table::read(path, &columns(ODOMETRY_COLUMNS))?;
+    if let Some(n) = n
+        && table.len() != n
+    {
+        return Err(table.error(
+            table.len() + 1,
+            format!("expected {n} updates, got {}", table.len()),
+        ));
+    }
+    let mut steps = Vec::with_capacity(table.len());
+    for row in table.rows() {
+        let row = row?;
+        row.expect(0, steps.len())?;
+        row.f64(1)?;
+        steps.push((row.f64(3)?, row.f64(2)?));
+    }
+    Ok(steps)
+}
+
+/// The pose log of a dataset whose odometry is now `steps`, from the first pose of its
+/// pose log in `dir`.
+pub fn pose_log_of(dir: &Path, m: &Manifest, steps: &[(f64, f64)]) -> CliResult<String> {
+    let info = m.maze.as_ref().expect("a maze dataset");
+    let g = geometry(info);
+    let start = first_pose(&m.file(dir, "log/poses.csv")?, &g)?;
+    let whisk_hz = m.sensor.map_or(UPDATE_HZ, |s| s.whisk_hz);
+    Ok(pose_log(start, steps, &g, m.level, whisk_hz))
+}
+
+/// The maze's geometry from the manifest.
+fn geometry(info: &MazeInfo) -> Geometry {
+    Geometry {
+        plane_z: info.plane_z_m,
+        board_z: info.board_z_m,
+        yaw0: info.yaw0_rad,
+    }
+}
+
+/// The planar pose of the pose log's first row.
+fn first_pose(path: &Path, g: &Geometry) -> CliResult<Sample> {
+    let (_, pose, _) = records::read_poses(path)?.swap_remove(0);
+    let level = UnitQuaternion::from_euler_angles(std::f64::consts::PI, 0.0, g.yaw0);
+    let turn = pose.rotation * level.inverse();
+    Ok(Sample {
+        x: pose.translation.x,
+        y: pose.translation.y,
+        th: turn.euler_angles().2,
+    })
+}
+
+/// The 1 Hz pose log: the pose the robot's odometry gives (from `start`, each update's
+/// turn then distance), at whole seconds, with the latest whisk completed by then.
+fn pose_log(
+    start: Sample,
+    steps: &[(f64, f64)],
+    g: &Geometry,
+    level: Level,
+    whisk_hz: f64,
+) -> String {
+    let mut at = start;
+    let mut dead_reckoned = Vec::with_capacity(steps.len());
+    for (k, &(d, t)) in steps.iter().enumerate() {
+        if k > 0 {
+            at.th = wrap(at.th + t);
+            at.x += d * at.th.cos();
+            at.y += d * at.th.sin();
+        }
+        dead_reckoned.push(at);
+    }
+    let duration = (steps.len() - 1) as f64 / UPDATE_HZ;
+    let mut csv = String::from(POSE_COLUMNS) + "\n";
+    for second in 0..=(duration.floor() as usize) {
+        let t = second as f64;
+        let k = ((t * UPDATE_HZ + 1e-9).floor() as usize).min(steps.len() - 1);
+        let whisk = match level {
+            // Whisk cycle c is complete at (c + 1)/f.
+            Level::Streams => match (t * whisk_hz + 1e-9).floor() as usize {
+                0 => String::new(),
+                done => records::whisk_name(done - 1),
+            },
+            Level::Contacts => format!("whisk_{k:06}"),
+        };
+        csv += &records::pose_row(t, &g.pose(&dead_reckoned[k]), &whisk);
+    }
+    csv
+}
+
+/// Reads a maze dataset: RatSLAM's input, its parameters and whether to run the
+/// kidnapped variant.
+pub fn read(dir: &Path, m: &Manifest) -> CliResult<(Sensed, RatSlamParams, bool)> {
+    let info = m.maze.as_ref().expect("checked by Manifest::read");
+    let file = dir.join(super::manifest::FILE);
+    if info.update_hz != UPDATE_HZ {
+        return Err(CliError::field(
+            &file,
+            "maze.update_hz",
+            format!("expected {UPDATE_HZ} (the rate of §3.1.2)"),
+        ));
+    }
+    let n = info.updates;
+    let starts = &info.circuit_starts;
+    if n < 2
+        || starts.len() < 2
+        || starts.windows(2).any(|w| w[0] >= w[1])
+        || starts[starts.len() - 1] >= n
+    {
+        return Err(CliError::field(
+            &file,
+            "maze.circuit_starts",
+            "expected at least 2 increasing updates below maze.updates (at least 2)",
+        ));
+    }
+    if info.kidnap && starts.len() < 4 {
+        return Err(CliError::field(
+            &file,
+            "maze.kidnap",
+            "the kidnapped variant needs 4 circuits",
+        ));
+    }
+    let g = geometry(info);
+    let whiskers = rigid_whiskers(dir, &m.array)?;
+    // The odometry.
+    let steps = read_odometry(&m.file(dir, "log/odometry.csv")?, Some(n))?;
+    // Ground truth, if present; else the estimate starts at the pose log's first pose.
+    let truth = if m.has_truth(dir) {
+        let table = Table::read(&m.file(dir, "truth/poses.csv")?, &columns(TRUTH_COLUMNS))?;
+        let mut truth = Vec::with_capacity(n);
+        for row in table.rows() {
+            let row = row?;
+            row.expect(0, truth.len())?;
+            row.f64(1)?;
+            truth.push(Sample {
+                x: row.f64(2)?,
+                y: row.f64(3)?,
+                th: row.f64(4)?,
+            });
+        }
+        if truth.len() != n {
+            return Err(table.error(table.len() + 1, format!("expected {n} updates")));
+        }
+        Some(truth)
+    } else {
+        None
+    };
+    let start = match &truth {
+        Some(t) => t[0],
+        None => first_pose(&m.file(dir, "log/poses.csv")?, &g)?,
+    };
+    let image_sets = match m.level {
+        Level::Contacts => {
+            let cycles =
+                records::read_contacts(&m.file(dir, "log/contacts.csv")?, n, &m.array.labels)?;
+            let images = cycles
+                .iter()
+                .map(|c| g.contact_image(c, &whiskers))
+                .collect();
+            vec![(info.image_sets[0].0.clone(), images)]
+        }
+        Level::Streams => {
+            let sensor = m.sensor.expect("checked by Manifest::read");
+            let params = info.frontend.clone().ok_or_else(|| {
+                CliError::field(
+                    &file,
+                    "maze.frontend",
+                    "level \"streams\" needs the front end's parameters",
+                )
+            })?;
+            if sensor.sample_rate_hz != SAMPLE_RATE_HZ || params.len() != whiskers.len() {
+                return Err(CliError::field(
+                    &file,
+                    "sensor.sample_rate_hz",
+                    format!("expected {SAMPLE_RATE_HZ} Hz and one front-end entry per whisker"),
+                ));
+            }
+            let front = ImageFrontEnd {
+                params,
+                rigid: whiskers,
+                frequency: sensor.whisk_hz,
+            };
+            if maze_physics::per_cycle(sensor.whisk_hz) != sensor.samples_per_whisk
+                || maze_physics::cycles(n, sensor.whisk_hz) != sensor.whisks
+                || (1.0 / DT - SAMPLE_RATE_HZ).abs() > 1e-9
+            {
+                return Err(CliError::field(
+                    &file,
+                    "sensor",
+                    "samples_per_whisk and whisks do not match whisk_hz and the updates",
+                ));
+            }
+            let by_cycle = (0..sensor.whisks)
+                .into_par_iter()
+                .map(|c| {
+                    let path = m.file(dir, &format!("log/whisks/{}", records::whisk_name(c)))?;
+                    let streams = records::read_whisk(
+                        &path,
+                        &m.array.labels,
+                        sensor.samples_per_whisk,
+                        sensor.angle_resolution_rad,
+                    )?;
+                    Ok(front.cycle(&streams, &g))
+                })
+                .collect::<CliResult<Vec<_>>>()?;
+            let (max, contact) = front.per_update(&by_cycle, n);
+            let mut estimates = Vec::new();
+            for (name, e) in &info.image_sets {
+                estimates.push(match e.as_str() {
+                    "max_angle" => AngleEstimate::MaxAngle,
+                    "contact_angle" => AngleEstimate::ContactAngle,
+                    _ => {
+                        return Err(CliError::field(
+                            &file,
+                            "maze.image_sets",
+                            format!(
+                                "{name}: expected \"max_angle\" or \"contact_angle\", got {e:?}"
+                            ),
+                        ));
+                    }
+                });
+            }
+            let names: Vec<String> = info.image_sets.iter().map(|(n, _)| n.clone()).collect();
+            physics_sets(&estimates, &names, max, contact)
+        }
+    };
+    let sensed = Sensed {
+        seed: m.seed,
+        truth,
+        start,
+        starts: starts.clone(),
+        steps,
+        image_sets,
+    };
+    Ok((sensed, info.ratslam, info.kidnap))
+}

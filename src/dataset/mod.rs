@@ -1,0 +1,241 @@
+//! Seeded datasets in the thesis lab's own log layout (§3.1.2–§3.1.3), with ground truth
+//! beside it, and SLAM that runs from them as it would from a real robot's logs. The
+//! format is specified in `docs/dataset.md`; in short:
+//!
+//! ```text
+//! DIR/dataset.json          manifest: format version, experiment, level, seed, array,
+//!                           sensors, noise, the experiment's parameters, every file's SHA-256
+//! DIR/log/whisks/whisk_NNNNNN.csv   (level "streams") one file per whisk cycle: one row
+//!                           per 2 kHz sample, 4 columns per whisker (angle, x and y
+//!                           deflection, spare) in the order A1…F1, A2…F2, A3…F3
+//! DIR/log/contacts.csv      (level "contacts") the contacts of every whisk
+//! DIR/log/poses.csv         the end effector's pose at 1 Hz and the latest whisk file
+//! DIR/log/odometry.csv      the odometry SLAM consumes, one row per update
+//! DIR/truth/…               ground truth: true poses, noise-free odometry, anticipated
+//!                           contacts, the scenario as run
+//! ```
+//!
+//! `whisker dataset SCENARIO --seed N --out DIR` writes one ([`write`]); `whisker dataset
+//! noise IN --seed M --out OUT` adds noise to a clean one ([`noise`]); `whisker
+//! maze-slam --dataset DIR` and `whisker slam DIR` run SLAM from one. A dataset is
+//! written into a temporary sibling directory and renamed into place when complete; an
+//! existing `--out` is never overwritten.
+
+pub mod manifest;
+pub mod maze;
+pub mod noise;
+pub mod records;
+pub mod table;
+
+use crate::error::{CliError, CliResult};
+use crate::scenario::Scenario;
+use manifest::{FileEntry, Manifest, Role};
+use std::path::{Path, PathBuf};
+
+/// `whisker dataset`.
+#[derive(clap::Args, Debug)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+pub struct Args {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    #[command(flatten)]
+    pub write: WriteOptions,
+}
+
+/// `whisker dataset noise`.
+#[derive(clap::Subcommand, Debug)]
+pub enum Command {
+    /// Add noise to a dataset written with `--clean`: sensor noise to the streams,
+    /// detection misses and contact noise to contacts, odometry error; a new seed.
+    Noise(noise::Options),
+}
+
+/// `whisker dataset SCENARIO --seed N --out DIR`.
+#[derive(clap::Args, Debug)]
+pub struct WriteOptions {
+    /// A maze scenario (`[maze]`, run as `whisker maze-slam` runs it).
+    #[arg(required = true)]
+    pub scenario: Option<PathBuf>,
+    /// Seed [default: the scenario's `seed`].
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// The dataset's directory (must not exist).
+    #[arg(long, required = true)]
+    pub out: Option<PathBuf>,
+    /// Write without noise (no sensor noise, odometry error or contact noise), to be
+    /// noised later by `whisker dataset noise`.
+    #[arg(long)]
+    pub clean: bool,
+}
+
+/// `whisker dataset`.
+pub fn run(args: &Args) -> CliResult {
+    match &args.command {
+        Some(Command::Noise(o)) => noise::run(o),
+        None => {
+            let w = &args.write;
+            let (Some(file), Some(out)) = (&w.scenario, &w.out) else {
+                return Err(CliError::Input(
+                    "whisker dataset: expected SCENARIO and --out DIR".into(),
+                ));
+            };
+            let scenario = Scenario::load(file)?;
+            let seed = w.seed.unwrap_or(scenario.seed);
+            let started = std::time::Instant::now();
+            let manifest = write(out, |staging| {
+                if scenario.maze.is_some() {
+                    maze::write(file, &scenario, seed, w.clean, staging)
+                } else {
+                    Err(CliError::field(
+                        file,
+                        "maze",
+                        "whisker dataset writes maze scenarios (a [maze] section)",
+                    ))
+                }
+            })?;
+            report(out, &manifest, started.elapsed().as_secs_f64());
+            Ok(())
+        }
+    }
+}
+
+/// Prints what was written: files, bytes, time.
+fn report(out: &Path, manifest: &Manifest, seconds: f64) {
+    let bytes: u64 = manifest.files.iter().map(|f| f.bytes).sum();
+    eprintln!(
+        "{}: {} files, {:.1} MB ({} level, seed {}), written in {seconds:.1} s ({:.1} MB/s)",
+        out.display(),
+        manifest.files.len() + 1,
+        bytes as f64 / 1e6,
+        manifest.level.name(),
+        manifest.seed,
+        bytes as f64 / 1e6 / seconds.max(1e-9),
+    );
+}
+
+/// The files of a dataset being written into a staging directory.
+pub struct Staging {
+    dir: PathBuf,
+    files: Vec<FileEntry>,
+}
+
+impl Staging {
+    /// Writes `bytes` to `path` (relative, `/`-separated) and lists it with its checksum.
+    pub fn put(&mut self, path: &str, role: Role, bytes: &[u8]) -> CliResult {
+        let full = self.dir.join(path);
+        if let Some(parent) = full.parent() {
+            crate::output::create_dir(parent)?;
+        }
+        std::fs::write(&full, bytes)
+            .map_err(|e| CliError::Failure(format!("cannot write {}: {e}", full.display())))?;
+        self.files.push(FileEntry::of(path, role, bytes));
+        Ok(())
+    }
+}
+
+/// Writes a dataset to `out` (which must not exist): `fill` writes the files into a
+/// staging directory and returns the manifest (its file list is filled in here); the
+/// staging directory is renamed to `out` once `dataset.json` is written, and removed on
+/// any error.
+pub fn write(
+    out: &Path,
+    fill: impl FnOnce(&mut Staging) -> CliResult<Manifest>,
+) -> CliResult<Manifest> {
+    if out.exists() {
+        return Err(CliError::Input(format!(
+            "{}: already exists; a dataset is never written over another (choose a new --out)",
+            out.display()
+        )));
+    }
+    let name = out
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "dataset".into());
+    let staging = out.with_file_name(format!(".{name}.partial-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&staging);
+    crate::output::create_dir(&staging)?;
+    let mut s = Staging {
+        dir: staging.clone(),
+        files: Vec::new(),
+    };
+    let result = fill(&mut s).and_then(|mut manifest| {
+        manifest.files = std::mem::take(&mut s.files);
+        let text = serde_json::to_string_pretty(&manifest).expect("plain JSON") + "\n";
+        crate::output::write_atomic(&staging.join(manifest::FILE), text.as_bytes())?;
+        std::fs::rename(&staging, out).map_err(|e| {
+            CliError::Failure(format!("cannot move the dataset to {}: {e}", out.display()))
+        })?;
+        Ok(manifest)
+    });
+    if result.is_err() {
+        let _ = std::fs::remove_dir_all(&staging);
+    }
+    result
+}
+
+/// The whiskers' description for the manifest: labels, lengths and base offsets.
+pub fn array_info(
+    whiskers: &[whisker_sim::sensing::kinematic::RigidWhisker],
+) -> manifest::ArrayInfo {
+    manifest::ArrayInfo {
+        labels: whiskers.iter().map(|w| w.module.pixel()).collect(),
+        lengths_m: whiskers.iter().map(|w| w.module.beam.length).collect(),
+        base_offsets_m: whiskers.iter().map(|w| w.base_offset).collect(),
+    }
+}
+
+/// The standard array's rigid whiskers with the dataset's base offsets; an error if the
+/// dataset's array is not the standard one (this build's geometry knows only it).
+pub fn rigid_whiskers(
+    dir: &Path,
+    array: &manifest::ArrayInfo,
+) -> CliResult<Vec<whisker_sim::sensing::kinematic::RigidWhisker>> {
+    let modules = whisker_sim::whisker::array::modules();
+    let same = modules.len() == array.labels.len()
+        && modules.iter().enumerate().all(|(i, m)| {
+            m.pixel() == array.labels[i] && (m.beam.length - array.lengths_m[i]).abs() < 1e-9
+        });
+    if !same {
+        return Err(CliError::field(
+            &dir.join(manifest::FILE),
+            "array",
+            "expected the standard 18-whisker array (labels A1…F3 and their lengths in order)",
+        ));
+    }
+    Ok(modules
+        .into_iter()
+        .zip(&array.base_offsets_m)
+        .map(|(m, &b)| whisker_sim::sensing::kinematic::RigidWhisker::new(m, b))
+        .collect())
+}
+
+/// `whisker <version>`.
+pub fn written_by() -> String {
+    format!("whisker {}", env!("CARGO_PKG_VERSION"))
+}
+
+/// `whisker slam DIR`: the front end and the SLAM the dataset's manifest names.
+#[derive(clap::Args, Debug)]
+pub struct SlamOptions {
+    /// The dataset's directory.
+    pub dataset: PathBuf,
+    /// Directory for the results (as the experiment's own command writes them).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print one JSON object.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `whisker slam DIR`.
+pub fn slam(o: &SlamOptions) -> CliResult {
+    let manifest = Manifest::read(&o.dataset)?;
+    match manifest.experiment {
+        manifest::Experiment::MazeSlam => {
+            let mut options = crate::maze_slam::Options::of(Path::new(""));
+            options.out = o.out.clone();
+            options.json = o.json;
+            crate::maze_slam::replay(&options, &o.dataset, &manifest)
+        }
+    }
+}

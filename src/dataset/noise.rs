@@ -1,0 +1,209 @@
+//! `whisker dataset noise IN --seed M --out OUT`: a clean dataset (`whisker dataset
+//! --clean`) with noise added from seed `M`, ground truth unchanged.
+//!
+//! - Streams: every deflection reading gets N(0, σ) counts and is re-quantised and
+//!   clipped at the saturation; every angle reading gets N(0, σ_θ) and is re-quantised
+//!   to the angle resolution (§2.2.2.1; the simulator's sensor model, here applied after
+//!   the fact: noise drawn in the simulation also feeds back through RCP, this cannot).
+//!   Sub-stream `dataset-noise/whisk/<c>/whisker/<w>` of M.
+//! - Contacts: the §6.1.3.1.2 model — detection with probability p, the point displaced
+//!   by N(0, f·L) per axis, the slope by N(0, s). Sub-stream
+//!   `dataset-noise/contacts/whisker/<w>` of M.
+//! - Odometry: the §3.1.2 error model (Lognormal(−4.3, 0.45) m, Normal(8.39e-4, 0.3)°)
+//!   from sub-stream `maze-slam/odometry` of M — the same draws as a noisy dataset
+//!   written with seed M; the pose log is dead-reckoned again from it.
+
+use super::manifest::{ContactNoiseInfo, Level, Manifest, NoiseInfo, Role, SensorNoise};
+use super::records;
+use crate::error::{CliError, CliResult};
+use crate::maze_slam::noisy_steps;
+use nalgebra::Vector3;
+use rayon::prelude::*;
+use std::path::PathBuf;
+use whisker_sim::sensing::noise::ContactNoise;
+use whisker_slam::ratslam::odometry::OdometryNoise;
+use whisker_slam::rng::{gauss, substream};
+
+/// Options of `whisker dataset noise`.
+#[derive(clap::Args, Debug)]
+pub struct Options {
+    /// The clean dataset.
+    pub input: PathBuf,
+    /// Seed of the noise.
+    #[arg(long)]
+    pub seed: u64,
+    /// The noisy dataset's directory (must not exist).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// σ of the deflection noise (counts).
+    #[arg(long, default_value_t = 2.0)]
+    pub deflection_counts: f64,
+    /// σ of the angle noise (degrees).
+    #[arg(long, default_value_t = 0.05)]
+    pub angle_deg: f64,
+    /// Probability that a contact is registered (level contacts).
+    #[arg(long, default_value_t = 0.98)]
+    pub detection: f64,
+    /// σ of each contact-point coordinate as a fraction of the whisker's length.
+    #[arg(long, default_value_t = 0.25)]
+    pub point_fraction: f64,
+    /// σ of the contact slope.
+    #[arg(long, default_value_t = 0.33)]
+    pub slope_sigma: f64,
+}
+
+/// `whisker dataset noise`.
+pub fn run(o: &Options) -> CliResult {
+    let m = Manifest::read(&o.input)?;
+    if !m.noise.is_clean() {
+        return Err(CliError::Input(format!(
+            "{}: field `noise`: the dataset already holds noise; write it with \
+             `whisker dataset --clean` to noise it later",
+            o.input.join(super::manifest::FILE).display()
+        )));
+    }
+    let contact_noise = ContactNoise {
+        point_fraction: o.point_fraction,
+        slope_sigma: o.slope_sigma,
+        detection_probability: o.detection,
+    };
+    contact_noise
+        .validate()
+        .map_err(|(f, e)| CliError::Input(format!("--{}: {e}", f.replace('_', "-"))))?;
+    for (name, v) in [
+        ("deflection-counts", o.deflection_counts),
+        ("angle-deg", o.angle_deg),
+    ] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(CliError::Input(format!(
+                "--{name}: expected a number ≥ 0, got {v}"
+            )));
+        }
+    }
+    let started = std::time::Instant::now();
+    let odometry = OdometryNoise::default();
+    let written = super::write(&o.out, |s| {
+        let mut out = m.clone();
+        out.noise = NoiseInfo {
+            added_with_seed: Some(o.seed),
+            sensor: None,
+            odometry: Some(odometry),
+            contacts: None,
+        };
+        let maze = m
+            .maze
+            .as_ref()
+            .expect("maze-slam datasets have a maze section");
+        for entry in &m.files {
+            let path = o.input.join(&entry.path);
+            let bytes = match entry.path.as_str() {
+                "log/odometry.csv" => {
+                    // The §3.1.2 error, as a noisy dataset of seed M holds it; the pose
+                    // log dead-reckoned again from it.
+                    let clean = super::maze::read_odometry(&path, None)?;
+                    let steps = noisy_steps(&clean, &odometry, o.seed);
+                    let poses = super::maze::pose_log_of(&o.input, &m, &steps)?;
+                    s.put("log/poses.csv", Role::Log, poses.as_bytes())?;
+                    super::maze::odometry_csv(&steps).into_bytes()
+                }
+                "log/poses.csv" => continue,
+                "log/contacts.csv" => {
+                    out.noise.contacts = Some(ContactNoiseInfo {
+                        point_fraction: o.point_fraction,
+                        slope_sigma: o.slope_sigma,
+                        detection_probability: o.detection,
+                    });
+                    let cycles = records::read_contacts(&path, maze.updates, &m.array.labels)?;
+                    let noisy = noisy_contacts(&cycles, &m.array.lengths_m, contact_noise, o.seed);
+                    records::contacts_csv(&noisy, &m.array.labels).into_bytes()
+                }
+                p if p.starts_with("log/whisks/") => continue,
+                _ if entry.role == Role::Truth && !path.exists() => continue,
+                _ => std::fs::read(&path).map_err(|e| {
+                    CliError::Input(format!("{}: cannot read: {e}", path.display()))
+                })?,
+            };
+            s.put(&entry.path, entry.role, &bytes)?;
+        }
+        if m.level == Level::Streams {
+            let sensor = m.sensor.expect("checked");
+            let sigma = SensorNoise {
+                deflection_counts: o.deflection_counts,
+                angle_rad: o.angle_deg.to_radians(),
+            };
+            out.noise.sensor = Some(sigma);
+            let files: Vec<CliResult<(String, String)>> = (0..sensor.whisks)
+                .into_par_iter()
+                .map(|c| {
+                    let name = format!("log/whisks/{}", records::whisk_name(c));
+                    let mut streams = records::read_whisk(
+                        &o.input.join(&name),
+                        &m.array.labels,
+                        sensor.samples_per_whisk,
+                        sensor.angle_resolution_rad,
+                    )?;
+                    for (w, stream) in streams.iter_mut().enumerate() {
+                        let mut rng =
+                            substream(o.seed, &format!("dataset-noise/whisk/{c}/whisker/{w}"));
+                        let q = sensor.angle_resolution_rad;
+                        let limit = sensor.saturation_counts;
+                        for r in stream.iter_mut() {
+                            r.angle_rad =
+                                ((r.angle_rad + gauss(sigma.angle_rad, &mut rng)) / q).round() * q;
+                            r.x = (r.x + gauss(sigma.deflection_counts, &mut rng))
+                                .round()
+                                .clamp(-limit, limit)
+                                + 0.0;
+                            r.y = (r.y + gauss(sigma.deflection_counts, &mut rng))
+                                .round()
+                                .clamp(-limit, limit)
+                                + 0.0;
+                        }
+                    }
+                    Ok((
+                        name,
+                        records::whisk_csv(&m.array.labels, &streams, sensor.angle_resolution_rad)?,
+                    ))
+                })
+                .collect();
+            for f in files {
+                let (name, csv) = f?;
+                s.put(&name, Role::Log, csv.as_bytes())?;
+            }
+        }
+        Ok(out)
+    })?;
+    super::report(&o.out, &written, started.elapsed().as_secs_f64());
+    Ok(())
+}
+
+/// The §6.1.3.1.2 noise on clean contacts (whisker lengths `lengths`).
+fn noisy_contacts(
+    cycles: &[whisker_slam::contact::ContactCycle],
+    lengths: &[f64],
+    noise: ContactNoise,
+    seed: u64,
+) -> Vec<whisker_slam::contact::ContactCycle> {
+    let mut rngs: Vec<_> = (0..lengths.len())
+        .map(|w| substream(seed, &format!("dataset-noise/contacts/whisker/{w}")))
+        .collect();
+    cycles
+        .iter()
+        .map(|cycle| {
+            let mut c = cycle.clone();
+            c.contacts = cycle
+                .contacts
+                .iter()
+                .filter_map(|x| {
+                    let (offset, slope) =
+                        noise.draw(lengths[x.whisker], x.slope, &mut rngs[x.whisker])?;
+                    let mut x = *x;
+                    x.point += Vector3::from(offset);
+                    x.slope = slope;
+                    Some(x)
+                })
+                .collect();
+            c
+        })
+        .collect()
+}

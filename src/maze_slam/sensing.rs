@@ -1,0 +1,359 @@
+//! What a maze run senses (thesis §3.1): the array's geometry over the board and the
+//! tactile image of a whisk's contacts (§3.1.1), the path and its odometry with the error
+//! model of §3.1.2, and one seed's RatSLAM input — from the kinematic sweep, physics
+//! whiskers ([`super::physics`]) or a dataset (`crate::dataset::maze`).
+
+use super::images;
+use super::path::{self, Sample};
+use super::{Options, physics};
+use crate::characterize::BendingArg;
+use crate::error::{CliError, CliResult};
+use crate::object_slam::SensingArg;
+use crate::scenario::array::{BendingConfig, RcpConfig};
+use crate::scenario::maze_slam::AngleEstimate;
+use crate::scenario::{Scenario, Sensing};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use std::f64::consts::PI;
+use std::path::Path;
+use whisker_sim::environment::Environment;
+use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
+use whisker_sim::sensing::physics::WhiskerConfig;
+use whisker_sim::whisker::array;
+use whisker_sim::whisker::control::{RcpThreshold, WhiskingPattern};
+use whisker_slam::contact::ContactCycle;
+use whisker_slam::ratslam::experience_map::wrap;
+use whisker_slam::ratslam::local_view::TactileImage;
+use whisker_slam::ratslam::odometry::OdometryNoise;
+use whisker_slam::rng::{substream, substream_key};
+
+/// Updates per second (§3.1.2).
+pub const UPDATE_HZ: f64 = 1.5;
+
+/// Where the array flies and how tactile images are scaled.
+pub struct Geometry {
+    /// Height of the array plane (world z, m).
+    pub plane_z: f64,
+    /// Height of the board (world z, m).
+    pub board_z: f64,
+    /// Yaw of the array at heading 0 (rad).
+    pub yaw0: f64,
+}
+
+impl Geometry {
+    /// The array's pose at a path sample: facing down from the plane, turned about the
+    /// vertical by the heading.
+    pub fn pose(&self, p: &Sample) -> Isometry3<f64> {
+        Isometry3::from_parts(
+            Translation3::new(p.x, p.y, self.plane_z),
+            UnitQuaternion::from_axis_angle(&Vector3::z_axis(), p.th)
+                * UnitQuaternion::from_euler_angles(PI, 0.0, self.yaw0),
+        )
+    }
+
+    /// The height above the board of `whisker`'s straight shaft tip at whisk angle `angle`
+    /// (forward kinematics, §3.1.1), at least 0. The array flies level and turns only about
+    /// the vertical, so the height does not depend on where in the plane it is: it is
+    /// computed at the plane's origin, heading 0 — the same number from the simulator and
+    /// from a log.
+    pub fn tip_height(&self, whisker: &RigidWhisker, angle: f64) -> f64 {
+        let pose = self.pose(&Sample::default());
+        let tip = whisker.shaft_point(&pose, angle, whisker.module.beam.length);
+        (tip.z - self.board_z).max(0.0)
+    }
+
+    /// The tactile image of per-whisker heights, full scale the array's height.
+    pub fn image(&self, heights: &[Option<f64>]) -> TactileImage {
+        TactileImage::from_heights(heights, self.plane_z - self.board_z)
+    }
+
+    /// The tactile image of one whisk's contacts: each contacted whisker's pixel from its
+    /// contact angle.
+    pub fn contact_image(&self, cycle: &ContactCycle, whiskers: &[RigidWhisker]) -> TactileImage {
+        let mut heights = vec![None; whiskers.len()];
+        for c in &cycle.contacts {
+            heights[c.whisker] = Some(self.tip_height(&whiskers[c.whisker], c.angle_rad));
+        }
+        self.image(&heights)
+    }
+}
+
+/// The kinematic sweep's rigid whiskers (bases 3 mm inside the module).
+pub fn kinematic_whiskers() -> Vec<RigidWhisker> {
+    array::modules()
+        .into_iter()
+        .map(|m| RigidWhisker::new(m, 3.0e-3))
+        .collect()
+}
+
+/// The contacts of every update from the kinematic sweep (the scenario's detection
+/// probability applies; sub-stream `maze-slam/sensing` of the seed, as `key`).
+pub fn kinematic_contacts(
+    truth: &[Sample],
+    target: &SweepTarget,
+    noise: whisker_sim::sensing::noise::ContactNoise,
+    key: u64,
+    g: &Geometry,
+) -> Vec<ContactCycle> {
+    let whiskers = kinematic_whiskers();
+    let patterns = vec![WhiskingPattern::default(); whiskers.len()];
+    let mut sensing = KinematicArray::new(whiskers, patterns, noise, key);
+    truth
+        .iter()
+        .enumerate()
+        .map(|(k, p)| sensing.sense(target, k as u64, k as f64 / UPDATE_HZ, &g.pose(p)))
+        .collect()
+}
+
+/// The true distance and turn of every update (0 at the first): the noise-free odometry.
+pub fn true_steps(truth: &[Sample]) -> Vec<(f64, f64)> {
+    (0..truth.len())
+        .map(|k| match k {
+            0 => (0.0, 0.0),
+            _ => {
+                let (p, q) = (truth[k], truth[k - 1]);
+                ((p.x - q.x).hypot(p.y - q.y), wrap(p.th - q.th))
+            }
+        })
+        .collect()
+}
+
+/// `steps` with the odometry error model of §3.1.2 (sub-stream `maze-slam/odometry` of
+/// `seed`).
+pub fn noisy_steps(steps: &[(f64, f64)], noise: &OdometryNoise, seed: u64) -> Vec<(f64, f64)> {
+    let mut rng = substream(seed, "maze-slam/odometry");
+    steps
+        .iter()
+        .map(|&(d, t)| noise.apply(d, t, &mut rng))
+        .collect()
+}
+
+/// The loop's corners (x, y) from the scenario's pose waypoints, and the geometry: the
+/// array plane at the first waypoint's height, its yaw at heading 0 from its `rpy_deg`,
+/// the board's top at `board_z`.
+fn corners(
+    scenario: &Scenario,
+    file: &Path,
+    board_z: f64,
+) -> CliResult<(Vec<(f64, f64)>, Geometry)> {
+    let poses: Vec<([f64; 3], [f64; 3])> = scenario
+        .trajectory
+        .waypoints
+        .iter()
+        .filter_map(|w| Some((w.position_m?, w.rpy_deg?)))
+        .collect();
+    if poses.len() < 3 {
+        return Err(CliError::field(
+            file,
+            "trajectory.waypoints",
+            "maze-slam needs at least 3 pose waypoints (the loop's corners)",
+        ));
+    }
+    let mut corners: Vec<(f64, f64)> = poses.iter().map(|(p, _)| (p[0], p[1])).collect();
+    if corners.len() > 3 && corners.first() == corners.last() {
+        corners.pop();
+    }
+    let geometry = Geometry {
+        plane_z: poses[0].0[2],
+        board_z,
+        yaw0: poses[0].1[2].to_radians(),
+    };
+    Ok((corners, geometry))
+}
+
+/// The physics whiskers: the scenario's `[array]` with the command line's overrides,
+/// checked as the scenario's own values are.
+fn physics_configs(
+    scenario: &Scenario,
+    file: &Path,
+    o: &Options,
+) -> CliResult<(Vec<WhiskerConfig>, Option<RcpThreshold>)> {
+    let mut array = scenario.array.clone();
+    if let Some(b) = o.bending {
+        array.bending = match b {
+            BendingArg::Spatial => BendingConfig::Spatial,
+            BendingArg::SweepPlane => BendingConfig::SweepPlane,
+        };
+    }
+    array.segments = o.segments.or(array.segments);
+    array.substeps = o.substeps.or(array.substeps);
+    if o.rcp {
+        array.rcp = RcpConfig::Noise;
+        array.rcp_noise_multiple = Some(20.0);
+    }
+    let overridden = o.bending.is_some() || o.segments.is_some() || o.substeps.is_some();
+    let configs = array.whisker_configs(file).map_err(|e| match e {
+        CliError::Input(m) if overridden => CliError::Input(format!(
+            "{m} (with --bending / --segments / --substeps from the command line)"
+        )),
+        e => e,
+    })?;
+    Ok((configs, array.rcp_mode()))
+}
+
+/// One data set: a name and the tactile image of every update.
+pub type ImageSet = (String, Vec<TactileImage>);
+
+/// What a maze run senses with, from the scenario and the command line.
+pub struct Setup {
+    /// The array's plane and the images' scale.
+    pub geometry: Geometry,
+    /// The true pose of every update.
+    pub truth: Vec<Sample>,
+    /// Where each circuit starts.
+    pub starts: Vec<usize>,
+    /// Physics whiskers and RCP mode (None: kinematic sensing).
+    pub physics: Option<(Vec<WhiskerConfig>, Option<RcpThreshold>)>,
+    /// The image sets, named as in reports and file names.
+    pub set_names: Vec<String>,
+}
+
+impl Setup {
+    /// The setup of `scenario` (read from `o.scenario`) with the command line's options.
+    pub fn new(o: &Options, scenario: &Scenario) -> CliResult<Self> {
+        let file = o.scenario.as_path();
+        let maze = scenario
+            .maze
+            .as_ref()
+            .ok_or_else(|| CliError::field(file, "maze", "maze-slam needs a [maze] section"))?;
+        let config = &scenario.maze_slam;
+        if (o.kidnap || config.kidnap) && config.circuits < 4 {
+            return Err(CliError::field(
+                file,
+                "maze_slam.circuits",
+                format!(
+                    "the kidnapped variant needs at least 4 circuits, got {}",
+                    config.circuits
+                ),
+            ));
+        }
+        let (loop_corners, geometry) = corners(scenario, file, maze.position_m[2])?;
+        let sensing = match (o.sensing, scenario.sensing) {
+            (Some(s), _) => s,
+            (None, Sensing::Physics) => SensingArg::Physics,
+            (None, Sensing::Kinematic) => SensingArg::Kinematic,
+            (None, Sensing::None) => {
+                return Err(CliError::field(
+                    file,
+                    "sensing",
+                    "maze-slam needs \"physics\" or \"kinematic\" (or --sensing)",
+                ));
+            }
+        };
+        let physics = match sensing {
+            SensingArg::Physics => Some(physics_configs(scenario, file, o)?),
+            SensingArg::Kinematic => None,
+        };
+        let (truth, starts) = path::path(&loop_corners, config.circuits);
+        let set_names = match &physics {
+            None => vec!["kinematic".into()],
+            Some((_, rcp)) => image_set_names(rcp.is_some(), &config.images),
+        };
+        Ok(Self {
+            geometry,
+            truth,
+            starts,
+            physics,
+            set_names,
+        })
+    }
+}
+
+/// The names of physics image sets: `<open-loop|rcp>/<estimate>`.
+pub fn image_set_names(rcp: bool, images: &[AngleEstimate]) -> Vec<String> {
+    let control = if rcp { "rcp" } else { "open-loop" };
+    images
+        .iter()
+        .map(|e| format!("{control}/{}", e.name()))
+        .collect()
+}
+
+/// One seed's data for RatSLAM, from the simulator or from a dataset.
+pub struct Sensed {
+    /// The seed (names output files).
+    pub seed: u64,
+    /// The true pose of every update (None: a log without ground truth).
+    pub truth: Option<Vec<Sample>>,
+    /// Where the estimate starts: the first true pose, or the log's first pose.
+    pub start: Sample,
+    /// Where each circuit starts.
+    pub starts: Vec<usize>,
+    /// The odometry of every update (distance, turn), with its errors.
+    pub steps: Vec<(f64, f64)>,
+    /// Each image set's name and images.
+    pub image_sets: Vec<ImageSet>,
+}
+
+/// Senses one seed live (or reads `--images`).
+pub(super) fn sense(
+    o: &Options,
+    scenario: &Scenario,
+    setup: &Setup,
+    environment: &Environment,
+    target: &std::cell::OnceCell<SweepTarget>,
+    seed: u64,
+) -> CliResult<Sensed> {
+    let file = o.scenario.as_path();
+    let config = &scenario.maze_slam;
+    let (g, truth) = (&setup.geometry, &setup.truth);
+    let image_sets: Vec<ImageSet> = match (&o.images, &setup.physics) {
+        (Some(dir), _) => setup
+            .set_names
+            .iter()
+            .map(|name| {
+                let file = images::path(dir, name, seed);
+                Ok((name.clone(), images::read(&file, truth.len())?))
+            })
+            .collect::<CliResult<_>>()?,
+        (None, None) => {
+            let target = target.get_or_init(|| environment.sweep_target());
+            let noise = scenario.kinematic.noise(file)?;
+            let key = substream_key(seed, "maze-slam/sensing");
+            let whiskers = kinematic_whiskers();
+            let images = kinematic_contacts(truth, target, noise, key, g)
+                .iter()
+                .map(|c| g.contact_image(c, &whiskers))
+                .collect();
+            vec![(setup.set_names[0].clone(), images)]
+        }
+        (None, Some((configs, rcp))) => {
+            let (max, contact) = physics::images(
+                truth,
+                &environment.physics_pieces(),
+                configs.clone(),
+                *rcp,
+                &scenario.frontend.detection,
+                substream_key(seed, "maze-slam/physics"),
+                g,
+            );
+            physics_sets(&config.images, &setup.set_names, max, contact)
+        }
+    };
+    Ok(Sensed {
+        seed,
+        truth: Some(truth.clone()),
+        start: truth[0],
+        starts: setup.starts.clone(),
+        steps: noisy_steps(&true_steps(truth), &config.odometry, seed),
+        image_sets,
+    })
+}
+
+/// The physics image sets of `estimates` (named `names`) from both images.
+pub fn physics_sets(
+    estimates: &[AngleEstimate],
+    names: &[String],
+    max: Vec<TactileImage>,
+    contact: Vec<TactileImage>,
+) -> Vec<ImageSet> {
+    estimates
+        .iter()
+        .zip(names)
+        .map(|(e, name)| {
+            let images = match e {
+                AngleEstimate::MaxAngle => max.clone(),
+                AngleEstimate::ContactAngle => contact.clone(),
+            };
+            (name.clone(), images)
+        })
+        .collect()
+}
