@@ -42,6 +42,8 @@ pub struct Manifest {
     pub noise: NoiseInfo,
     /// The maze experiment's parameters (experiment `maze-slam`).
     pub maze: Option<MazeInfo>,
+    /// The object experiment's walks (experiment `object-slam`).
+    pub object_slam: Option<ObjectSlamInfo>,
     /// Every file, relative to the dataset's directory, with its role and checksum.
     pub files: Vec<FileEntry>,
 }
@@ -52,6 +54,8 @@ pub struct Manifest {
 pub enum Experiment {
     /// Planar RatSLAM with tactile images (Ch 3).
     MazeSlam,
+    /// WhiskerRatSLAM localisation and identification on catalogue objects (§5.2).
+    ObjectSlam,
 }
 
 /// `level`.
@@ -113,8 +117,10 @@ pub struct NoiseInfo {
     pub added_with_seed: Option<u64>,
     /// Sensor noise (None: none).
     pub sensor: Option<SensorNoise>,
-    /// Odometry error model (None: none).
+    /// Planar odometry error model of §3.1.2 (maze; None: none).
     pub odometry: Option<OdometryNoise>,
+    /// 6-D odometry error (object walks; None: none).
+    pub odometry_6d: Option<Odometry6Noise>,
     /// Contact noise of level `contacts` (None: none).
     pub contacts: Option<ContactNoiseInfo>,
 }
@@ -122,8 +128,29 @@ pub struct NoiseInfo {
 impl NoiseInfo {
     /// Whether the log holds no noise at all.
     pub fn is_clean(&self) -> bool {
-        self.sensor.is_none() && self.odometry.is_none() && self.contacts.is_none()
+        self.sensor.is_none()
+            && self.odometry.is_none()
+            && self.odometry_6d.is_none()
+            && self.contacts.is_none()
     }
+}
+
+/// The 6-D odometry error of the §5.2 walks: Gaussian, per axis.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Odometry6Noise {
+    /// σ of each translation component as a fraction of the step's length.
+    pub translation_fraction: f64,
+    /// σ of each rotation-vector component (degrees).
+    pub rotation_deg: f64,
+}
+
+impl Odometry6Noise {
+    /// The walks' model (`whisker object-slam`): 5 % of the step, 0.5°.
+    pub const WALK: Odometry6Noise = Odometry6Noise {
+        translation_fraction: 0.05,
+        rotation_deg: 0.5,
+    };
 }
 
 /// Sensor noise: Gaussian, before quantisation.
@@ -173,6 +200,28 @@ pub struct MazeInfo {
     pub frontend: Option<Vec<FrontEndParams>>,
     /// RatSLAM's parameters.
     pub ratslam: RatSlamParams,
+}
+
+/// `object_slam`: the walks around each object (§5.2, Fig 5.14a).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectSlamInfo {
+    /// Every walk, each object's A (two laps) then B (one lap).
+    pub walks: Vec<WalkInfo>,
+}
+
+/// One walk around an object: a whisk at each pose, one per second.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WalkInfo {
+    /// Catalogue object.
+    pub object: String,
+    /// `A` or `B`.
+    pub trajectory: String,
+    /// Laps of the trajectory.
+    pub laps: usize,
+    /// Whisks (poses).
+    pub whisks: usize,
 }
 
 /// One file of the dataset.
@@ -273,6 +322,10 @@ impl Manifest {
             Experiment::MazeSlam if self.maze.is_none() => {
                 Err(bad("maze", "experiment \"maze-slam\" needs a maze section"))
             }
+            Experiment::ObjectSlam if self.object_slam.is_none() => Err(bad(
+                "object_slam",
+                "experiment \"object-slam\" needs an object_slam section",
+            )),
             _ => Ok(()),
         }
     }

@@ -197,6 +197,7 @@ pub fn write(
             added_with_seed: None,
             sensor: sensor_noise,
             odometry: (!clean && config.odometry.enabled).then_some(config.odometry),
+            odometry_6d: None,
             contacts: contact_noise,
         },
         maze: Some(MazeInfo {
@@ -211,6 +212,7 @@ pub fn write(
             frontend,
             ratslam: config.ratslam,
         }),
+        object_slam: None,
         files: Vec::new(),
     })
 }

@@ -24,6 +24,7 @@
 pub mod manifest;
 pub mod maze;
 pub mod noise;
+pub mod object;
 pub mod records;
 pub mod table;
 
@@ -48,6 +49,8 @@ pub enum Command {
     /// Add noise to a dataset written with `--clean`: sensor noise to the streams,
     /// detection misses and contact noise to contacts, odometry error; a new seed.
     Noise(noise::Options),
+    /// The walks of `whisker object-slam` around catalogue objects (§5.2; kinematic).
+    ObjectSlam(object::WriteOptions),
 }
 
 /// `whisker dataset SCENARIO --seed N --out DIR`.
@@ -72,6 +75,12 @@ pub struct WriteOptions {
 pub fn run(args: &Args) -> CliResult {
     match &args.command {
         Some(Command::Noise(o)) => noise::run(o),
+        Some(Command::ObjectSlam(o)) => {
+            let started = std::time::Instant::now();
+            let manifest = write(&o.out, |staging| object::write(o, staging))?;
+            report(&o.out, &manifest, started.elapsed().as_secs_f64());
+            Ok(())
+        }
         None => {
             let w = &args.write;
             let (Some(file), Some(out)) = (&w.scenario, &w.out) else {
@@ -236,6 +245,20 @@ pub fn slam(o: &SlamOptions) -> CliResult {
             options.out = o.out.clone();
             options.json = o.json;
             crate::maze_slam::replay(&options, &o.dataset, &manifest)
+        }
+        manifest::Experiment::ObjectSlam => {
+            let data = object::read(&o.dataset, &manifest)?;
+            let options = crate::object_slam::Options {
+                objects: Vec::new(),
+                seed: manifest.seed,
+                out: o.out.clone(),
+                json: o.json,
+                sensing: crate::object_slam::SensingArg::Kinematic,
+                radial_model: None,
+                slam: crate::object_slam::SlamArg::Corrected,
+                dataset: Some(o.dataset.clone()),
+            };
+            crate::object_slam::analyse(&options, &data)
         }
     }
 }

@@ -13,7 +13,9 @@
 //!   from sub-stream `maze-slam/odometry` of M — the same draws as a noisy dataset
 //!   written with seed M; the pose log is dead-reckoned again from it.
 
-use super::manifest::{ContactNoiseInfo, Level, Manifest, NoiseInfo, Role, SensorNoise};
+use super::manifest::{
+    ContactNoiseInfo, Experiment, Level, Manifest, NoiseInfo, Odometry6Noise, Role, SensorNoise,
+};
 use super::records;
 use crate::error::{CliError, CliResult};
 use crate::maze_slam::noisy_steps;
@@ -82,43 +84,69 @@ pub fn run(o: &Options) -> CliResult {
     }
     let started = std::time::Instant::now();
     let odometry = OdometryNoise::default();
+    let contact_info = ContactNoiseInfo {
+        point_fraction: o.point_fraction,
+        slope_sigma: o.slope_sigma,
+        detection_probability: o.detection,
+    };
     let written = super::write(&o.out, |s| {
         let mut out = m.clone();
         out.noise = NoiseInfo {
             added_with_seed: Some(o.seed),
             sensor: None,
-            odometry: Some(odometry),
+            odometry: None,
+            odometry_6d: None,
             contacts: None,
         };
-        let maze = m
-            .maze
-            .as_ref()
-            .expect("maze-slam datasets have a maze section");
         for entry in &m.files {
             let path = o.input.join(&entry.path);
-            let bytes = match entry.path.as_str() {
-                "log/odometry.csv" => {
+            let (parent, name) = entry.path.rsplit_once('/').unwrap_or(("", &entry.path));
+            // An object walk's directory `log/<object>/<A|B>`, or the maze's `log`.
+            let walk = parent
+                .strip_prefix("log/")
+                .filter(|_| m.experiment == Experiment::ObjectSlam);
+            let bytes = match (entry.role, name) {
+                (Role::Log, "odometry.csv") => match walk {
                     // The §3.1.2 error, as a noisy dataset of seed M holds it; the pose
                     // log dead-reckoned again from it.
-                    let clean = super::maze::read_odometry(&path, None)?;
-                    let steps = noisy_steps(&clean, &odometry, o.seed);
-                    let poses = super::maze::pose_log_of(&o.input, &m, &steps)?;
-                    s.put("log/poses.csv", Role::Log, poses.as_bytes())?;
-                    super::maze::odometry_csv(&steps).into_bytes()
-                }
-                "log/poses.csv" => continue,
-                "log/contacts.csv" => {
-                    out.noise.contacts = Some(ContactNoiseInfo {
-                        point_fraction: o.point_fraction,
-                        slope_sigma: o.slope_sigma,
-                        detection_probability: o.detection,
-                    });
-                    let cycles = records::read_contacts(&path, maze.updates, &m.array.labels)?;
-                    let noisy = noisy_contacts(&cycles, &m.array.lengths_m, contact_noise, o.seed);
+                    None => {
+                        out.noise.odometry = Some(odometry);
+                        let clean = super::maze::read_odometry(&path, None)?;
+                        let steps = noisy_steps(&clean, &odometry, o.seed);
+                        let poses = super::maze::pose_log_of(&o.input, &m, &steps)?;
+                        s.put("log/poses.csv", Role::Log, poses.as_bytes())?;
+                        super::maze::odometry_csv(&steps).into_bytes()
+                    }
+                    // The walk's Gaussian error from `object-slam/<object>/<A|B>/odometry`.
+                    Some(walk) => {
+                        out.noise.odometry_6d = Some(Odometry6Noise::WALK);
+                        let (clean, start) = super::object::read_log(&o.input, &m, walk)?;
+                        let noisy = crate::object_slam::noisy_odometry(
+                            &clean,
+                            o.seed,
+                            &format!("object-slam/{walk}"),
+                        );
+                        let poses = super::object::pose_log(&start, &noisy);
+                        s.put(&format!("{parent}/poses.csv"), Role::Log, poses.as_bytes())?;
+                        super::object::odometry_csv(&noisy).into_bytes()
+                    }
+                },
+                (Role::Log, "poses.csv") => continue,
+                (Role::Log, "contacts.csv") => {
+                    out.noise.contacts = Some(contact_info);
+                    let whisks = match (walk, &m.maze) {
+                        (Some(walk), _) => super::object::whisks(&m, walk)?,
+                        (None, Some(maze)) => maze.updates,
+                        (None, None) => 0,
+                    };
+                    let cycles = records::read_contacts(&path, whisks, &m.array.labels)?;
+                    let tag = walk.map_or(String::new(), |w| format!("{w}/"));
+                    let noisy =
+                        noisy_contacts(&cycles, &m.array.lengths_m, contact_noise, o.seed, &tag);
                     records::contacts_csv(&noisy, &m.array.labels).into_bytes()
                 }
-                p if p.starts_with("log/whisks/") => continue,
-                _ if entry.role == Role::Truth && !path.exists() => continue,
+                _ if entry.path.starts_with("log/whisks/") => continue,
+                (Role::Truth, _) if !path.exists() => continue,
                 _ => std::fs::read(&path).map_err(|e| {
                     CliError::Input(format!("{}: cannot read: {e}", path.display()))
                 })?,
@@ -177,15 +205,18 @@ pub fn run(o: &Options) -> CliResult {
     Ok(())
 }
 
-/// The §6.1.3.1.2 noise on clean contacts (whisker lengths `lengths`).
+/// The §6.1.3.1.2 noise on clean contacts (whisker lengths `lengths`), from sub-streams
+/// `dataset-noise/<tag>contacts/whisker/<w>` of `seed` (`tag`: an object walk's
+/// `<object>/<A|B>/`, or empty).
 fn noisy_contacts(
     cycles: &[whisker_slam::contact::ContactCycle],
     lengths: &[f64],
     noise: ContactNoise,
     seed: u64,
+    tag: &str,
 ) -> Vec<whisker_slam::contact::ContactCycle> {
     let mut rngs: Vec<_> = (0..lengths.len())
-        .map(|w| substream(seed, &format!("dataset-noise/contacts/whisker/{w}")))
+        .map(|w| substream(seed, &format!("dataset-noise/{tag}contacts/whisker/{w}")))
         .collect();
     cycles
         .iter()

@@ -206,10 +206,13 @@ pub fn read_poses(path: &Path) -> CliResult<Vec<(f64, Isometry3<f64>, String)>> 
                 q.norm()
             )));
         }
-        let pose = Isometry3::from_parts(
-            nalgebra::Translation3::new(v[1], v[2], v[3]),
-            nalgebra::UnitQuaternion::from_quaternion(q),
-        );
+        // Unit to rounding: taken as written (the same numbers back); else normalised.
+        let rotation = if (q.norm() - 1.0).abs() <= 1e-12 {
+            nalgebra::UnitQuaternion::new_unchecked(q)
+        } else {
+            nalgebra::UnitQuaternion::from_quaternion(q)
+        };
+        let pose = Isometry3::from_parts(nalgebra::Translation3::new(v[1], v[2], v[3]), rotation);
         out.push((v[0], pose, row.text(8).to_string()));
     }
     if out.is_empty() {

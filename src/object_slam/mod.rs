@@ -31,6 +31,7 @@
 
 pub mod physics;
 mod trajectory;
+pub use trajectory::{Trajectory, mean_step};
 
 use crate::error::{CliError, CliResult};
 use nalgebra::{Isometry3, Point3, Vector3};
@@ -39,7 +40,6 @@ use rand_distr::{Distribution, Normal};
 use rayon::prelude::*;
 use serde_json::json;
 use std::path::PathBuf;
-use trajectory::Trajectory;
 use whisker_sim::environment::assets::{Asset, CATALOGUE, generate};
 use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
 use whisker_sim::sensing::noise::ContactNoise;
@@ -64,7 +64,7 @@ const SLOPE_CLIP: f64 = 10.0;
 const DECAY: f64 = 0.9;
 
 /// Options of `whisker object-slam`.
-#[derive(clap::Args, Debug)]
+#[derive(clap::Args, Debug, Clone)]
 pub struct Options {
     /// Catalogue objects (comma-separated) [default: all eight].
     #[arg(long, value_delimiter = ',')]
@@ -91,6 +91,10 @@ pub struct Options {
     /// closed loop's default; robust relaxation on in both).
     #[arg(long, value_enum, default_value_t = SlamArg::Corrected)]
     pub slam: SlamArg,
+    /// Run from a dataset (`whisker dataset object-slam`; docs/dataset.md) instead of the
+    /// simulator: its objects, seed and contacts.
+    #[arg(long, conflicts_with_all = ["objects", "seed", "sensing", "radial_model"])]
+    pub dataset: Option<PathBuf>,
 }
 
 /// `--slam`.
@@ -169,8 +173,8 @@ impl Combo {
 struct Event {
     /// The whisk.
     sample: usize,
-    /// Map-pose error (m, degrees).
-    error: (f64, f64),
+    /// Map-pose error (m, degrees), when the true pose is known.
+    error: Option<(f64, f64)>,
     /// Perceived-pose error (m, degrees), when the experience's true pose is known.
     perceived: Option<(f64, f64)>,
     /// The object the experience belongs to (appended maps).
@@ -195,30 +199,53 @@ type IdentificationRun = (
     Vec<Event>,
     Vec<std::collections::BTreeMap<String, f64>>,
 );
-/// One object's walks: (asset, A (two laps), B, mean step of A (m, rad)).
-type Sensed<'a> = (&'a Asset, Walk, Walk, (f64, f64));
+/// One object's walks: (asset, A (two laps), B, mean step of A (m, rad) when the true
+/// poses are known).
+pub type Sensed<'a> = (&'a Asset, Walk, Walk, Option<(f64, f64)>);
 
-/// One object's sensed walks.
-struct Walk {
-    truth: Vec<Isometry3<f64>>,
-    cycles: Vec<ContactCycle>,
-    odometry: Vec<Odometry>,
+/// One sensed walk: a whisk at each pose.
+#[derive(Debug, Clone)]
+pub struct Walk {
+    /// The true pose of each whisk (None: a log without ground truth).
+    pub truth: Option<Vec<Isometry3<f64>>>,
+    /// The contacts of each whisk.
+    pub cycles: Vec<ContactCycle>,
+    /// The odometry from the previous whisk (the first: none).
+    pub odometry: Vec<Odometry>,
 }
 
-/// Senses `laps` laps of a trajectory around an object, kinematically or (given
-/// `physics`) by physics whiskers.
-fn walk(
+impl Walk {
+    /// Whisks `range` of the walk.
+    fn part(&self, range: std::ops::Range<usize>) -> Walk {
+        Walk {
+            truth: self.truth.as_ref().map(|t| t[range.clone()].to_vec()),
+            cycles: self.cycles[range.clone()].to_vec(),
+            odometry: self.odometry[range].to_vec(),
+        }
+    }
+}
+
+/// The stream names of an object's walk: contacts `object-slam/<object>/<A|B>`, odometry
+/// the same + `/odometry`.
+pub fn stream(object: &str, which: Trajectory) -> String {
+    format!("object-slam/{object}/{}", which.name())
+}
+
+/// Senses `laps` laps of a trajectory around an object (its sweep target and shape),
+/// kinematically or (given `physics`) by physics whiskers; `noise` false leaves out the
+/// contact noise and the odometry error (a clean dataset).
+pub fn walk(
     asset: &Asset,
     which: Trajectory,
     laps: usize,
-    target: &SweepTarget,
-    shape: &parry3d_f64::shape::SharedShape,
+    (target, shape): (&SweepTarget, &parry3d_f64::shape::SharedShape),
     seed: u64,
     physics: Option<&PhysicsSensing>,
+    noise: bool,
 ) -> Walk {
     let lap = trajectory::lap(which, asset.name, shape, asset.size);
     let truth: Vec<Isometry3<f64>> = (0..laps).flat_map(|_| lap.iter().copied()).collect();
-    let stream = format!("object-slam/{}/{}", asset.name, which.name());
+    let stream = stream(asset.name, which);
     let cycles = match physics {
         Some(p) => p.sense(target, &truth, seed, &stream),
         None => {
@@ -230,7 +257,11 @@ fn walk(
             let mut sensing = KinematicArray::new(
                 whiskers,
                 patterns,
-                ContactNoise::default(),
+                if noise {
+                    ContactNoise::default()
+                } else {
+                    ContactNoise::NONE
+                },
                 whisker_slam::rng::substream_key(seed, &stream),
             );
             truth
@@ -240,31 +271,71 @@ fn walk(
                 .collect()
         }
     };
-    let mut rng = substream(seed, &format!("{stream}/odometry"));
-    let angle = Normal::new(0.0, 0.5f64.to_radians()).expect("valid sigma");
-    let odometry = (0..truth.len())
-        .map(|k| {
-            if k == 0 {
-                return Odometry {
-                    dt: 1.0,
-                    ..Odometry::default()
-                };
-            }
-            let mut o = Odometry::between(&truth[k - 1], &truth[k], 1.0);
-            let step = Vector3::from(o.v).norm();
-            let s = Normal::new(0.0, 0.05 * step.max(1e-12)).expect("valid sigma");
-            for a in 0..3 {
-                o.v[a] += s.sample(&mut rng);
-                o.omega[a] += angle.sample(&mut rng);
-            }
-            o
-        })
-        .collect();
+    let clean = clean_odometry(&truth);
+    let odometry = if noise {
+        noisy_odometry(&clean, seed, &stream)
+    } else {
+        clean
+    };
     Walk {
-        truth,
+        truth: Some(truth),
         cycles,
         odometry,
     }
+}
+
+/// The exact odometry of a walk through `truth`, one whisk per second (the first: no
+/// motion).
+pub fn clean_odometry(truth: &[Isometry3<f64>]) -> Vec<Odometry> {
+    (0..truth.len())
+        .map(|k| match k {
+            0 => Odometry {
+                dt: 1.0,
+                ..Odometry::default()
+            },
+            _ => Odometry::between(&truth[k - 1], &truth[k], 1.0),
+        })
+        .collect()
+}
+
+/// The walk's odometry errors on `clean` odometry (all but the first, which is no
+/// motion): Gaussian, 5 % of the step per translation axis and 0.5° per rotation axis,
+/// from sub-stream `<stream>/odometry` of `seed`.
+pub fn noisy_odometry(clean: &[Odometry], seed: u64, stream: &str) -> Vec<Odometry> {
+    let mut rng = substream(seed, &format!("{stream}/odometry"));
+    let angle = Normal::new(0.0, 0.5f64.to_radians()).expect("valid sigma");
+    clean
+        .iter()
+        .enumerate()
+        .map(|(k, &o)| {
+            let mut o = o;
+            if k > 0 {
+                let step = Vector3::from(o.v).norm();
+                let s = Normal::new(0.0, 0.05 * step.max(1e-12)).expect("valid sigma");
+                for a in 0..3 {
+                    o.v[a] += s.sample(&mut rng);
+                    o.omega[a] += angle.sample(&mut rng);
+                }
+            }
+            o
+        })
+        .collect()
+}
+
+/// The noise-free anticipated contacts (the rigid sweep) of the kinematic array at each
+/// of `poses`.
+pub fn anticipated(target: &SweepTarget, poses: &[Isometry3<f64>]) -> Vec<ContactCycle> {
+    let whiskers: Vec<RigidWhisker> = array::modules()
+        .into_iter()
+        .map(|m| RigidWhisker::new(m, 3.0e-3))
+        .collect();
+    let patterns = vec![WhiskingPattern::default(); whiskers.len()];
+    let mut sweep = KinematicArray::new(whiskers, patterns, ContactNoise::NONE, 0);
+    poses
+        .iter()
+        .enumerate()
+        .map(|(k, p)| sweep.sense(target, k as u64, k as f64, p))
+        .collect()
 }
 
 /// The features of one whisk for a contact estimate.
@@ -298,14 +369,15 @@ pub fn whisk_features(cycle: &ContactCycle, points: &[Point3<f64>]) -> Features 
 }
 
 /// Runs `walk` through `slam`; returns its re-localisations from sample `from` on, with
-/// their errors relative to `origin` (A's first true pose). `made` holds, per experience,
-/// the true pose where it was made (relative to `origin`); new experiences are added.
+/// their errors relative to `origin` (A's first true pose; None without ground truth).
+/// `made` holds, per experience, the true pose where it was made (relative to `origin`);
+/// new experiences are added.
 fn explore(
     slam: &mut WhiskerRatSlam,
     walk: &Walk,
     combo: Combo,
     modules: &[Module],
-    origin: &Isometry3<f64>,
+    origin: Option<&Isometry3<f64>>,
     from: usize,
     made: &mut Vec<Option<Isometry3<f64>>>,
 ) -> Vec<Event> {
@@ -313,19 +385,22 @@ fn explore(
     let degrees = |(t, r): (f64, f64)| (t, r.to_degrees());
     for (k, (cycle, odo)) in walk.cycles.iter().zip(&walk.odometry).enumerate() {
         let step = slam.step(&features(cycle, combo.contact, modules), odo);
-        let truth = origin.inverse() * walk.truth[k];
+        let truth = origin
+            .zip(walk.truth.as_ref())
+            .map(|(o, t)| o.inverse() * t[k]);
         made.resize(slam.map.experiences.len(), None);
         if step.created {
-            made[step.experience] = Some(truth);
+            made[step.experience] = truth;
         }
         if step.relocalised && k >= from {
             let map_origin = slam.map.pose(0).inverse();
             let estimate = map_origin * slam.map.pose(step.experience);
             out.push(Event {
                 sample: k,
-                error: degrees(whisker_slam::pose::distance(&estimate, &truth)),
+                error: truth.map(|t| degrees(whisker_slam::pose::distance(&estimate, &t))),
                 perceived: made[step.experience]
-                    .map(|at| degrees(whisker_slam::pose::distance(&at, &truth))),
+                    .zip(truth)
+                    .map(|(at, t)| degrees(whisker_slam::pose::distance(&at, &t))),
                 object: slam.map.experiences[step.experience].object.clone(),
             });
         }
@@ -345,26 +420,39 @@ fn params(combo: Combo, slam: SlamArg) -> Params {
 
 /// `whisker object-slam`.
 pub fn run(o: &Options) -> CliResult {
-    let assets: Vec<&Asset> = if o.objects.is_empty() {
-        CATALOGUE.iter().collect()
-    } else {
-        o.objects
-            .iter()
-            .map(|n| {
-                CATALOGUE.iter().find(|a| a.name == n).ok_or_else(|| {
-                    let names: Vec<&str> = CATALOGUE.iter().map(|a| a.name).collect();
-                    CliError::Input(format!(
-                        "--objects: unknown object {n:?}; expected some of {}",
-                        names.join(", ")
-                    ))
-                })
-            })
-            .collect::<CliResult<_>>()?
-    };
-    if let Some(dir) = &o.out {
-        crate::output::create_dir(dir)?;
+    if let Some(dir) = &o.dataset {
+        let manifest = crate::dataset::manifest::Manifest::read(dir)?;
+        let data = crate::dataset::object::read(dir, &manifest)?;
+        let mut o = o.clone();
+        o.seed = manifest.seed;
+        return analyse(&o, &data);
     }
-    let modules = array::modules();
+    let data = sense(o, true)?;
+    analyse(o, &data)
+}
+
+/// The catalogue objects named by `--objects` (all eight when none).
+pub fn objects(names: &[String]) -> CliResult<Vec<&'static Asset>> {
+    if names.is_empty() {
+        return Ok(CATALOGUE.iter().collect());
+    }
+    names
+        .iter()
+        .map(|n| {
+            CATALOGUE.iter().find(|a| a.name == n).ok_or_else(|| {
+                let names: Vec<&str> = CATALOGUE.iter().map(|a| a.name).collect();
+                CliError::Input(format!(
+                    "--objects: unknown object {n:?}; expected some of {}",
+                    names.join(", ")
+                ))
+            })
+        })
+        .collect()
+}
+
+/// Senses every object of `o` (walks A and B); `noise` false: a clean dataset's walks.
+pub fn sense(o: &Options, noise: bool) -> CliResult<Vec<Sensed<'static>>> {
+    let assets = objects(&o.objects)?;
     let model: Option<RadialEstimator> = match (o.sensing, &o.radial_model) {
         (SensingArg::Kinematic, None) => None,
         (SensingArg::Kinematic, Some(_)) => {
@@ -374,7 +462,7 @@ pub fn run(o: &Options) -> CliResult {
         }
         (SensingArg::Physics, path) => Some(crate::frontend::radial_model(path.as_deref())?),
     };
-    let data: Vec<Sensed> = assets
+    assets
         .par_iter()
         .map(|asset| {
             let mesh = generate(asset);
@@ -385,30 +473,28 @@ pub fn run(o: &Options) -> CliResult {
             let physics = model
                 .clone()
                 .map(|m| PhysicsSensing::new(vec![(shape.clone(), Isometry3::identity())], m));
-            let a = walk(
-                asset,
-                Trajectory::A,
-                2,
-                &target,
-                &shape,
-                o.seed,
-                physics.as_ref(),
+            let p = physics.as_ref();
+            let object = (&target, &shape);
+            let a = walk(asset, Trajectory::A, 2, object, o.seed, p, noise);
+            let b = walk(asset, Trajectory::B, 1, object, o.seed, p, noise);
+            let truth = a.truth.as_deref().unwrap_or_default();
+            let step = trajectory::mean_step(&truth[..truth.len() / 2]);
+            eprintln!(
+                "{}: {} poses per lap sensed",
+                asset.name,
+                a.cycles.len() / 2
             );
-            let b = walk(
-                asset,
-                Trajectory::B,
-                1,
-                &target,
-                &shape,
-                o.seed,
-                physics.as_ref(),
-            );
-            let lap = a.truth.len() / 2;
-            let step = trajectory::mean_step(&a.truth[..lap]);
-            eprintln!("{}: {} poses per lap sensed", asset.name, lap);
-            Ok((*asset, a, b, step))
+            Ok((*asset, a, b, Some(step)))
         })
-        .collect::<CliResult<_>>()?;
+        .collect()
+}
+
+/// Localisation and identification on sensed walks (§5.2.2): reports and `--out` files.
+pub fn analyse(o: &Options, data: &[Sensed]) -> CliResult {
+    if let Some(dir) = &o.out {
+        crate::output::create_dir(dir)?;
+    }
+    let modules = array::modules();
     // Localisation: every object × every parameter set.
     let jobs: Vec<(usize, Combo)> = (0..data.len())
         .flat_map(|i| Combo::all().into_iter().map(move |c| (i, c)))
@@ -417,19 +503,20 @@ pub fn run(o: &Options) -> CliResult {
         .par_iter()
         .map(|&(i, combo)| {
             let (_, a, b, _) = &data[i];
-            let lap = a.truth.len() / 2;
-            let origin = a.truth[0];
+            let lap = a.cycles.len() / 2;
+            let origin = a.truth.as_ref().map(|t| t[0]);
+            let origin = origin.as_ref();
             let mut slam = WhiskerRatSlam::new(params(combo, o.slam), ObjectMap::default());
             let mut made = Vec::new();
-            let on_a = explore(&mut slam, a, combo, &modules, &origin, lap, &mut made);
+            let on_a = explore(&mut slam, a, combo, &modules, origin, lap, &mut made);
             let map = slam.map.clone();
             let mut slam_b = WhiskerRatSlam::new(params(combo, o.slam), map.clone());
-            let on_b = explore(&mut slam_b, b, combo, &modules, &origin, 0, &mut made);
+            let on_b = explore(&mut slam_b, b, combo, &modules, origin, 0, &mut made);
             (i, combo, on_a, on_b, map)
         })
         .collect();
     eprintln!("localisation: {} runs done", results.len());
-    let localisation = report::localisation(o, &data, &results)?;
+    let localisation = report::localisation(o, data, &results)?;
     // Identification with the best set's maps, the unmapped object left out.
     let mut appended = ObjectMap::default();
     let mut mapped = Vec::new();
@@ -448,33 +535,25 @@ pub fn run(o: &Options) -> CliResult {
         .map(|&(i, which)| {
             let (_, a, b, _) = &data[i];
             let walk = match which {
-                Trajectory::A => Walk {
-                    truth: a.truth[..a.truth.len() / 2].to_vec(),
-                    cycles: a.cycles[..a.cycles.len() / 2].to_vec(),
-                    odometry: a.odometry[..a.odometry.len() / 2].to_vec(),
-                },
-                Trajectory::B => Walk {
-                    truth: b.truth.clone(),
-                    cycles: b.cycles.clone(),
-                    odometry: b.odometry.clone(),
-                },
+                Trajectory::A => a.part(0..a.cycles.len() / 2),
+                Trajectory::B => b.clone(),
             };
             let mut slam = WhiskerRatSlam::new(params(Combo::BEST, o.slam), appended.clone());
             let mut id = Identification::new(mapped.clone(), DECAY);
             let mut series = Vec::new();
             let mut made = Vec::new();
-            let origin = a.truth[0];
+            let origin = a.truth.as_ref().map(|t| t[0]);
             let events = explore(
                 &mut slam,
                 &walk,
                 Combo::BEST,
                 &modules,
-                &origin,
+                origin.as_ref(),
                 0,
                 &mut made,
             );
             let mut e = events.iter().peekable();
-            for k in 0..walk.truth.len() {
+            for k in 0..walk.cycles.len() {
                 let onto = e.next_if(|x| x.sample == k).and_then(|x| x.object.clone());
                 id.update(onto.as_deref());
                 series.push(id.confidence.clone());
@@ -482,7 +561,7 @@ pub fn run(o: &Options) -> CliResult {
             (i, which, events, series)
         })
         .collect();
-    let identification = report::identification(o, &data, &mapped, &identification)?;
+    let identification = report::identification(o, data, &mapped, &identification)?;
     if o.json {
         println!(
             "{}",

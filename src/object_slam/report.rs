@@ -23,35 +23,44 @@ pub fn localisation(o: &Options, data: &[Sensed], runs: &[LocalisationRun]) -> C
     );
     let mut rows = Vec::new();
     for (i, combo, on_a, on_b, map) in runs {
-        let (asset, _, _, (step_m, step_rad)) = &data[*i];
+        let (asset, _, _, step) = &data[*i];
         for (name, events) in [("A", on_a), ("B", on_b)] {
             for e in events {
-                let (pt, pr) = e.perceived.unwrap_or((f64::NAN, f64::NAN));
+                // Errors need ground truth: empty cells without it.
+                let pair =
+                    |v: Option<(f64, f64)>| v.map_or(",".into(), |(a, b)| format!("{a},{b}"));
                 csv += &format!(
-                    "{},{},{name},{},{},{},{pt},{pr}\n",
+                    "{},{},{name},{},{},{}\n",
                     asset.name,
                     combo.name(),
                     e.sample,
-                    e.error.0,
-                    e.error.1
+                    pair(e.error),
+                    pair(e.perceived)
                 );
             }
         }
         let (thesis_m, thesis_deg) = super::thesis_step(asset.name);
-        let summary = |v: Vec<f64>| json!({ "median": median(v.clone()), "p75": percentile(v.clone(), 75.0), "max": percentile(v, 100.0) });
+        // Null without ground truth (no errors to summarise), not zeros.
+        let summary = |v: Vec<f64>| {
+            if v.is_empty() && step.is_none() {
+                return Value::Null;
+            }
+            json!({ "median": median(v.clone()), "p75": percentile(v.clone(), 75.0), "max": percentile(v, 100.0) })
+        };
         let stats = |events: &[super::Event]| {
             let perceived: Vec<(f64, f64)> = events.iter().filter_map(|e| e.perceived).collect();
             let revisits = perceived
                 .iter()
                 .filter(|(t, r)| *t <= thesis_m && *r <= thesis_deg)
                 .count();
+            let errors: Vec<(f64, f64)> = events.iter().filter_map(|e| e.error).collect();
             json!({
                 "relocalisations": events.len(),
-                "position_error_m": summary(events.iter().map(|e| e.error.0).collect()),
-                "rotation_error_deg": summary(events.iter().map(|e| e.error.1).collect()),
+                "position_error_m": summary(errors.iter().map(|e| e.0).collect()),
+                "rotation_error_deg": summary(errors.iter().map(|e| e.1).collect()),
                 "perceived_position_error_m": summary(perceived.iter().map(|p| p.0).collect()),
                 "perceived_rotation_error_deg": summary(perceived.iter().map(|p| p.1).collect()),
-                "true_revisits": revisits,
+                "true_revisits": if step.is_none() { Value::Null } else { json!(revisits) },
                 "true_revisit_share": if perceived.is_empty() { Value::Null } else { json!(revisits as f64 / perceived.len() as f64) },
             })
         };
@@ -59,8 +68,8 @@ pub fn localisation(o: &Options, data: &[Sensed], runs: &[LocalisationRun]) -> C
             "object": asset.name,
             "parameters": combo.name(),
             "experiences": map.experiences.len(),
-            "step_m": step_m,
-            "step_deg": step_rad.to_degrees(),
+            "step_m": step.map(|s| s.0),
+            "step_deg": step.map(|s| s.1.to_degrees()),
             "thesis_step_m": thesis_m,
             "thesis_step_deg": thesis_deg,
             "A": stats(on_a),
@@ -96,7 +105,11 @@ pub fn localisation(o: &Options, data: &[Sensed], runs: &[LocalisationRun]) -> C
             "B rotation °"
         );
         for r in &rows {
+            // Null (no ground truth) reads n/a.
             let cell = |t: &str, k: &str, scale: f64| {
+                if r[t][k].is_null() {
+                    return "n/a".to_string();
+                }
                 format!(
                     "{:.1} / {:.1}",
                     r[t][k]["median"].as_f64().unwrap_or(f64::NAN) * scale,
@@ -104,19 +117,22 @@ pub fn localisation(o: &Options, data: &[Sensed], runs: &[LocalisationRun]) -> C
                 )
             };
             let count = |t: &str| {
+                let revisits = r[t]["true_revisits"].as_u64();
                 format!(
                     "{}/{}",
                     r[t]["relocalisations"].as_u64().unwrap_or(0),
-                    r[t]["true_revisits"].as_u64().unwrap_or(0)
+                    revisits.map_or("n/a".into(), |n| n.to_string())
                 )
             };
+            let step = match (r["step_m"].as_f64(), r["step_deg"].as_f64()) {
+                (Some(m), Some(d)) => format!("{:>5.1}cm {d:>3.0}°", m * 100.0),
+                _ => format!("{:>12}", "n/a"),
+            };
             println!(
-                "  {:<10} {:<20} {:>5} {:>5.1}cm {:>3.0}° {:>7} {:>17} {:>15} {:>7} {:>17} {:>15}",
+                "  {:<10} {:<20} {:>5} {step} {:>7} {:>17} {:>15} {:>7} {:>17} {:>15}",
                 r["object"].as_str().unwrap_or(""),
                 r["parameters"].as_str().unwrap_or(""),
                 r["experiences"].as_u64().unwrap_or(0),
-                r["step_m"].as_f64().unwrap_or(f64::NAN) * 100.0,
-                r["step_deg"].as_f64().unwrap_or(f64::NAN),
                 count("A"),
                 cell("A", "position_error_m", 100.0),
                 cell("A", "rotation_error_deg", 1.0),

@@ -193,4 +193,66 @@ fn malformed_datasets_are_refused_naming_file_and_line() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("already exists"), "{}", stderr(&o));
     assert_eq!(files(&good).len(), 8);
+
+    // Object datasets: an object the catalogue does not have; a 6-D odometry row with a
+    // field missing; a walk's truth poses with a non-unit quaternion.
+    let object = t.join("object");
+    ok(
+        2,
+        &[
+            "dataset",
+            "object-slam",
+            "--objects",
+            "mug",
+            "--out",
+            s(&object),
+        ],
+    );
+    type Damage = fn(&Path);
+    let cases: [(&str, Damage, &[&str]); 3] = [
+        (
+            "unknown object",
+            |d| {
+                let mut m = manifest(d);
+                m["object_slam"]["walks"][0]["object"] = "teapot".into();
+                std::fs::write(d.join("dataset.json"), m.to_string()).unwrap();
+            },
+            &["dataset.json", "object_slam.walks", "teapot"],
+        ),
+        (
+            "short odometry row",
+            |d| {
+                let rel = "log/mug/B/odometry.csv";
+                let text = std::fs::read_to_string(d.join(rel)).unwrap();
+                let cut: Vec<&str> = text.lines().collect();
+                let row = cut[3].rsplit_once(',').unwrap().0.to_string();
+                let text = text.replacen(cut[3], &row, 1);
+                std::fs::write(d.join(rel), text).unwrap();
+                rehash(d, rel);
+            },
+            &[
+                "log/mug/B/odometry.csv",
+                "line 4",
+                "expected 9 fields, got 8",
+            ],
+        ),
+        (
+            "truth quaternion",
+            |d| {
+                let rel = "truth/mug/A/poses.csv";
+                let text = std::fs::read_to_string(d.join(rel)).unwrap();
+                std::fs::write(d.join(rel), set_field(&text, 2, 8, "2")).unwrap();
+                rehash(d, rel);
+            },
+            &["truth/mug/A/poses.csv", "line 3", "unit quaternion"],
+        ),
+    ];
+    for (name, damage, expected) in cases {
+        let d = t.join(name.replace(' ', "-"));
+        copy_dir(&object, &d);
+        damage(&d);
+        let out = t.join(format!("{}-out", name.replace(' ', "-")));
+        let o = whisker(&["object-slam", "--dataset", s(&d), "--out", s(&out)]);
+        refused(&o, name, expected, &out);
+    }
 }

@@ -5,6 +5,7 @@
 mod arm_tour;
 mod dataset;
 mod dataset_malformed;
+mod dataset_object;
 mod environment;
 mod explore;
 mod inputs;

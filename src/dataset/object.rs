@@ -1,0 +1,359 @@
+//! Object datasets (experiment `object-slam`, thesis §5.2): the walks of `whisker
+//! object-slam` around catalogue objects — trajectory A (two laps) and B (one lap), one
+//! whisk per pose per second — written as logs, and read back into the same
+//! localisation and identification.
+//!
+//! Kinematic sensing only (level `contacts`): per walk, `log/<object>/<A|B>/contacts.csv`
+//! (the noisy contacts of every whisk, §6.1.3.1.2), `odometry.csv` (6-D, Eq 5.7: the
+//! velocity and the rotation vector over each whisk's interval, with the walk's Gaussian
+//! errors) and `poses.csv` (the pose log, dead-reckoned from that odometry); ground truth
+//! `truth/<object>/<A|B>/poses.csv`, `odometry.csv` (noise-free) and `contacts.csv` (the
+//! rigid sweep without noise).
+
+use super::manifest::{
+    ContactNoiseInfo, Experiment, Level, Manifest, NoiseInfo, ObjectSlamInfo, Odometry6Noise, Role,
+    WalkInfo,
+};
+use super::records::{self, POSE_COLUMNS};
+use super::table::{Row, Table, columns};
+use super::{Staging, array_info};
+use crate::error::{CliError, CliResult};
+use crate::object_slam::{self, Options, Sensed, SensingArg, Walk};
+use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+use whisker_sim::environment::assets::{CATALOGUE, generate};
+use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
+use whisker_sim::sensing::noise::ContactNoise;
+use whisker_sim::whisker::array;
+use whisker_slam::sensor::Odometry;
+
+pub(super) const ODOMETRY_COLUMNS: &str =
+    "whisk,time_s,vx_m_s,vy_m_s,vz_m_s,wx_rad_s,wy_rad_s,wz_rad_s,dt_s";
+const TRUTH_COLUMNS: &str = "whisk,time_s,x_m,y_m,z_m,qx,qy,qz,qw";
+
+/// `whisker dataset object-slam`.
+#[derive(clap::Args, Debug)]
+pub struct WriteOptions {
+    /// Catalogue objects (comma-separated) [default: all eight].
+    #[arg(long, value_delimiter = ',')]
+    pub objects: Vec<String>,
+    /// Seed of every random draw.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// The dataset's directory (must not exist).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Write without noise (contact noise and odometry error left out).
+    #[arg(long)]
+    pub clean: bool,
+}
+
+/// Writes the walks of `o` into `s` (kinematic sensing, as `whisker object-slam`).
+pub fn write(o: &WriteOptions, s: &mut Staging) -> CliResult<Manifest> {
+    let options = Options {
+        objects: o.objects.clone(),
+        seed: o.seed,
+        out: None,
+        json: false,
+        sensing: SensingArg::Kinematic,
+        radial_model: None,
+        slam: object_slam::SlamArg::Corrected,
+        dataset: None,
+    };
+    let data = object_slam::sense(&options, !o.clean)?;
+    let whiskers: Vec<RigidWhisker> = array::modules()
+        .into_iter()
+        .map(|m| RigidWhisker::new(m, 3.0e-3))
+        .collect();
+    let array = array_info(&whiskers);
+    let mut walks = Vec::new();
+    for (asset, a, b, _) in &data {
+        let target = SweepTarget::new(generate(asset));
+        for (walk, which, laps) in [(a, "A", 2), (b, "B", 1)] {
+            let dir = format!("{}/{which}", asset.name);
+            let truth = walk.truth.as_ref().expect("sensed walks have their truth");
+            let log_contacts = records::contacts_csv(&walk.cycles, &array.labels);
+            s.put(
+                &format!("log/{dir}/contacts.csv"),
+                Role::Log,
+                log_contacts.as_bytes(),
+            )?;
+            s.put(
+                &format!("log/{dir}/odometry.csv"),
+                Role::Log,
+                odometry_csv(&walk.odometry).as_bytes(),
+            )?;
+            s.put(
+                &format!("log/{dir}/poses.csv"),
+                Role::Log,
+                pose_log(&truth[0], &walk.odometry).as_bytes(),
+            )?;
+            let mut poses = String::from(TRUTH_COLUMNS) + "\n";
+            for (k, p) in truth.iter().enumerate() {
+                let (t, q) = (p.translation.vector, p.rotation.coords);
+                let _ = writeln!(
+                    poses,
+                    "{k},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
+                    k as f64, t.x, t.y, t.z, q.x, q.y, q.z, q.w
+                );
+            }
+            s.put(
+                &format!("truth/{dir}/poses.csv"),
+                Role::Truth,
+                poses.as_bytes(),
+            )?;
+            let clean = object_slam::clean_odometry(truth);
+            s.put(
+                &format!("truth/{dir}/odometry.csv"),
+                Role::Truth,
+                odometry_csv(&clean).as_bytes(),
+            )?;
+            let anticipated = object_slam::anticipated(&target, truth);
+            s.put(
+                &format!("truth/{dir}/contacts.csv"),
+                Role::Truth,
+                records::contacts_csv(&anticipated, &array.labels).as_bytes(),
+            )?;
+            walks.push(WalkInfo {
+                object: asset.name.to_string(),
+                trajectory: which.to_string(),
+                laps,
+                whisks: walk.cycles.len(),
+            });
+        }
+    }
+    let noise = ContactNoise::default();
+    Ok(Manifest {
+        format: super::manifest::FORMAT.into(),
+        version: super::manifest::VERSION,
+        written_by: super::written_by(),
+        experiment: Experiment::ObjectSlam,
+        level: Level::Contacts,
+        seed: o.seed,
+        array,
+        sensor: None,
+        noise: NoiseInfo {
+            added_with_seed: None,
+            sensor: None,
+            odometry: None,
+            odometry_6d: (!o.clean).then_some(Odometry6Noise::WALK),
+            contacts: (!o.clean).then_some(ContactNoiseInfo {
+                point_fraction: noise.point_fraction,
+                slope_sigma: noise.slope_sigma,
+                detection_probability: noise.detection_probability,
+            }),
+        },
+        maze: None,
+        object_slam: Some(ObjectSlamInfo { walks }),
+        files: Vec::new(),
+    })
+}
+
+/// A 6-D odometry file's text: per whisk, v (m/s) and ω (rad/s) in the body frame at the
+/// interval's start, and the interval (s).
+pub(super) fn odometry_csv(odometry: &[Odometry]) -> String {
+    let mut csv = String::from(ODOMETRY_COLUMNS) + "\n";
+    for (k, o) in odometry.iter().enumerate() {
+        let _ = writeln!(
+            csv,
+            "{k},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
+            k as f64, o.v[0], o.v[1], o.v[2], o.omega[0], o.omega[1], o.omega[2], o.dt
+        );
+    }
+    csv
+}
+
+/// The pose log: from `start`, each whisk's odometry applied (translation v·Δt, rotation
+/// exp(ω·Δt), both in the body frame; the first whisk's is not), one row per whisk.
+pub(super) fn pose_log(start: &Isometry3<f64>, odometry: &[Odometry]) -> String {
+    let mut at = *start;
+    let mut csv = String::from(POSE_COLUMNS) + "\n";
+    for (k, o) in odometry.iter().enumerate() {
+        if k > 0 {
+            let step = Isometry3::from_parts(
+                Translation3::from(Vector3::from(o.v) * o.dt),
+                UnitQuaternion::from_scaled_axis(Vector3::from(o.omega) * o.dt),
+            );
+            at *= step;
+        }
+        csv += &records::pose_row(k as f64, &at, &format!("whisk_{k:06}"));
+    }
+    csv
+}
+
+/// Reads an object dataset into the walks `whisker object-slam` analyses.
+pub fn read(dir: &Path, m: &Manifest) -> CliResult<Vec<Sensed<'static>>> {
+    let file = dir.join(super::manifest::FILE);
+    let Some(info) = m
+        .object_slam
+        .as_ref()
+        .filter(|_| m.experiment == Experiment::ObjectSlam)
+    else {
+        return Err(CliError::Input(format!(
+            "{}: not an object-slam dataset",
+            file.display()
+        )));
+    };
+    if m.level != Level::Contacts {
+        return Err(CliError::field(
+            &file,
+            "level",
+            "object-slam datasets are \"contacts\"",
+        ));
+    }
+    super::rigid_whiskers(dir, &m.array)?;
+    let truth = m.has_truth(dir);
+    let mut out = Vec::new();
+    for pair in info.walks.chunks(2) {
+        let [a, b] = pair else {
+            return Err(CliError::field(
+                &file,
+                "object_slam.walks",
+                "expected A then B per object",
+            ));
+        };
+        let asset = CATALOGUE
+            .iter()
+            .find(|x| x.name == a.object)
+            .ok_or_else(|| {
+                CliError::field(
+                    &file,
+                    "object_slam.walks",
+                    format!("unknown object {:?}", a.object),
+                )
+            })?;
+        if (
+            a.trajectory.as_str(),
+            a.laps,
+            b.trajectory.as_str(),
+            b.laps,
+            &b.object,
+        ) != ("A", 2, "B", 1, &a.object)
+        {
+            return Err(CliError::field(
+                &file,
+                "object_slam.walks",
+                format!(
+                    "{}: expected trajectory A (2 laps) then B (1 lap)",
+                    a.object
+                ),
+            ));
+        }
+        let walk_a = read_walk(dir, m, a, truth)?;
+        let walk_b = read_walk(dir, m, b, truth)?;
+        let step = walk_a.truth.as_ref().map(|t| {
+            let lap = walk_a.cycles.len() / 2;
+            crate::object_slam::mean_step(&t[..lap])
+        });
+        out.push((asset, walk_a, walk_b, step));
+    }
+    Ok(out)
+}
+
+/// The number of whisks of walk `walk` (`<object>/<A|B>`) in the manifest.
+pub(super) fn whisks(m: &Manifest, walk: &str) -> CliResult<usize> {
+    m.object_slam
+        .as_ref()
+        .and_then(|i| {
+            i.walks
+                .iter()
+                .find(|w| format!("{}/{}", w.object, w.trajectory) == walk)
+        })
+        .map(|w| w.whisks)
+        .ok_or_else(|| {
+            CliError::Input(format!(
+                "{}: field `object_slam.walks`: no walk {walk}",
+                super::manifest::FILE
+            ))
+        })
+}
+
+/// A walk's logged odometry and the first pose of its pose log (`walk`: `<object>/<A|B>`).
+pub(super) fn read_log(
+    dir: &Path,
+    m: &Manifest,
+    walk: &str,
+) -> CliResult<(Vec<Odometry>, Isometry3<f64>)> {
+    let n = whisks(m, walk)?;
+    let odometry = read_odometry(&m.file(dir, &format!("log/{walk}/odometry.csv"))?, n)?;
+    let poses = records::read_poses(&m.file(dir, &format!("log/{walk}/poses.csv"))?)?;
+    Ok((odometry, poses[0].1))
+}
+
+/// A 6-D odometry file of `n` whisks.
+fn read_odometry(path: &Path, n: usize) -> CliResult<Vec<Odometry>> {
+    read_rows(path, ODOMETRY_COLUMNS, n, |row| {
+        let v: Vec<f64> = (2..9).map(|i| row.f64(i)).collect::<CliResult<_>>()?;
+        Ok(Odometry {
+            v: [v[0], v[1], v[2]],
+            omega: [v[3], v[4], v[5]],
+            dt: v[6],
+        })
+    })
+}
+
+/// One walk's contacts, odometry and (if `truth`) true poses.
+fn read_walk(dir: &Path, m: &Manifest, w: &WalkInfo, truth: bool) -> CliResult<Walk> {
+    let base = format!("{}/{}", w.object, w.trajectory);
+    let n = w.whisks;
+    let cycles = records::read_contacts(
+        &m.file(dir, &format!("log/{base}/contacts.csv"))?,
+        n,
+        &m.array.labels,
+    )?;
+    let odometry = read_odometry(&m.file(dir, &format!("log/{base}/odometry.csv"))?, n)?;
+    let truth = if truth {
+        Some(read_rows(
+            &m.file(dir, &format!("truth/{base}/poses.csv"))?,
+            TRUTH_COLUMNS,
+            n,
+            |row| {
+                let v: Vec<f64> = (2..9).map(|i| row.f64(i)).collect::<CliResult<_>>()?;
+                let q = Quaternion::new(v[6], v[3], v[4], v[5]);
+                if (q.norm() - 1.0).abs() > 1e-9 {
+                    return Err(
+                        row.error("columns 6–9 (qx, qy, qz, qw): expected a unit quaternion")
+                    );
+                }
+                // As written: not renormalised, so the replay sees the very same numbers.
+                Ok(Isometry3::from_parts(
+                    Translation3::new(v[0], v[1], v[2]),
+                    UnitQuaternion::new_unchecked(q),
+                ))
+            },
+        )?)
+    } else {
+        None
+    };
+    Ok(Walk {
+        truth,
+        cycles,
+        odometry,
+    })
+}
+
+/// The `n` rows of a per-whisk file (`whisk` = 0, 1, … in column 1, a time in column 2),
+/// each read by `parse`.
+fn read_rows<T>(
+    path: &Path,
+    header: &str,
+    n: usize,
+    parse: impl Fn(&Row) -> CliResult<T>,
+) -> CliResult<Vec<T>> {
+    let table = Table::read(path, &columns(header))?;
+    if table.len() != n {
+        return Err(table.error(
+            table.len() + 1,
+            format!("expected {n} whisks, got {}", table.len()),
+        ));
+    }
+    let mut out = Vec::with_capacity(n);
+    for row in table.rows() {
+        let row = row?;
+        row.expect(0, out.len())?;
+        row.f64(1)?;
+        out.push(parse(&row)?);
+    }
+    Ok(out)
+}

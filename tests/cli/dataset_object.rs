@@ -1,0 +1,138 @@
+//! Object datasets (`whisker dataset object-slam`, docs/dataset.md): the §5.2 walks as
+//! logs; `object-slam --dataset` and `slam` replay the live run byte for byte; without
+//! ground truth identification still runs (it needs none) and the localisation errors are
+//! unavailable; noise added later reproduces a noisy dataset's odometry.
+
+use super::dataset::{copy_dir, files, manifest, ok, s};
+use super::*;
+
+#[test]
+fn object_dataset_replays_the_live_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    let (d, d2, d7) = (t.join("d"), t.join("d2"), t.join("d7"));
+    let write = |threads: usize, seed: &str, out: &Path, extra: &[&str]| {
+        let args = [
+            &["dataset", "object-slam", "--objects", "mug,barrel"],
+            &["--seed", seed, "--out", s(out)][..],
+            extra,
+        ]
+        .concat();
+        ok(threads, &args);
+    };
+    write(2, "0", &d, &[]);
+    write(1, "0", &d2, &[]);
+    write(2, "7", &d7, &[]);
+    assert_eq!(
+        files(&d),
+        files(&d2),
+        "the dataset depends on the thread count"
+    );
+    let (a, b) = (files(&d), files(&d7));
+    for rel in a.keys().filter(|k| k.as_str() != "dataset.json") {
+        assert_eq!(a[rel] != b[rel], rel.starts_with("log/"), "{rel}");
+    }
+    let walks = &manifest(&d)["object_slam"]["walks"];
+    assert_eq!(walks[0]["object"], "mug");
+    assert_eq!(
+        (
+            walks[0]["trajectory"].as_str(),
+            walks[1]["trajectory"].as_str()
+        ),
+        (Some("A"), Some("B"))
+    );
+    // Trajectory A is two laps: its second lap's true poses repeat the first's.
+    let truth = rows(&d.join("truth/mug/A/poses.csv"));
+    let lap = truth.len() / 2;
+    assert_eq!(walks[0]["whisks"].as_u64().unwrap() as usize, truth.len());
+    for k in 0..lap {
+        assert_eq!(truth[k][2..], truth[k + lap][2..]);
+    }
+
+    // Live vs replay, and the general command.
+    let (live_out, replay_out) = (t.join("live"), t.join("replay"));
+    let live = ok(
+        2,
+        &[
+            "object-slam",
+            "--objects",
+            "mug,barrel",
+            "--json",
+            "--out",
+            s(&live_out),
+        ],
+    );
+    let replay = ok(
+        1,
+        &[
+            "object-slam",
+            "--dataset",
+            s(&d),
+            "--json",
+            "--out",
+            s(&replay_out),
+        ],
+    );
+    assert_eq!(stdout(&live), stdout(&replay));
+    assert_eq!(files(&live_out), files(&replay_out));
+    let general = ok(2, &["slam", s(&d), "--json"]);
+    assert_eq!(stdout(&general), stdout(&live));
+
+    // Ground truth deleted: identification is the live run's (it needs no truth); the
+    // localisation errors and steps are null, the re-localisation counts unchanged.
+    let lab = t.join("lab");
+    copy_dir(&d, &lab);
+    std::fs::remove_dir_all(lab.join("truth")).unwrap();
+    let o = ok(2, &["slam", s(&lab), "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let l: serde_json::Value = serde_json::from_str(&stdout(&live)).unwrap();
+    assert_eq!(v["identification"], l["identification"]);
+    for (x, y) in v["localisation"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(l["localisation"].as_array().unwrap())
+    {
+        assert!(
+            x["step_m"].is_null() && x["A"]["position_error_m"].is_null(),
+            "{x}"
+        );
+        assert!(x["B"]["true_revisits"].is_null());
+        assert_eq!(x["A"]["relocalisations"], y["A"]["relocalisations"]);
+        assert_eq!(x["experiences"], y["experiences"]);
+    }
+    assert!(stdout(&ok(2, &["slam", s(&lab)])).contains("n/a"));
+
+    // Clean, then noised with seed 0: the odometry and pose logs are the noisy seed-0
+    // dataset's (the same draws); contacts get their own sub-streams.
+    let (clean, noised) = (t.join("clean"), t.join("noised"));
+    write(2, "0", &clean, &["--clean"]);
+    let c = files(&clean);
+    assert_eq!(c["log/mug/A/contacts.csv"], c["truth/mug/A/contacts.csv"]);
+    ok(
+        2,
+        &[
+            "dataset",
+            "noise",
+            s(&clean),
+            "--seed",
+            "0",
+            "--out",
+            s(&noised),
+        ],
+    );
+    let n = files(&noised);
+    for rel in [
+        "log/mug/A/odometry.csv",
+        "log/mug/A/poses.csv",
+        "log/barrel/B/odometry.csv",
+    ] {
+        assert_eq!(n[rel], a[rel], "{rel}");
+    }
+    assert_ne!(n["log/mug/A/contacts.csv"], c["log/mug/A/contacts.csv"]);
+    assert_eq!(
+        manifest(&noised)["noise"]["odometry_6d"]["translation_fraction"],
+        0.05
+    );
+    ok(2, &["slam", s(&noised)]);
+}
