@@ -44,6 +44,8 @@ pub struct Manifest {
     pub maze: Option<MazeInfo>,
     /// The object experiment's walks (experiment `object-slam`).
     pub object_slam: Option<ObjectSlamInfo>,
+    /// The closed loop's parameters (experiment `closed-loop`).
+    pub closed_loop: Option<ClosedLoopInfo>,
     /// Every file, relative to the dataset's directory, with its role and checksum.
     pub files: Vec<FileEntry>,
 }
@@ -56,6 +58,8 @@ pub enum Experiment {
     MazeSlam,
     /// WhiskerRatSLAM localisation and identification on catalogue objects (§5.2).
     ObjectSlam,
+    /// The path of a closed-loop run (Ch 6), replayed open loop.
+    ClosedLoop,
 }
 
 /// `level`.
@@ -109,7 +113,7 @@ pub struct SensorInfo {
 }
 
 /// `noise`: what noise the log holds and where it came from.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct NoiseInfo {
     /// Seed of noise added by `whisker dataset noise` (None: noise from the simulation,
@@ -175,6 +179,17 @@ pub struct ContactNoiseInfo {
     pub detection_probability: f64,
 }
 
+impl ContactNoiseInfo {
+    /// The record of `noise` (None for no noise).
+    pub fn of(noise: whisker_sim::sensing::noise::ContactNoise) -> Option<Self> {
+        (noise != whisker_sim::sensing::noise::ContactNoise::NONE).then_some(Self {
+            point_fraction: noise.point_fraction,
+            slope_sigma: noise.slope_sigma,
+            detection_probability: noise.detection_probability,
+        })
+    }
+}
+
 /// `maze`: the maze experiment's parameters (§3.1–§3.3).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -224,6 +239,24 @@ pub struct WalkInfo {
     pub whisks: usize,
 }
 
+/// `closed_loop`: what the replay needs of the run's `[explore]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClosedLoopInfo {
+    /// `recognise` or `map`.
+    pub task: String,
+    /// Whisks (iterations).
+    pub whisks: usize,
+    /// The known objects, in order (their maps: `log/maps/<name>.json`).
+    pub maps: Vec<String>,
+    /// The odometry noise the log holds (Eq 6.4–6.11; `[explore.odometry]`).
+    pub odometry_noise: whisker_slam::exploration::odometry_noise::OdometryNoise,
+    /// WhiskerRatSLAM's parameters (`[explore.slam]`).
+    pub slam: whisker_slam::whisker_ratslam::slam::Params,
+    /// Recognition's parameters (`[explore.recognition]`).
+    pub recognition: whisker_slam::recognition::RecognitionParams,
+}
+
 /// One file of the dataset.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -269,6 +302,26 @@ impl FileEntry {
 }
 
 impl Manifest {
+    /// A manifest of `experiment` at `level` written by this build for `seed` and `array`:
+    /// no sensor section, no noise, no experiment section, no files yet.
+    pub fn new(experiment: Experiment, level: Level, seed: u64, array: ArrayInfo) -> Self {
+        Self {
+            format: FORMAT.into(),
+            version: VERSION,
+            written_by: format!("whisker {}", env!("CARGO_PKG_VERSION")),
+            experiment,
+            level,
+            seed,
+            array,
+            sensor: None,
+            noise: NoiseInfo::default(),
+            maze: None,
+            object_slam: None,
+            closed_loop: None,
+            files: Vec::new(),
+        }
+    }
+
     /// Reads and checks `dir/dataset.json`: the format, the version, the fields; then
     /// every listed file: log files must exist, and every file present must have its
     /// size and checksum (truth files may be missing: ground truth is then unavailable).
@@ -325,6 +378,10 @@ impl Manifest {
             Experiment::ObjectSlam if self.object_slam.is_none() => Err(bad(
                 "object_slam",
                 "experiment \"object-slam\" needs an object_slam section",
+            )),
+            Experiment::ClosedLoop if self.closed_loop.is_none() => Err(bad(
+                "closed_loop",
+                "experiment \"closed-loop\" needs a closed_loop section",
             )),
             _ => Ok(()),
         }

@@ -86,11 +86,7 @@ pub fn write(
             anticipated = kinematic_contacts(truth, &target, ContactNoise::NONE, 0, g);
             level = Level::Contacts;
             (sensor, frontend, sensor_noise) = (None, None, None);
-            contact_noise = (noise != ContactNoise::NONE).then_some(ContactNoiseInfo {
-                point_fraction: noise.point_fraction,
-                slope_sigma: noise.slope_sigma,
-                detection_probability: noise.detection_probability,
-            });
+            contact_noise = ContactNoiseInfo::of(noise);
             image_sets = vec![(setup.set_names[0].clone(), "contacts".to_string())];
             whisk_hz = UPDATE_HZ;
         }
@@ -185,20 +181,12 @@ pub fn write(
     let text = toml::to_string(&table).map_err(|e| CliError::Failure(e.to_string()))?;
     s.put("truth/scenario.toml", Role::Truth, text.as_bytes())?;
     Ok(Manifest {
-        format: super::manifest::FORMAT.into(),
-        version: super::manifest::VERSION,
-        written_by: super::written_by(),
-        experiment: Experiment::MazeSlam,
-        level,
-        seed,
-        array,
         sensor,
         noise: NoiseInfo {
-            added_with_seed: None,
             sensor: sensor_noise,
             odometry: (!clean && config.odometry.enabled).then_some(config.odometry),
-            odometry_6d: None,
             contacts: contact_noise,
+            ..NoiseInfo::default()
         },
         maze: Some(MazeInfo {
             update_hz: UPDATE_HZ,
@@ -212,8 +200,7 @@ pub fn write(
             frontend,
             ratslam: config.ratslam,
         }),
-        object_slam: None,
-        files: Vec::new(),
+        ..Manifest::new(Experiment::MazeSlam, level, seed, array)
     })
 }
 

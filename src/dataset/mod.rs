@@ -25,6 +25,7 @@ pub mod manifest;
 pub mod maze;
 pub mod noise;
 pub mod object;
+pub mod recognition;
 pub mod records;
 pub mod table;
 
@@ -56,7 +57,8 @@ pub enum Command {
 /// `whisker dataset SCENARIO --seed N --out DIR`.
 #[derive(clap::Args, Debug)]
 pub struct WriteOptions {
-    /// A maze scenario (`[maze]`, run as `whisker maze-slam` runs it).
+    /// A maze scenario (`[maze]`, run as `whisker maze-slam` runs it) or a closed loop
+    /// (`[explore]`, run as `whisker run` runs it: the path it took).
     #[arg(required = true)]
     pub scenario: Option<PathBuf>,
     /// Seed [default: the scenario's `seed`].
@@ -88,17 +90,28 @@ pub fn run(args: &Args) -> CliResult {
                     "whisker dataset: expected SCENARIO and --out DIR".into(),
                 ));
             };
-            let scenario = Scenario::load(file)?;
+            let mut scenario = Scenario::load(file)?;
             let seed = w.seed.unwrap_or(scenario.seed);
+            scenario.seed = seed;
             let started = std::time::Instant::now();
             let manifest = write(out, |staging| {
-                if scenario.maze.is_some() {
+                if scenario.explore.is_some() {
+                    if w.clean {
+                        return Err(CliError::Input(format!(
+                            "{}: --clean: a closed loop's path depends on its noise; write \
+                             it with the noise it runs with",
+                            file.display()
+                        )));
+                    }
+                    recognition::write(file, &scenario, staging)
+                } else if scenario.maze.is_some() {
                     maze::write(file, &scenario, seed, w.clean, staging)
                 } else {
                     Err(CliError::field(
                         file,
                         "maze",
-                        "whisker dataset writes maze scenarios (a [maze] section)",
+                        "whisker dataset writes maze scenarios ([maze]) and closed loops \
+                         ([explore]); object walks: `whisker dataset object-slam`",
                     ))
                 }
             })?;
@@ -218,11 +231,6 @@ pub fn rigid_whiskers(
         .collect())
 }
 
-/// `whisker <version>`.
-pub fn written_by() -> String {
-    format!("whisker {}", env!("CARGO_PKG_VERSION"))
-}
-
 /// `whisker slam DIR`: the front end and the SLAM the dataset's manifest names.
 #[derive(clap::Args, Debug)]
 pub struct SlamOptions {
@@ -259,6 +267,13 @@ pub fn slam(o: &SlamOptions) -> CliResult {
                 dataset: Some(o.dataset.clone()),
             };
             crate::object_slam::analyse(&options, &data)
+        }
+        manifest::Experiment::ClosedLoop => {
+            let replay = recognition::Replay {
+                out: o.out.as_deref(),
+                json: o.json,
+            };
+            recognition::replay(&o.dataset, &manifest, &replay)
         }
     }
 }

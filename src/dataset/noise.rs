@@ -64,6 +64,13 @@ pub fn run(o: &Options) -> CliResult {
             o.input.join(super::manifest::FILE).display()
         )));
     }
+    if m.experiment == Experiment::ClosedLoop {
+        return Err(CliError::Input(format!(
+            "{}: a closed loop's path depends on its noise: its dataset is written with the \
+             noise it ran with and cannot be noised later",
+            o.input.join(super::manifest::FILE).display()
+        )));
+    }
     let contact_noise = ContactNoise {
         point_fraction: o.point_fraction,
         slope_sigma: o.slope_sigma,
@@ -93,10 +100,7 @@ pub fn run(o: &Options) -> CliResult {
         let mut out = m.clone();
         out.noise = NoiseInfo {
             added_with_seed: Some(o.seed),
-            sensor: None,
-            odometry: None,
-            odometry_6d: None,
-            contacts: None,
+            ..NoiseInfo::default()
         };
         for entry in &m.files {
             let path = o.input.join(&entry.path);
@@ -126,7 +130,7 @@ pub fn run(o: &Options) -> CliResult {
                             o.seed,
                             &format!("object-slam/{walk}"),
                         );
-                        let poses = super::object::pose_log(&start, &noisy);
+                        let poses = super::object::pose_log(&start, &noisy, false, None);
                         s.put(&format!("{parent}/poses.csv"), Role::Log, poses.as_bytes())?;
                         super::object::odometry_csv(&noisy).into_bytes()
                     }

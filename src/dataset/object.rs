@@ -30,7 +30,7 @@ use whisker_slam::sensor::Odometry;
 
 pub(super) const ODOMETRY_COLUMNS: &str =
     "whisk,time_s,vx_m_s,vy_m_s,vz_m_s,wx_rad_s,wy_rad_s,wz_rad_s,dt_s";
-const TRUTH_COLUMNS: &str = "whisk,time_s,x_m,y_m,z_m,qx,qy,qz,qw";
+pub(super) const TRUTH_COLUMNS: &str = "whisk,time_s,x_m,y_m,z_m,qx,qy,qz,qw";
 
 /// `whisker dataset object-slam`.
 #[derive(clap::Args, Debug)]
@@ -87,7 +87,7 @@ pub fn write(o: &WriteOptions, s: &mut Staging) -> CliResult<Manifest> {
             s.put(
                 &format!("log/{dir}/poses.csv"),
                 Role::Log,
-                pose_log(&truth[0], &walk.odometry).as_bytes(),
+                pose_log(&truth[0], &walk.odometry, false, None).as_bytes(),
             )?;
             let mut poses = String::from(TRUTH_COLUMNS) + "\n";
             for (k, p) in truth.iter().enumerate() {
@@ -123,30 +123,19 @@ pub fn write(o: &WriteOptions, s: &mut Staging) -> CliResult<Manifest> {
             });
         }
     }
-    let noise = ContactNoise::default();
+    let noise = if o.clean {
+        ContactNoise::NONE
+    } else {
+        ContactNoise::default()
+    };
     Ok(Manifest {
-        format: super::manifest::FORMAT.into(),
-        version: super::manifest::VERSION,
-        written_by: super::written_by(),
-        experiment: Experiment::ObjectSlam,
-        level: Level::Contacts,
-        seed: o.seed,
-        array,
-        sensor: None,
         noise: NoiseInfo {
-            added_with_seed: None,
-            sensor: None,
-            odometry: None,
             odometry_6d: (!o.clean).then_some(Odometry6Noise::WALK),
-            contacts: (!o.clean).then_some(ContactNoiseInfo {
-                point_fraction: noise.point_fraction,
-                slope_sigma: noise.slope_sigma,
-                detection_probability: noise.detection_probability,
-            }),
+            contacts: ContactNoiseInfo::of(noise),
+            ..NoiseInfo::default()
         },
-        maze: None,
         object_slam: Some(ObjectSlamInfo { walks }),
-        files: Vec::new(),
+        ..Manifest::new(Experiment::ObjectSlam, Level::Contacts, o.seed, array)
     })
 }
 
@@ -165,19 +154,27 @@ pub(super) fn odometry_csv(odometry: &[Odometry]) -> String {
 }
 
 /// The pose log: from `start`, each whisk's odometry applied (translation v·Δt, rotation
-/// exp(ω·Δt), both in the body frame; the first whisk's is not), one row per whisk.
-pub(super) fn pose_log(start: &Isometry3<f64>, odometry: &[Odometry]) -> String {
+/// exp(ω·Δt), both in the body frame; the first whisk's only if `first`: an object walk's
+/// first row is no motion), one row per whisk at whole seconds (`times`, if given, else
+/// the whisk's number).
+pub(super) fn pose_log(
+    start: &Isometry3<f64>,
+    odometry: &[Odometry],
+    first: bool,
+    times: Option<&[f64]>,
+) -> String {
     let mut at = *start;
     let mut csv = String::from(POSE_COLUMNS) + "\n";
     for (k, o) in odometry.iter().enumerate() {
-        if k > 0 {
+        if k > 0 || first {
             let step = Isometry3::from_parts(
                 Translation3::from(Vector3::from(o.v) * o.dt),
                 UnitQuaternion::from_scaled_axis(Vector3::from(o.omega) * o.dt),
             );
             at *= step;
         }
-        csv += &records::pose_row(k as f64, &at, &format!("whisk_{k:06}"));
+        let t = times.map_or(k as f64, |t| t[k]);
+        csv += &records::pose_row(t, &at, &format!("whisk_{k:06}"));
     }
     csv
 }
@@ -282,7 +279,7 @@ pub(super) fn read_log(
 }
 
 /// A 6-D odometry file of `n` whisks.
-fn read_odometry(path: &Path, n: usize) -> CliResult<Vec<Odometry>> {
+pub(super) fn read_odometry(path: &Path, n: usize) -> CliResult<Vec<Odometry>> {
     read_rows(path, ODOMETRY_COLUMNS, n, |row| {
         let v: Vec<f64> = (2..9).map(|i| row.f64(i)).collect::<CliResult<_>>()?;
         Ok(Odometry {
@@ -335,7 +332,7 @@ fn read_walk(dir: &Path, m: &Manifest, w: &WalkInfo, truth: bool) -> CliResult<W
 
 /// The `n` rows of a per-whisk file (`whisk` = 0, 1, … in column 1, a time in column 2),
 /// each read by `parse`.
-fn read_rows<T>(
+pub(super) fn read_rows<T>(
     path: &Path,
     header: &str,
     n: usize,

@@ -85,6 +85,12 @@ pub struct Outcome {
     pub times: Vec<f64>,
     /// The chain configuration at every whisk.
     pub joints: Vec<Vec<f64>>,
+    /// Each whisk's contacts (array frame), as SLAM saw them.
+    pub cycles: Vec<ContactCycle>,
+    /// Each whisk's odometry since the previous one (Eq 6.4–6.11 noise), as SLAM saw it.
+    pub odometry: Vec<whisker_slam::sensor::Odometry>,
+    /// The array's pose before the first move.
+    pub start: Isometry3<f64>,
 }
 
 /// How a whisk is sensed.
@@ -307,6 +313,9 @@ impl Loop<'_> {
             contacts_csv: crate::contacts::HEADER.to_string(),
             times: Vec::new(),
             joints: Vec::new(),
+            cycles: Vec::new(),
+            odometry: Vec::new(),
+            start,
         };
         let mut relocalisations = 0usize;
         let mut truth_at_creation: Vec<(usize, Isometry3<f64>)> = Vec::new();
@@ -395,6 +404,8 @@ impl Loop<'_> {
             ));
             out.times.push(self.time);
             out.joints.push(self.robot.q.clone());
+            out.cycles.push(cycle);
+            out.odometry.push(odometry);
             if matches!(self.sensing, Sensor::Physics(_)) && (iteration + 1) % 10 == 0 {
                 eprintln!(
                     "  explore: {}/{} whisks (physics), {relocalisations} re-localisations",

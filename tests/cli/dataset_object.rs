@@ -1,7 +1,9 @@
-//! Object datasets (`whisker dataset object-slam`, docs/dataset.md): the §5.2 walks as
-//! logs; `object-slam --dataset` and `slam` replay the live run byte for byte; without
-//! ground truth identification still runs (it needs none) and the localisation errors are
-//! unavailable; noise added later reproduces a noisy dataset's odometry.
+//! Object and closed-loop datasets (docs/dataset.md). Objects (`whisker dataset
+//! object-slam`): the §5.2 walks as logs; `object-slam --dataset` and `slam` replay the
+//! live run byte for byte; without ground truth identification still runs (it needs
+//! none) and the localisation errors are unavailable; noise added later reproduces a
+//! noisy dataset's odometry. Closed loop: the path replayed open loop gives the live
+//! recognition.
 
 use super::dataset::{copy_dir, files, manifest, ok, s};
 use super::*;
@@ -135,4 +137,87 @@ fn object_dataset_replays_the_live_run() {
         0.05
     );
     ok(2, &["slam", s(&noised)]);
+}
+
+/// A closed loop's dataset (the path the Ch 6 loop took) replayed open loop: the SLAM and
+/// recognition columns of the live `explore.csv` and the live recognition, exactly; the
+/// outcome, SRT and IM unavailable without ground truth; no `--clean` or later noise.
+#[test]
+fn closed_loop_dataset_replays_recognition() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    let scenario = repo("scenarios/recognise_box.toml");
+    let (d, live, replay) = (t.join("d"), t.join("live"), t.join("replay"));
+    ok(2, &["dataset", s(&scenario), "--seed", "2", "--out", s(&d)]);
+    ok(2, &["run", s(&scenario), "--seed", "2", "--out", s(&live)]);
+    let o = ok(1, &["slam", s(&d), "--out", s(&replay), "--json"]);
+    let r: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let l: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(live.join("summary.json")).unwrap()).unwrap();
+    assert!(l["recognition"]["identified"].is_string(), "{l}");
+    for k in [
+        "identified",
+        "identified_at",
+        "crossings",
+        "final_rc",
+        "final_ic",
+        "outcome",
+        "srt",
+        "im",
+    ] {
+        assert_eq!(r["recognition"][k], l["recognition"][k], "{k}");
+    }
+    for k in ["relocalisations", "experiences"] {
+        assert_eq!(r[k], l[k], "{k}");
+    }
+    assert_eq!(r["whisks"], l["iterations"]);
+    // Column by column: the live log's SLAM and recognition columns, by name.
+    let table = |p: &Path| -> Vec<Vec<String>> {
+        std::fs::read_to_string(p)
+            .unwrap()
+            .lines()
+            .map(|l| l.split(',').map(String::from).collect())
+            .collect()
+    };
+    let (a, b) = (
+        table(&live.join("explore.csv")),
+        table(&replay.join("replay.csv")),
+    );
+    assert_eq!(a.len(), b.len());
+    for (j, name) in b[0].iter().enumerate().skip(1) {
+        let i = a[0]
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("{name}"));
+        for k in 1..a.len() {
+            assert_eq!(a[k][i], b[k][j], "{name} at whisk {}", k - 1);
+        }
+    }
+    // The truth says which object it was; without it, that and what needs it is null.
+    assert_eq!(
+        manifest(&d)["closed_loop"]["maps"],
+        serde_json::json!(["box", "box_stack"])
+    );
+    let lab = t.join("lab");
+    copy_dir(&d, &lab);
+    std::fs::remove_dir_all(lab.join("truth")).unwrap();
+    let o = ok(2, &["slam", s(&lab), "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(
+        v["recognition"]["identified"],
+        l["recognition"]["identified"]
+    );
+    for k in ["outcome", "srt", "im"] {
+        assert!(v["recognition"][k].is_null(), "{k}: {v}");
+    }
+    // Its path depends on its noise: no clean dataset, no noise added afterwards.
+    let x = t.join("x");
+    for args in [
+        vec!["dataset", s(&scenario), "--clean", "--out", s(&x)],
+        vec!["dataset", "noise", s(&d), "--seed", "1", "--out", s(&x)],
+    ] {
+        let o = whisker(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(!x.exists());
+    }
 }

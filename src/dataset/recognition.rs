@@ -1,0 +1,293 @@
+//! Closed-loop datasets (experiment `closed-loop`, thesis Ch 6): the path a closed-loop
+//! run took — one whisk per iteration where the policy put the array — written as a log,
+//! and replayed open loop: the same contacts and odometry through the same WhiskerRatSLAM
+//! and recognition (§6.2), without the arm or the policy. The replay's SLAM and
+//! recognition columns equal the live `explore.csv`'s, its recognition the live
+//! `summary.json`'s.
+//!
+//! Level `contacts` (kinematic or physics sensing both end in contacts here: a physics
+//! closed loop's whisks are not kept as streams yet): `log/contacts.csv`,
+//! `log/odometry.csv` (6-D, Eq 6.4–6.11 noise), `log/poses.csv` (dead-reckoned from the
+//! start pose), `log/maps/<object>.json` (the known object maps: the robot's prior
+//! knowledge). Ground truth: `truth/poses.csv` (the reached pose of each whisk),
+//! `truth/contacts.csv` (the rigid sweep without noise), `truth/explore.csv` and
+//! `truth/summary.json` (the live run's own log, its policy decisions and the true
+//! object), `truth/scenario.toml`.
+
+use super::manifest::{
+    ClosedLoopInfo, ContactNoiseInfo, Experiment, Level, Manifest, NoiseInfo, Role,
+};
+use super::object::{TRUTH_COLUMNS, odometry_csv, pose_log, read_odometry};
+use super::{Staging, array_info, records};
+use crate::error::{CliError, CliResult};
+use crate::scenario::Scenario;
+use crate::scenario::explore::Task;
+use nalgebra::Point3;
+use serde_json::json;
+use std::fmt::Write;
+use std::path::Path;
+use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker};
+use whisker_sim::sensing::noise::ContactNoise;
+use whisker_sim::whisker::control::WhiskingPattern;
+use whisker_slam::recognition::Recognition;
+use whisker_slam::whisker_ratslam::object_map::ObjectMap;
+use whisker_slam::whisker_ratslam::slam::WhiskerRatSlam;
+
+/// Runs the closed loop of `scenario` (read from `file`, its `seed` the dataset's) and
+/// writes the path it took into `s`.
+pub fn write(file: &Path, scenario: &Scenario, s: &mut Staging) -> CliResult<Manifest> {
+    let config = scenario.explore.as_ref().expect("checked by the caller");
+    let plan = crate::plan::Plan::new(scenario, file)?;
+    let environment = scenario.environment(file)?.environment;
+    let outcome = crate::explore::run(scenario, file, plan, &environment)?;
+    let configs = scenario.array.whisker_configs(file)?;
+    let whiskers: Vec<RigidWhisker> = configs.iter().map(|c| c.rigid()).collect();
+    let array = array_info(&whiskers);
+    s.put(
+        "log/contacts.csv",
+        Role::Log,
+        records::contacts_csv(&outcome.cycles, &array.labels).as_bytes(),
+    )?;
+    s.put(
+        "log/odometry.csv",
+        Role::Log,
+        odometry_csv(&outcome.odometry).as_bytes(),
+    )?;
+    let log = pose_log(
+        &outcome.start,
+        &outcome.odometry,
+        true,
+        Some(&outcome.times),
+    );
+    s.put("log/poses.csv", Role::Log, log.as_bytes())?;
+    let mut maps = Vec::new();
+    for (name, path) in config.map_files(file) {
+        let bytes = std::fs::read(&path).map_err(|e| {
+            CliError::field(
+                file,
+                &format!("explore.maps.{name}"),
+                format!("{}: {e}", path.display()),
+            )
+        })?;
+        s.put(&format!("log/maps/{name}.json"), Role::Log, &bytes)?;
+        maps.push(name);
+    }
+    // Ground truth.
+    let mut poses = String::from(TRUTH_COLUMNS) + "\n";
+    for (k, (p, t)) in outcome.poses.iter().zip(&outcome.times).enumerate() {
+        let (v, q) = (p.translation.vector, p.rotation.coords);
+        let _ = writeln!(
+            poses,
+            "{k},{t:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
+            v.x, v.y, v.z, q.x, q.y, q.z, q.w
+        );
+    }
+    s.put("truth/poses.csv", Role::Truth, poses.as_bytes())?;
+    let mut sweep = KinematicArray::new(
+        whiskers.clone(),
+        configs
+            .iter()
+            .map(|c| c.pattern)
+            .collect::<Vec<WhiskingPattern>>(),
+        ContactNoise::NONE,
+        0,
+    );
+    let target = environment.sweep_target();
+    let anticipated: Vec<_> = outcome
+        .poses
+        .iter()
+        .enumerate()
+        .map(|(k, p)| sweep.sense(&target, k as u64, outcome.times[k], p))
+        .collect();
+    s.put(
+        "truth/contacts.csv",
+        Role::Truth,
+        records::contacts_csv(&anticipated, &array.labels).as_bytes(),
+    )?;
+    s.put("truth/explore.csv", Role::Truth, outcome.csv.as_bytes())?;
+    let summary = serde_json::to_string_pretty(&outcome.summary).expect("plain JSON") + "\n";
+    s.put("truth/summary.json", Role::Truth, summary.as_bytes())?;
+    let table = Scenario::resolved_table(file)?;
+    let text = toml::to_string(&table).map_err(|e| CliError::Failure(e.to_string()))?;
+    s.put("truth/scenario.toml", Role::Truth, text.as_bytes())?;
+    let noise = scenario.kinematic.noise(file)?;
+    let kinematic = scenario.sensing != crate::scenario::Sensing::Physics;
+    let contacts = if kinematic {
+        ContactNoiseInfo::of(noise)
+    } else {
+        None
+    };
+    Ok(Manifest {
+        noise: NoiseInfo {
+            contacts,
+            ..NoiseInfo::default()
+        },
+        closed_loop: Some(ClosedLoopInfo {
+            task: match config.task {
+                Task::Map => "map".into(),
+                Task::Recognise => "recognise".into(),
+            },
+            whisks: outcome.poses.len(),
+            maps,
+            odometry_noise: config.odometry,
+            slam: config.slam,
+            recognition: config.recognition,
+        }),
+        ..Manifest::new(
+            Experiment::ClosedLoop,
+            Level::Contacts,
+            scenario.seed,
+            array,
+        )
+    })
+}
+
+/// Options of the replay (`whisker slam DIR`).
+pub struct Replay<'a> {
+    /// Directory for `replay.csv`, `summary.json` (and, map building, `map.json`).
+    pub out: Option<&'a Path>,
+    /// Print the summary as JSON.
+    pub json: bool,
+}
+
+/// Replays a closed-loop dataset open loop: WhiskerRatSLAM and recognition on its contacts
+/// and odometry.
+pub fn replay(dir: &Path, m: &Manifest, o: &Replay) -> CliResult {
+    let file = dir.join(super::manifest::FILE);
+    let Some(info) = m.closed_loop.as_ref() else {
+        return Err(CliError::field(&file, "closed_loop", "missing"));
+    };
+    let n = info.whisks;
+    let cycles = records::read_contacts(&m.file(dir, "log/contacts.csv")?, n, &m.array.labels)?;
+    let odometry = read_odometry(&m.file(dir, "log/odometry.csv")?, n)?;
+    let mut appended = ObjectMap::default();
+    for name in &info.maps {
+        let path = m.file(dir, &format!("log/maps/{name}.json"))?;
+        let map = ObjectMap::load(&path)
+            .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
+        appended.append(&map, name);
+    }
+    // The true object, when the ground truth is there.
+    let object = if m.has_truth(dir) {
+        let path = m.file(dir, "truth/summary.json")?;
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
+        let v: serde_json::Value = serde_json::from_str(&text)
+            .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
+        let object = v["object"].as_str().map(String::from).ok_or_else(|| {
+            CliError::Input(format!(
+                "{}: field `object`: expected the true object's name",
+                path.display()
+            ))
+        })?;
+        Some(object)
+    } else {
+        None
+    };
+    let mut slam = WhiskerRatSlam::new(info.slam, appended);
+    let mut recognition =
+        (info.task == "recognise").then(|| Recognition::new(info.maps.clone(), info.recognition));
+    let mut csv =
+        String::from("whisk,contacts,matched,experience,created,relocalised,relocalised_object");
+    for prefix in ["rc", "ic"] {
+        for name in &info.maps {
+            let _ = write!(csv, ",{prefix}_{name}");
+        }
+    }
+    csv.push('\n');
+    let mut relocalisations = 0;
+    for (k, (cycle, odo)) in cycles.iter().zip(&odometry).enumerate() {
+        let points: Vec<Point3<f64>> = cycle.contacts.iter().map(|c| c.point).collect();
+        let features = crate::object_slam::whisk_features(cycle, &points);
+        let before = slam.map.experiences.len();
+        let step = slam.step(&features, odo);
+        let onto = (step.relocalised && step.experience < before)
+            .then(|| slam.map.experiences[step.experience].object.clone())
+            .flatten();
+        relocalisations += usize::from(onto.is_some());
+        if let Some(r) = &mut recognition {
+            r.update(onto.as_deref());
+        }
+        let matched = step.matched.map_or(String::new(), |x| x.to_string());
+        let _ = write!(
+            csv,
+            "{k},{},{matched},{},{},{},{}",
+            points.len(),
+            step.experience,
+            u8::from(step.created),
+            u8::from(step.relocalised),
+            onto.as_deref().unwrap_or("")
+        );
+        for name in &info.maps {
+            let _ = write!(
+                csv,
+                ",{}",
+                recognition.as_ref().map_or(0.0, |r| r.raw.confidence[name])
+            );
+        }
+        for name in &info.maps {
+            let _ = write!(
+                csv,
+                ",{}",
+                recognition.as_ref().map_or(0.0, |r| r.integrated[name])
+            );
+        }
+        csv.push('\n');
+    }
+    let object = object.as_deref();
+    let recognised = recognition.as_ref().map(|r| {
+        let identified = r.identified();
+        json!({
+            "identified": identified.map(|(o, _)| o),
+            "identified_at": identified.map(|(_, t)| t),
+            "crossings": r.crossed,
+            "final_rc": r.raw.confidence,
+            "final_ic": r.integrated,
+            // These need the true object: null without ground truth.
+            "outcome": object.map(|t| json!(r.outcome(t))),
+            "srt": object.and_then(|t| r.srt(t).ok()),
+            "im": object.and_then(|t| r.identity_margin(t)).map(|(v, _)| v),
+        })
+    });
+    let summary = json!({
+        "task": info.task,
+        "object": object,
+        "whisks": n,
+        "relocalisations": relocalisations,
+        "experiences": slam.map.experiences.len(),
+        "recognition": recognised,
+    });
+    if let Some(out) = o.out {
+        crate::output::create_dir(out)?;
+        crate::output::write_atomic(&out.join("replay.csv"), csv.as_bytes())?;
+        let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
+        crate::output::write_atomic(&out.join("summary.json"), text.as_bytes())?;
+        if info.task == "map" {
+            slam.map
+                .save(&out.join("map.json"))
+                .map_err(CliError::Failure)?;
+        }
+    }
+    if o.json {
+        println!("{summary}");
+    } else {
+        println!(
+            "Closed-loop replay (open loop on the recorded path, Ch 6): {n} whisks, {relocalisations} re-localisations into known maps, {} experiences",
+            slam.map.experiences.len()
+        );
+        if let Some(r) = &recognition {
+            match r.identified() {
+                Some((o, t)) => println!(
+                    "  identified {o} at whisk {t} (IC threshold {})",
+                    r.params.threshold
+                ),
+                None => println!("  nothing identified (IC threshold {})", r.params.threshold),
+            }
+            match object {
+                Some(t) => println!("  true object {t}: {:?}", r.outcome(t)),
+                None => println!("  true object: n/a (no ground truth)"),
+            }
+        }
+    }
+    Ok(())
+}
