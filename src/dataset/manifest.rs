@@ -221,6 +221,10 @@ pub struct MazeInfo {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectSlamInfo {
+    /// `kinematic` (level contacts) or `physics` (level streams: one whisk file per pose
+    /// under `log/<object>/<A|B>/whisks/`, the radial-distance model in
+    /// `log/radial_model.json`).
+    pub sensing: String,
     /// Every walk, each object's A (two laps) then B (one lap).
     pub walks: Vec<WalkInfo>,
 }

@@ -407,13 +407,7 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<(Sensed, RatSlamParams, bool)
             let by_cycle = (0..sensor.whisks)
                 .into_par_iter()
                 .map(|c| {
-                    let path = m.file(dir, &format!("log/whisks/{}", records::whisk_name(c)))?;
-                    let streams = records::read_whisk(
-                        &path,
-                        &m.array.labels,
-                        sensor.samples_per_whisk,
-                        sensor.angle_resolution_rad,
-                    )?;
+                    let streams = super::whisk_streams(dir, m, "log/whisks", c)?;
                     Ok(front.cycle(&streams, &g))
                 })
                 .collect::<CliResult<Vec<_>>>()?;

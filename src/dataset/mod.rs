@@ -153,6 +153,19 @@ impl Staging {
         self.files.push(FileEntry::of(path, role, bytes));
         Ok(())
     }
+
+    /// The staging directory's path of `path` (relative).
+    pub fn path(&self, path: &str) -> PathBuf {
+        self.dir.join(path)
+    }
+
+    /// Lists a file already written at `path` (relative) with its checksum.
+    pub fn register(&mut self, path: &str, role: Role) -> CliResult {
+        let bytes = std::fs::read(self.dir.join(path))
+            .map_err(|e| CliError::Failure(format!("cannot read back {path}: {e}")))?;
+        self.files.push(FileEntry::of(path, role, &bytes));
+        Ok(())
+    }
 }
 
 /// Writes a dataset to `out` (which must not exist): `fill` writes the files into a
@@ -229,6 +242,30 @@ pub fn rigid_whiskers(
         .zip(&array.base_offsets_m)
         .map(|(m, &b)| whisker_sim::sensing::kinematic::RigidWhisker::new(m, b))
         .collect())
+}
+
+/// Whisk file `k` of folder `folder` (e.g. `log/whisks`) of the streams dataset in `dir`:
+/// every whisker's samples, checked against the manifest's sensor section.
+pub fn whisk_streams(
+    dir: &Path,
+    m: &Manifest,
+    folder: &str,
+    k: usize,
+) -> CliResult<Vec<Vec<whisker_slam::sensor::Sample>>> {
+    let sensor = m.sensor.ok_or_else(|| {
+        CliError::field(
+            &dir.join(manifest::FILE),
+            "sensor",
+            "level streams needs it",
+        )
+    })?;
+    let path = m.file(dir, &format!("{folder}/{}", records::whisk_name(k)))?;
+    records::read_whisk(
+        &path,
+        &m.array.labels,
+        sensor.samples_per_whisk,
+        sensor.angle_resolution_rad,
+    )
 }
 
 /// `whisker slam DIR`: the front end and the SLAM the dataset's manifest names.

@@ -12,21 +12,26 @@
 
 use super::manifest::{
     ContactNoiseInfo, Experiment, Level, Manifest, NoiseInfo, ObjectSlamInfo, Odometry6Noise, Role,
-    WalkInfo,
+    SensorInfo, SensorNoise, WalkInfo,
 };
 use super::records::{self, POSE_COLUMNS};
 use super::table::{Row, Table, columns};
 use super::{Staging, array_info};
 use crate::error::{CliError, CliResult};
+use crate::object_slam::physics::{PhysicsSensing, WhiskLog};
 use crate::object_slam::{self, Options, Sensed, SensingArg, Walk};
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
+use rayon::prelude::*;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 use whisker_sim::environment::assets::{CATALOGUE, generate};
 use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
 use whisker_sim::sensing::noise::ContactNoise;
+use whisker_sim::sensing::physics::WhiskerConfig;
 use whisker_sim::whisker::array;
 use whisker_slam::sensor::Odometry;
+use whisker_slam::sensor::{SAMPLE_RATE_HZ, Sample as Reading};
 
 pub(super) const ODOMETRY_COLUMNS: &str =
     "whisk,time_s,vx_m_s,vy_m_s,vz_m_s,wx_rad_s,wy_rad_s,wz_rad_s,dt_s";
@@ -44,41 +49,98 @@ pub struct WriteOptions {
     /// The dataset's directory (must not exist).
     #[arg(long)]
     pub out: PathBuf,
-    /// Write without noise (contact noise and odometry error left out).
+    /// Write without noise (contact noise and odometry error left out; kinematic only).
     #[arg(long)]
     pub clean: bool,
+    /// How contacts are sensed: the kinematic sweep (level contacts) or physics whiskers
+    /// (level streams: one whisk file per pose, the front end at replay; slow, as
+    /// `whisker object-slam --sensing physics`).
+    #[arg(long, value_enum, default_value_t = SensingArg::Kinematic)]
+    pub sensing: SensingArg,
+    /// With `--sensing physics`: the radial-distance model [default: the built-in svr10];
+    /// copied into the dataset.
+    #[arg(long)]
+    pub radial_model: Option<PathBuf>,
 }
 
-/// Writes the walks of `o` into `s` (kinematic sensing, as `whisker object-slam`).
+/// Writes the walks of `o` into `s` (as `whisker object-slam` senses them).
 pub fn write(o: &WriteOptions, s: &mut Staging) -> CliResult<Manifest> {
+    let physics = o.sensing == SensingArg::Physics;
+    if physics && o.clean {
+        return Err(CliError::Input(
+            "--clean: only with --sensing kinematic (physics whiskers' sensor noise is part \
+             of the simulation)"
+                .into(),
+        ));
+    }
     let options = Options {
         objects: o.objects.clone(),
         seed: o.seed,
         out: None,
         json: false,
-        sensing: SensingArg::Kinematic,
-        radial_model: None,
+        sensing: o.sensing,
+        radial_model: o.radial_model.clone(),
         slam: object_slam::SlamArg::Corrected,
         dataset: None,
     };
-    let data = object_slam::sense(&options, !o.clean)?;
-    let whiskers: Vec<RigidWhisker> = array::modules()
-        .into_iter()
-        .map(|m| RigidWhisker::new(m, 3.0e-3))
-        .collect();
+    let whiskers: Vec<RigidWhisker> = match physics {
+        true => sensing_configs().iter().map(WhiskerConfig::rigid).collect(),
+        false => array::modules()
+            .into_iter()
+            .map(|m| RigidWhisker::new(m, 3.0e-3))
+            .collect(),
+    };
     let array = array_info(&whiskers);
+    let sensor = sensing_configs()[0].sensor;
+    // Physics: each whisk's samples straight to its file (the walks are simulated in
+    // parallel); the first failure kept.
+    let failure = Arc::new(Mutex::new(None::<String>));
+    let log: Option<WhiskLog> = physics.then(|| {
+        let (dir, labels, failure) = (s.path("log"), array.labels.clone(), failure.clone());
+        let log: WhiskLog = Arc::new(move |stream: &str, k: usize, streams: &[Vec<Reading>]| {
+            let walk = stream.strip_prefix("object-slam/").unwrap_or(stream);
+            let path = dir.join(walk).join("whisks").join(records::whisk_name(k));
+            let written = records::whisk_csv(&labels, streams, sensor.angle_resolution_rad)
+                .map_err(|e| e.to_string())
+                .and_then(|csv| {
+                    std::fs::create_dir_all(path.parent().expect("a parent"))
+                        .and_then(|_| std::fs::write(&path, csv))
+                        .map_err(|e| format!("cannot write {}: {e}", path.display()))
+                });
+            if let Err(e) = written {
+                failure.lock().expect("not poisoned").get_or_insert(e);
+            }
+        });
+        log
+    });
+    let data = object_slam::sense(&options, !o.clean, log)?;
+    if let Some(e) = failure.lock().expect("not poisoned").take() {
+        return Err(CliError::Failure(e));
+    }
+    if physics {
+        let model = crate::frontend::radial_model(o.radial_model.as_deref())?;
+        let text = serde_json::to_string_pretty(&model).expect("plain JSON") + "\n";
+        s.put("log/radial_model.json", Role::Log, text.as_bytes())?;
+    }
     let mut walks = Vec::new();
     for (asset, a, b, _) in &data {
         let target = SweepTarget::new(generate(asset));
         for (walk, which, laps) in [(a, "A", 2), (b, "B", 1)] {
             let dir = format!("{}/{which}", asset.name);
             let truth = walk.truth.as_ref().expect("sensed walks have their truth");
-            let log_contacts = records::contacts_csv(&walk.cycles, &array.labels);
-            s.put(
-                &format!("log/{dir}/contacts.csv"),
-                Role::Log,
-                log_contacts.as_bytes(),
-            )?;
+            if physics {
+                for k in 0..walk.cycles.len() {
+                    let name = records::whisk_name(k);
+                    s.register(&format!("log/{dir}/whisks/{name}"), Role::Log)?;
+                }
+            } else {
+                let log_contacts = records::contacts_csv(&walk.cycles, &array.labels);
+                s.put(
+                    &format!("log/{dir}/contacts.csv"),
+                    Role::Log,
+                    log_contacts.as_bytes(),
+                )?;
+            }
             s.put(
                 &format!("log/{dir}/odometry.csv"),
                 Role::Log,
@@ -123,19 +185,41 @@ pub fn write(o: &WriteOptions, s: &mut Staging) -> CliResult<Manifest> {
             });
         }
     }
-    let noise = if o.clean {
+    let noise = if o.clean || physics {
         ContactNoise::NONE
     } else {
         ContactNoise::default()
     };
+    let whisks: usize = walks.iter().map(|w| w.whisks).sum();
+    let level = if physics {
+        Level::Streams
+    } else {
+        Level::Contacts
+    };
     Ok(Manifest {
+        sensor: physics.then_some(SensorInfo {
+            sample_rate_hz: SAMPLE_RATE_HZ,
+            whisk_hz: 1.0,
+            samples_per_whisk: (SAMPLE_RATE_HZ / sensing_configs()[0].pattern.frequency).round()
+                as usize,
+            whisks,
+            angle_resolution_rad: sensor.angle_resolution_rad,
+            saturation_counts: sensor.saturation_counts,
+        }),
         noise: NoiseInfo {
+            sensor: physics.then_some(SensorNoise {
+                deflection_counts: sensor.noise_counts,
+                angle_rad: sensor.angle_noise_rad,
+            }),
             odometry_6d: (!o.clean).then_some(Odometry6Noise::WALK),
             contacts: ContactNoiseInfo::of(noise),
             ..NoiseInfo::default()
         },
-        object_slam: Some(ObjectSlamInfo { walks }),
-        ..Manifest::new(Experiment::ObjectSlam, Level::Contacts, o.seed, array)
+        object_slam: Some(ObjectSlamInfo {
+            sensing: if physics { "physics" } else { "kinematic" }.into(),
+            walks,
+        }),
+        ..Manifest::new(Experiment::ObjectSlam, level, o.seed, array)
     })
 }
 
@@ -192,13 +276,25 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<Vec<Sensed<'static>>> {
             file.display()
         )));
     };
-    if m.level != Level::Contacts {
-        return Err(CliError::field(
-            &file,
-            "level",
-            "object-slam datasets are \"contacts\"",
-        ));
-    }
+    let physics = match (info.sensing.as_str(), m.level) {
+        ("kinematic", Level::Contacts) => None,
+        ("physics", Level::Streams) => {
+            let model =
+                crate::frontend::radial_model(Some(&m.file(dir, "log/radial_model.json")?))?;
+            Some(PhysicsSensing::with_configs(
+                Vec::new(),
+                model,
+                sensing_configs(),
+            ))
+        }
+        _ => {
+            return Err(CliError::field(
+                &file,
+                "object_slam.sensing",
+                "expected \"kinematic\" (level contacts) or \"physics\" (level streams)",
+            ));
+        }
+    };
     super::rigid_whiskers(dir, &m.array)?;
     let truth = m.has_truth(dir);
     let mut out = Vec::new();
@@ -237,8 +333,8 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<Vec<Sensed<'static>>> {
                 ),
             ));
         }
-        let walk_a = read_walk(dir, m, a, truth)?;
-        let walk_b = read_walk(dir, m, b, truth)?;
+        let walk_a = read_walk(dir, m, a, truth, physics.as_ref())?;
+        let walk_b = read_walk(dir, m, b, truth, physics.as_ref())?;
         let step = walk_a.truth.as_ref().map(|t| {
             let lap = walk_a.cycles.len() / 2;
             crate::object_slam::mean_step(&t[..lap])
@@ -246,6 +342,26 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<Vec<Sensed<'static>>> {
         out.push((asset, walk_a, walk_b, step));
     }
     Ok(out)
+}
+
+/// The default array of `whisker object-slam --sensing physics` (RCP at saturation).
+fn sensing_configs() -> Vec<WhiskerConfig> {
+    array::modules()
+        .into_iter()
+        .map(|m| {
+            let mut c = WhiskerConfig::with_defaults(m);
+            c.rcp_threshold.get_or_insert(c.sensor.saturation_counts);
+            c
+        })
+        .collect()
+}
+
+/// The trajectory named `A` or `B`.
+fn trajectory(name: &str) -> object_slam::Trajectory {
+    match name {
+        "A" => object_slam::Trajectory::A,
+        _ => object_slam::Trajectory::B,
+    }
 }
 
 /// The number of whisks of walk `walk` (`<object>/<A|B>`) in the manifest.
@@ -291,14 +407,32 @@ pub(super) fn read_odometry(path: &Path, n: usize) -> CliResult<Vec<Odometry>> {
 }
 
 /// One walk's contacts, odometry and (if `truth`) true poses.
-fn read_walk(dir: &Path, m: &Manifest, w: &WalkInfo, truth: bool) -> CliResult<Walk> {
+fn read_walk(
+    dir: &Path,
+    m: &Manifest,
+    w: &WalkInfo,
+    truth: bool,
+    physics: Option<&PhysicsSensing>,
+) -> CliResult<Walk> {
     let base = format!("{}/{}", w.object, w.trajectory);
     let n = w.whisks;
-    let cycles = records::read_contacts(
-        &m.file(dir, &format!("log/{base}/contacts.csv"))?,
-        n,
-        &m.array.labels,
-    )?;
+    let cycles = match (physics, m.sensor) {
+        // The front end and the radial-distance model on each whisk file, with the draws
+        // the live run made (sub-streams of the run's seed, by the walk's stream name).
+        (Some(p), Some(_)) => (0..n)
+            .into_par_iter()
+            .map(|k| {
+                let streams = super::whisk_streams(dir, m, &format!("log/{base}/whisks"), k)?;
+                let stream = object_slam::stream(&w.object, trajectory(&w.trajectory));
+                Ok(p.contacts(k, &streams, m.seed, &format!("{stream}/physics/{k}")))
+            })
+            .collect::<CliResult<Vec<_>>>()?,
+        _ => records::read_contacts(
+            &m.file(dir, &format!("log/{base}/contacts.csv"))?,
+            n,
+            &m.array.labels,
+        )?,
+    };
     let odometry = read_odometry(&m.file(dir, &format!("log/{base}/odometry.csv"))?, n)?;
     let truth = if truth {
         Some(read_rows(

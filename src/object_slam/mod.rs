@@ -427,7 +427,7 @@ pub fn run(o: &Options) -> CliResult {
         o.seed = manifest.seed;
         return analyse(&o, &data);
     }
-    let data = sense(o, true)?;
+    let data = sense(o, true, None)?;
     analyse(o, &data)
 }
 
@@ -450,8 +450,13 @@ pub fn objects(names: &[String]) -> CliResult<Vec<&'static Asset>> {
         .collect()
 }
 
-/// Senses every object of `o` (walks A and B); `noise` false: a clean dataset's walks.
-pub fn sense(o: &Options, noise: bool) -> CliResult<Vec<Sensed<'static>>> {
+/// Senses every object of `o` (walks A and B); `noise` false: a clean dataset's walks;
+/// physics sensing hands every whisk's samples to `log` (a dataset writer).
+pub fn sense(
+    o: &Options,
+    noise: bool,
+    log: Option<physics::WhiskLog>,
+) -> CliResult<Vec<Sensed<'static>>> {
     let assets = objects(&o.objects)?;
     let model: Option<RadialEstimator> = match (o.sensing, &o.radial_model) {
         (SensingArg::Kinematic, None) => None,
@@ -470,9 +475,11 @@ pub fn sense(o: &Options, noise: bool) -> CliResult<Vec<Sensed<'static>>> {
                 .shape()
                 .map_err(|e| CliError::Failure(format!("{}: {e}", asset.name)))?;
             let target = SweepTarget::new(mesh);
-            let physics = model
-                .clone()
-                .map(|m| PhysicsSensing::new(vec![(shape.clone(), Isometry3::identity())], m));
+            let physics = model.clone().map(|m| {
+                let mut p = PhysicsSensing::new(vec![(shape.clone(), Isometry3::identity())], m);
+                p.log = log.clone();
+                p
+            });
             let p = physics.as_ref();
             let object = (&target, &shape);
             let a = walk(asset, Trajectory::A, 2, object, o.seed, p, noise);

@@ -22,6 +22,7 @@ use whisker_slam::contact::{Contact, ContactCycle};
 use whisker_slam::frontend::contact::{FrontEndParams, detect};
 use whisker_slam::radial::RadialEstimator;
 use whisker_slam::rng::{substream, substream_key};
+use whisker_slam::sensor::Sample as Reading;
 
 /// The array's whiskers in physics, and how their contacts are estimated.
 pub struct PhysicsSensing {
@@ -29,10 +30,16 @@ pub struct PhysicsSensing {
     pub environment: Vec<EnvironmentPiece>,
     /// Radial-distance model.
     pub model: RadialEstimator,
+    /// Called with each whisk's stream name, number and samples by [`Self::sense`] (a
+    /// dataset writer's log).
+    pub log: Option<WhiskLog>,
     configs: Vec<WhiskerConfig>,
     rigid: Vec<RigidWhisker>,
     params: FrontEndParams,
 }
+
+/// A receiver of whisks' samples: (stream, whisk number, every whisker's samples).
+pub type WhiskLog = std::sync::Arc<dyn Fn(&str, usize, &[Vec<Reading>]) + Send + Sync>;
 
 impl PhysicsSensing {
     /// The default array (1 Hz, RCP at the sensor's saturation) against `environment`.
@@ -58,6 +65,7 @@ impl PhysicsSensing {
         Self {
             environment,
             model,
+            log: None,
             configs,
             rigid,
             params: FrontEndParams::default(),
@@ -77,7 +85,13 @@ impl PhysicsSensing {
             .par_iter()
             .enumerate()
             .map(|(k, pose)| {
-                let cycle = self.whisk(target, k, pose, seed, &format!("{stream}/physics/{k}"));
+                let name = format!("{stream}/physics/{k}");
+                let streams = self.streams(target, pose, seed, &name);
+                if let Some(log) = &self.log {
+                    log(stream, k, &streams);
+                }
+                let mut cycle = self.contacts(k, &streams, seed, &name);
+                cycle.array_pose = *pose;
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
                 if n.is_multiple_of(10) || n == poses.len() {
                     eprintln!("  {stream}: {n}/{} whisks simulated", poses.len());
@@ -97,6 +111,23 @@ impl PhysicsSensing {
         seed: u64,
         stream: &str,
     ) -> ContactCycle {
+        let streams = self.streams(target, pose, seed, stream);
+        let mut cycle = self.contacts(k, &streams, seed, stream);
+        cycle.array_pose = *pose;
+        cycle
+    }
+
+    /// One whisk's 2 kHz samples of every whisker at `pose` (noise from sub-stream
+    /// `stream` of `seed`). Only the whiskers whose rigid sweep meets the object are
+    /// simulated; the others whisk freely and read their commanded angle (quantised as
+    /// the sensor does) and no deflection.
+    pub fn streams(
+        &self,
+        target: &SweepTarget,
+        pose: &Isometry3<f64>,
+        seed: u64,
+        stream: &str,
+    ) -> Vec<Vec<Reading>> {
         let touching: Vec<usize> = self
             .rigid
             .iter()
@@ -112,13 +143,44 @@ impl PhysicsSensing {
             substream_key(seed, stream),
             DT,
         );
+        let mut simulated = array.whisk(0, |_| *pose).samples.into_iter();
+        let samples = (1.0 / (self.configs[0].pattern.frequency * DT)).round() as usize;
+        self.configs
+            .iter()
+            .enumerate()
+            .map(|(i, c)| match touching.contains(&i) {
+                true => simulated.next().expect("one stream per simulated whisker"),
+                false => {
+                    let q = c.sensor.angle_resolution_rad;
+                    (0..samples)
+                        .map(|n| Reading {
+                            angle_rad: (c.pattern.angle((n + 1) as f64 * DT) / q).round() * q,
+                            x: 0.0,
+                            y: 0.0,
+                        })
+                        .collect()
+                }
+            })
+            .collect()
+    }
+
+    /// The contacts of whisk `k` from every whisker's samples: the front end, the
+    /// radial-distance model (draws from sub-stream `<stream>/radial` of `seed`), the
+    /// slope; contact points in the array frame. The same from the simulator and a log.
+    pub fn contacts(
+        &self,
+        k: usize,
+        streams: &[Vec<Reading>],
+        seed: u64,
+        stream: &str,
+    ) -> ContactCycle {
         let mut rng = substream(seed, &format!("{stream}/radial"));
-        let cycle = array.whisk(k as u64, |_| *pose);
+        let rate = 1.0 / DT;
         let mut contacts = Vec::new();
-        for (j, &i) in touching.iter().enumerate() {
+        for (i, samples) in streams.iter().enumerate() {
             let whisker = &self.rigid[i];
             let length = whisker.module.beam.length;
-            let Some(event) = detect(&cycle.samples[j], cycle.rate_hz, length, &self.params) else {
+            let Some(event) = detect(samples, rate, length, &self.params) else {
                 continue;
             };
             let r = self.model.estimate(&event.features, &mut rng);
@@ -126,7 +188,7 @@ impl PhysicsSensing {
                 whisker.shaft_point(&Isometry3::identity(), event.onset_angle, r);
             contacts.push(Contact {
                 whisker: i,
-                time_s: k as f64 + event.onset as f64 / cycle.rate_hz,
+                time_s: k as f64 + event.onset as f64 / rate,
                 angle_rad: event.onset_angle,
                 radial_distance: r,
                 point,
@@ -140,7 +202,7 @@ impl PhysicsSensing {
         ContactCycle {
             index: k as u64,
             start_s: k as f64,
-            array_pose: *pose,
+            array_pose: Isometry3::identity(),
             contacts,
         }
     }
@@ -186,6 +248,38 @@ mod tests {
             assert!((c.angle_rad - hit.angle).to_degrees().abs() < 3.0);
             let d = (near * c.point - hit.point).norm();
             assert!(d < 0.5 * w.module.beam.length, "{}: {d}", w.module.pixel());
+        }
+    }
+
+    /// A whisk's samples written as a whisk file (docs/dataset.md) and read back are the
+    /// same numbers and give the very same contacts as the live whisk; the whiskers not
+    /// simulated read no deflection and give no contact.
+    #[test]
+    fn contacts_from_a_whisk_file_equal_the_live_ones() {
+        use crate::dataset::records;
+        let asset = CATALOGUE.iter().find(|a| a.name == "box").unwrap();
+        let (environment, shape) = placed(asset).unwrap();
+        let (near, _) = viewpoints::busiest(&environment, &shape, asset.size).unwrap();
+        let target = environment.sweep_target();
+        let model = crate::frontend::radial_model(None).unwrap();
+        let sensing = PhysicsSensing::new(vec![(shape, Isometry3::identity())], model);
+        let live = sensing.whisk(&target, 3, &near, 7, "t/physics/3");
+        let streams = sensing.streams(&target, &near, 7, "t/physics/3");
+        let labels: Vec<String> = sensing.rigid.iter().map(|w| w.module.pixel()).collect();
+        let q = sensing.configs[0].sensor.angle_resolution_rad;
+        let tmp = tempfile::tempdir().unwrap();
+        let path = tmp.path().join("whisk_000003.csv");
+        std::fs::write(&path, records::whisk_csv(&labels, &streams, q).unwrap()).unwrap();
+        let back = records::read_whisk(&path, &labels, streams[0].len(), q).unwrap();
+        assert_eq!(back, streams);
+        let replay = sensing.contacts(3, &back, 7, "t/physics/3");
+        assert!(live.contacts.len() >= 4, "{:?}", live.contacts);
+        assert_eq!(replay.contacts, live.contacts);
+        for (i, w) in sensing.rigid.iter().enumerate() {
+            if target.sweep(w, &near).is_none() {
+                assert!(streams[i].iter().all(|r| r.x == 0.0 && r.y == 0.0));
+                assert!(live.contacts.iter().all(|c| c.whisker != i));
+            }
         }
     }
 }

@@ -323,8 +323,8 @@ fn kinematic_maze_dataset_replays_the_live_run() {
     assert!(stderr(&again).contains("dataset.json") && !t.join("x").exists());
 }
 
-/// The physics maze (the short scenario): the dataset written on 1 thread replays into
-/// the live run's bytes on 2; the lab layout is the thesis' (one file per whisk cycle, 4
+/// The physics maze (the short scenario): the dataset is the same on 1 and 2 threads and
+/// replays into the live run's bytes; the lab layout is the thesis' (one file per whisk cycle, 4
 /// columns per whisker); noise added to its streams has the requested σ.
 #[test]
 fn physics_maze_dataset_replays_the_live_run() {
@@ -333,6 +333,17 @@ fn physics_maze_dataset_replays_the_live_run() {
     let scenario = repo("scenarios/maze_short.toml");
     let d = t.join("d");
     ok(1, &["dataset", s(&scenario), "--seed", "1", "--out", s(&d)]);
+    // The same on 2 threads: the same bytes (checksums and all).
+    let d2 = t.join("d2");
+    ok(
+        2,
+        &["dataset", s(&scenario), "--seed", "1", "--out", s(&d2)],
+    );
+    assert_eq!(
+        files(&d),
+        files(&d2),
+        "the physics dataset depends on the thread count"
+    );
     let live = live_equals_replay(t, &scenario, 1, &d, &[]);
     let v: serde_json::Value = serde_json::from_str(&stdout(&live)).unwrap();
     assert!(v["runs"][0]["relocalisations"].as_u64().unwrap() > 0, "{v}");
