@@ -44,15 +44,16 @@ use whisker_slam::sensor::SAMPLE_RATE_HZ;
 pub const ODOMETRY_COLUMNS: &str = "update,time_s,turn_rad,distance_m";
 const TRUTH_COLUMNS: &str = "update,time_s,x_m,y_m,heading_rad";
 
-/// Writes seed `seed` of maze scenario `scenario` (read from `file`) into `s`; `clean`
-/// leaves out every noise.
+/// Writes maze scenario `scenario` (read from `file`; its seed the dataset's; as run:
+/// `scenario_text`) into `s`; `clean` leaves out every noise.
 pub fn write(
     file: &Path,
     scenario: &Scenario,
-    seed: u64,
+    scenario_text: &str,
     clean: bool,
     s: &mut Staging,
 ) -> CliResult<Manifest> {
+    let seed = scenario.seed;
     let o = Options::of(file);
     let setup = Setup::new(&o, scenario)?;
     let environment = scenario.environment(file)?.environment;
@@ -177,9 +178,7 @@ pub fn write(
         Role::Truth,
         records::contacts_csv(&anticipated, &array.labels).as_bytes(),
     )?;
-    let table = Scenario::resolved_table(file)?;
-    let text = toml::to_string(&table).map_err(|e| CliError::Failure(e.to_string()))?;
-    s.put("truth/scenario.toml", Role::Truth, text.as_bytes())?;
+    s.put("truth/scenario.toml", Role::Truth, scenario_text.as_bytes())?;
     Ok(Manifest {
         sensor,
         noise: NoiseInfo {

@@ -71,6 +71,9 @@ pub struct WriteOptions {
     /// noised later by `whisker dataset noise`.
     #[arg(long)]
     pub clean: bool,
+    /// Change a scenario field by its dotted path, as `whisker run --set` (repeatable).
+    #[arg(long = "set", value_name = "PATH=VALUE", value_parser = crate::scenario::overrides::Override::parse)]
+    pub set: Vec<crate::scenario::overrides::Override>,
 }
 
 /// `whisker dataset`.
@@ -90,9 +93,17 @@ pub fn run(args: &Args) -> CliResult {
                     "whisker dataset: expected SCENARIO and --out DIR".into(),
                 ));
             };
-            let mut scenario = Scenario::load(file)?;
+            let mut scenario = Scenario::load_with(file, &w.set)?;
             let seed = w.seed.unwrap_or(scenario.seed);
             scenario.seed = seed;
+            // The scenario as run, for truth/scenario.toml: its base merged, --set applied.
+            let mut table = Scenario::resolved_table(file)?;
+            for o in &w.set {
+                o.apply(&mut table)
+                    .map_err(|e| CliError::Input(format!("--set {}: {e}", o.dotted())))?;
+            }
+            table.insert("seed".into(), toml::Value::Integer(seed as i64));
+            let text = toml::to_string(&table).map_err(|e| CliError::Failure(e.to_string()))?;
             let started = std::time::Instant::now();
             let manifest = write(out, |staging| {
                 if scenario.explore.is_some() {
@@ -103,9 +114,9 @@ pub fn run(args: &Args) -> CliResult {
                             file.display()
                         )));
                     }
-                    recognition::write(file, &scenario, staging)
+                    recognition::write(file, &scenario, &text, staging)
                 } else if scenario.maze.is_some() {
-                    maze::write(file, &scenario, seed, w.clean, staging)
+                    maze::write(file, &scenario, &text, w.clean, staging)
                 } else {
                     Err(CliError::field(
                         file,

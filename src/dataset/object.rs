@@ -98,7 +98,9 @@ pub fn write(o: &WriteOptions, s: &mut Staging) -> CliResult<Manifest> {
     let log: Option<WhiskLog> = physics.then(|| {
         let (dir, labels, failure) = (s.path("log"), array.labels.clone(), failure.clone());
         let log: WhiskLog = Arc::new(move |stream: &str, k: usize, streams: &[Vec<Reading>]| {
+            // `object-slam/<object>/<A|B>/physics/<k>`.
             let walk = stream.strip_prefix("object-slam/").unwrap_or(stream);
+            let walk = walk.split("/physics/").next().unwrap_or(walk);
             let path = dir.join(walk).join("whisks").join(records::whisk_name(k));
             let written = records::whisk_csv(&labels, streams, sensor.angle_resolution_rad)
                 .map_err(|e| e.to_string())

@@ -5,8 +5,9 @@
 //! recognition columns equal the live `explore.csv`'s, its recognition the live
 //! `summary.json`'s.
 //!
-//! Level `contacts` (kinematic or physics sensing both end in contacts here: a physics
-//! closed loop's whisks are not kept as streams yet): `log/contacts.csv`,
+//! Kinematic sensing: level `contacts`, `log/contacts.csv`; physics sensing: level
+//! `streams`, `log/whisks/whisk_NNNNNN.csv` (one per whisk) and `log/radial_model.json`,
+//! the front end run at replay. Both:
 //! `log/odometry.csv` (6-D, Eq 6.4–6.11 noise), `log/poses.csv` (dead-reckoned from the
 //! start pose), `log/maps/<object>.json` (the known object maps: the robot's prior
 //! knowledge). Ground truth: `truth/poses.csv` (the reached pose of each whisk),
@@ -15,39 +16,82 @@
 //! object), `truth/scenario.toml`.
 
 use super::manifest::{
-    ClosedLoopInfo, ContactNoiseInfo, Experiment, Level, Manifest, NoiseInfo, Role,
+    ClosedLoopInfo, ContactNoiseInfo, Experiment, Level, Manifest, NoiseInfo, Role, SensorInfo,
+    SensorNoise,
 };
 use super::object::{TRUTH_COLUMNS, odometry_csv, pose_log, read_odometry};
 use super::{Staging, array_info, records};
 use crate::error::{CliError, CliResult};
+use crate::object_slam::physics::{PhysicsSensing, WhiskLog};
 use crate::scenario::Scenario;
 use crate::scenario::explore::Task;
 use nalgebra::Point3;
+use rayon::prelude::*;
 use serde_json::json;
 use std::fmt::Write;
 use std::path::Path;
+use std::sync::{Arc, Mutex};
 use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker};
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_slam::recognition::Recognition;
+use whisker_slam::sensor::{SAMPLE_RATE_HZ, Sample as Reading};
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 use whisker_slam::whisker_ratslam::slam::WhiskerRatSlam;
 
 /// Runs the closed loop of `scenario` (read from `file`, its `seed` the dataset's) and
-/// writes the path it took into `s`.
-pub fn write(file: &Path, scenario: &Scenario, s: &mut Staging) -> CliResult<Manifest> {
+/// writes the path it took into `s`; `scenario_text` is the scenario as run.
+pub fn write(
+    file: &Path,
+    scenario: &Scenario,
+    scenario_text: &str,
+    s: &mut Staging,
+) -> CliResult<Manifest> {
     let config = scenario.explore.as_ref().expect("checked by the caller");
     let plan = crate::plan::Plan::new(scenario, file)?;
     let environment = scenario.environment(file)?.environment;
-    let outcome = crate::explore::run(scenario, file, plan, &environment)?;
     let configs = scenario.array.whisker_configs(file)?;
     let whiskers: Vec<RigidWhisker> = configs.iter().map(|c| c.rigid()).collect();
     let array = array_info(&whiskers);
-    s.put(
-        "log/contacts.csv",
-        Role::Log,
-        records::contacts_csv(&outcome.cycles, &array.labels).as_bytes(),
-    )?;
+    let physics = scenario.sensing == crate::scenario::Sensing::Physics;
+    // Physics: each whisk's samples to its whisk file as the loop runs.
+    let failure = Arc::new(Mutex::new(None::<String>));
+    let log: Option<WhiskLog> = physics.then(|| {
+        let (dir, labels, failure) = (s.path("log/whisks"), array.labels.clone(), failure.clone());
+        let q = configs[0].sensor.angle_resolution_rad;
+        let log: WhiskLog = Arc::new(move |_: &str, k: usize, streams: &[Vec<Reading>]| {
+            let path = dir.join(records::whisk_name(k));
+            let written = records::whisk_csv(&labels, streams, q)
+                .map_err(|e| e.to_string())
+                .and_then(|csv| {
+                    std::fs::create_dir_all(&dir)
+                        .and_then(|_| std::fs::write(&path, csv))
+                        .map_err(|e| format!("cannot write {}: {e}", path.display()))
+                });
+            if let Err(e) = written {
+                failure.lock().expect("not poisoned").get_or_insert(e);
+            }
+        });
+        log
+    });
+    let outcome = crate::explore::run_logged(scenario, file, plan, &environment, log)?;
+    if let Some(e) = failure.lock().expect("not poisoned").take() {
+        return Err(CliError::Failure(e));
+    }
+    if physics {
+        for k in 0..outcome.poses.len() {
+            s.register(&format!("log/whisks/{}", records::whisk_name(k)), Role::Log)?;
+        }
+        let model = scenario.frontend.model(file)?;
+        let text = serde_json::to_string_pretty(&model).expect("plain JSON") + "\n";
+        s.put("log/radial_model.json", Role::Log, text.as_bytes())?;
+    } else {
+        s.put(
+            "log/contacts.csv",
+            Role::Log,
+            records::contacts_csv(&outcome.cycles, &array.labels).as_bytes(),
+        )?;
+    }
     s.put(
         "log/odometry.csv",
         Role::Log,
@@ -107,19 +151,28 @@ pub fn write(file: &Path, scenario: &Scenario, s: &mut Staging) -> CliResult<Man
     s.put("truth/explore.csv", Role::Truth, outcome.csv.as_bytes())?;
     let summary = serde_json::to_string_pretty(&outcome.summary).expect("plain JSON") + "\n";
     s.put("truth/summary.json", Role::Truth, summary.as_bytes())?;
-    let table = Scenario::resolved_table(file)?;
-    let text = toml::to_string(&table).map_err(|e| CliError::Failure(e.to_string()))?;
-    s.put("truth/scenario.toml", Role::Truth, text.as_bytes())?;
+    s.put("truth/scenario.toml", Role::Truth, scenario_text.as_bytes())?;
     let noise = scenario.kinematic.noise(file)?;
-    let kinematic = scenario.sensing != crate::scenario::Sensing::Physics;
-    let contacts = if kinematic {
-        ContactNoiseInfo::of(noise)
-    } else {
-        None
-    };
+    let sensor = configs[0].sensor;
     Ok(Manifest {
+        sensor: physics.then_some(SensorInfo {
+            sample_rate_hz: SAMPLE_RATE_HZ,
+            whisk_hz: configs[0].pattern.frequency,
+            samples_per_whisk: (SAMPLE_RATE_HZ / configs[0].pattern.frequency).round() as usize,
+            whisks: outcome.poses.len(),
+            angle_resolution_rad: sensor.angle_resolution_rad,
+            saturation_counts: sensor.saturation_counts,
+        }),
         noise: NoiseInfo {
-            contacts,
+            contacts: if physics {
+                None
+            } else {
+                ContactNoiseInfo::of(noise)
+            },
+            sensor: physics.then_some(SensorNoise {
+                deflection_counts: sensor.noise_counts,
+                angle_rad: sensor.angle_noise_rad,
+            }),
             ..NoiseInfo::default()
         },
         closed_loop: Some(ClosedLoopInfo {
@@ -135,7 +188,11 @@ pub fn write(file: &Path, scenario: &Scenario, s: &mut Staging) -> CliResult<Man
         }),
         ..Manifest::new(
             Experiment::ClosedLoop,
-            Level::Contacts,
+            if physics {
+                Level::Streams
+            } else {
+                Level::Contacts
+            },
             scenario.seed,
             array,
         )
@@ -158,7 +215,30 @@ pub fn replay(dir: &Path, m: &Manifest, o: &Replay) -> CliResult {
         return Err(CliError::field(&file, "closed_loop", "missing"));
     };
     let n = info.whisks;
-    let cycles = records::read_contacts(&m.file(dir, "log/contacts.csv")?, n, &m.array.labels)?;
+    let cycles = match m.level {
+        Level::Contacts => {
+            records::read_contacts(&m.file(dir, "log/contacts.csv")?, n, &m.array.labels)?
+        }
+        // Physics: the front end and the radial-distance model on each whisk file, with
+        // the live run's draws (sub-streams `explore/physics/<k>` of its seed).
+        Level::Streams => {
+            let path = m.file(dir, "log/radial_model.json")?;
+            let model = crate::frontend::radial_model(Some(&path))?;
+            let configs = whisker_sim::whisker::array::modules()
+                .into_iter()
+                .map(whisker_sim::sensing::physics::WhiskerConfig::with_defaults)
+                .collect();
+            let p = PhysicsSensing::with_configs(Vec::new(), model, configs)
+                .with_rigid(super::rigid_whiskers(dir, &m.array)?);
+            (0..n)
+                .into_par_iter()
+                .map(|k| {
+                    let streams = super::whisk_streams(dir, m, "log/whisks", k)?;
+                    Ok(p.contacts(k, &streams, m.seed, &format!("explore/physics/{k}")))
+                })
+                .collect::<CliResult<Vec<_>>>()?
+        }
+    };
     let odometry = read_odometry(&m.file(dir, "log/odometry.csv")?, n)?;
     let mut appended = ObjectMap::default();
     for name in &info.maps {

@@ -164,6 +164,17 @@ pub fn run(
     plan: Plan,
     environment: &Environment,
 ) -> CliResult<Outcome> {
+    run_logged(scenario, file, plan, environment, None)
+}
+
+/// [`run`], physics whisks' samples handed to `log` (stream `explore/physics/<k>`).
+pub fn run_logged(
+    scenario: &Scenario,
+    file: &Path,
+    plan: Plan,
+    environment: &Environment,
+    log: Option<crate::object_slam::physics::WhiskLog>,
+) -> CliResult<Outcome> {
     let config = scenario
         .explore
         .as_ref()
@@ -189,11 +200,15 @@ pub fn run(
         ));
     }
     let sensing = match scenario.sensing {
-        Sensing::Physics => Sensor::Physics(Box::new(PhysicsSensing::with_configs(
-            environment.physics_pieces(),
-            scenario.frontend.model(file)?,
-            scenario.array.whisker_configs(file)?,
-        ))),
+        Sensing::Physics => {
+            let mut p = PhysicsSensing::with_configs(
+                environment.physics_pieces(),
+                scenario.frontend.model(file)?,
+                scenario.array.whisker_configs(file)?,
+            );
+            p.log = log;
+            Sensor::Physics(Box::new(p))
+        }
         _ => {
             let configs = scenario.array.whisker_configs(file)?;
             let whiskers = configs.iter().map(|c| c.rigid()).collect();

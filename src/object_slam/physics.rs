@@ -30,8 +30,8 @@ pub struct PhysicsSensing {
     pub environment: Vec<EnvironmentPiece>,
     /// Radial-distance model.
     pub model: RadialEstimator,
-    /// Called with each whisk's stream name, number and samples by [`Self::sense`] (a
-    /// dataset writer's log).
+    /// Called with each whisk's stream name (`<stream>/physics/<k>` in [`Self::sense`]),
+    /// number and samples by [`Self::whisk`] (a dataset writer's log).
     pub log: Option<WhiskLog>,
     configs: Vec<WhiskerConfig>,
     rigid: Vec<RigidWhisker>,
@@ -72,6 +72,13 @@ impl PhysicsSensing {
         }
     }
 
+    /// The same sensing with the straight shafts of `rigid` (a log's array: contact points
+    /// from its base offsets).
+    pub fn with_rigid(mut self, rigid: Vec<RigidWhisker>) -> Self {
+        self.rigid = rigid;
+        self
+    }
+
     /// One whisk at each of `poses` (whisk k starts at time k s): the contact cycles.
     pub fn sense(
         &self,
@@ -85,13 +92,7 @@ impl PhysicsSensing {
             .par_iter()
             .enumerate()
             .map(|(k, pose)| {
-                let name = format!("{stream}/physics/{k}");
-                let streams = self.streams(target, pose, seed, &name);
-                if let Some(log) = &self.log {
-                    log(stream, k, &streams);
-                }
-                let mut cycle = self.contacts(k, &streams, seed, &name);
-                cycle.array_pose = *pose;
+                let cycle = self.whisk(target, k, pose, seed, &format!("{stream}/physics/{k}"));
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
                 if n.is_multiple_of(10) || n == poses.len() {
                     eprintln!("  {stream}: {n}/{} whisks simulated", poses.len());
@@ -112,6 +113,9 @@ impl PhysicsSensing {
         stream: &str,
     ) -> ContactCycle {
         let streams = self.streams(target, pose, seed, stream);
+        if let Some(log) = &self.log {
+            log(stream, k, &streams);
+        }
         let mut cycle = self.contacts(k, &streams, seed, stream);
         cycle.array_pose = *pose;
         cycle

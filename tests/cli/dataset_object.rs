@@ -139,22 +139,36 @@ fn object_dataset_replays_the_live_run() {
     ok(2, &["slam", s(&noised)]);
 }
 
-/// A closed loop's dataset (the path the Ch 6 loop took) replayed open loop: the SLAM and
-/// recognition columns of the live `explore.csv` and the live recognition, exactly; the
-/// outcome, SRT and IM unavailable without ground truth; no `--clean` or later noise.
-#[test]
-fn closed_loop_dataset_replays_recognition() {
-    let tmp = tempfile::tempdir().unwrap();
-    let t = tmp.path();
-    let scenario = repo("scenarios/recognise_box.toml");
+/// Writes the closed loop of `scenario` (seed 2, `extra` options) as a dataset into
+/// `t/d`, runs it live into `t/live` and replays the dataset into `t/replay`: the replay's
+/// recognition, counts and every column of `replay.csv` must equal the live run's.
+/// Returns the dataset's directory and the live summary.
+fn closed_loop_equals_replay(
+    t: &Path,
+    scenario: &Path,
+    extra: &[&str],
+) -> (PathBuf, serde_json::Value) {
     let (d, live, replay) = (t.join("d"), t.join("live"), t.join("replay"));
-    ok(2, &["dataset", s(&scenario), "--seed", "2", "--out", s(&d)]);
-    ok(2, &["run", s(&scenario), "--seed", "2", "--out", s(&live)]);
+    ok(
+        2,
+        &[
+            &["dataset", s(scenario), "--seed", "2", "--out", s(&d)],
+            extra,
+        ]
+        .concat(),
+    );
+    ok(
+        2,
+        &[
+            &["run", s(scenario), "--seed", "2", "--out", s(&live)],
+            extra,
+        ]
+        .concat(),
+    );
     let o = ok(1, &["slam", s(&d), "--out", s(&replay), "--json"]);
     let r: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
     let l: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(live.join("summary.json")).unwrap()).unwrap();
-    assert!(l["recognition"]["identified"].is_string(), "{l}");
     for k in [
         "identified",
         "identified_at",
@@ -193,6 +207,20 @@ fn closed_loop_dataset_replays_recognition() {
             assert_eq!(a[k][i], b[k][j], "{name} at whisk {}", k - 1);
         }
     }
+    (d, l)
+}
+
+/// A closed loop's dataset (the path the Ch 6 loop took) replayed open loop: the SLAM and
+/// recognition columns of the live `explore.csv` and the live recognition, exactly; the
+/// outcome, SRT and IM unavailable without ground truth; no `--clean` or later noise.
+#[test]
+fn closed_loop_dataset_replays_recognition() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    let scenario = repo("scenarios/recognise_box.toml");
+    let (d, l) = closed_loop_equals_replay(t, &scenario, &[]);
+    assert!(l["recognition"]["identified"].is_string(), "{l}");
+    assert_eq!(manifest(&d)["level"], "contacts");
     // The truth says which object it was; without it, that and what needs it is null.
     assert_eq!(
         manifest(&d)["closed_loop"]["maps"],
@@ -220,4 +248,26 @@ fn closed_loop_dataset_replays_recognition() {
         assert_eq!(o.status.code(), Some(2), "{args:?}");
         assert!(!x.exists());
     }
+}
+
+/// A physics closed loop (40 whisks of `recognise_box_physics.toml`): one whisk file per
+/// whisk, replayed through the front end and the radial-distance model into the live
+/// run's SLAM and recognition.
+#[test]
+fn physics_closed_loop_dataset_replays_recognition() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    let scenario = repo("scenarios/recognise_box_physics.toml");
+    let set = ["--set", "explore.max_iterations=40"];
+    let (d, l) = closed_loop_equals_replay(t, &scenario, &set);
+    let m = manifest(&d);
+    assert_eq!(m["level"], "streams");
+    assert_eq!(m["sensor"]["whisks"], 40);
+    assert!(d.join("log/whisks/whisk_000039.csv").exists());
+    assert!(l["relocalisations"].as_u64().unwrap() > 0, "{l}");
+    let scenario_text = std::fs::read_to_string(d.join("truth/scenario.toml")).unwrap();
+    assert!(
+        scenario_text.contains("max_iterations = 40"),
+        "{scenario_text}"
+    );
 }
