@@ -96,13 +96,13 @@ pub fn run(args: &Args) -> CliResult {
             let mut scenario = Scenario::load_with(file, &w.set)?;
             let seed = w.seed.unwrap_or(scenario.seed);
             scenario.seed = seed;
-            // The scenario as run, for truth/scenario.toml: its base merged, --set applied.
+            // The scenario as run, for truth/scenario.toml: its base merged, --set applied
+            // (the seed is the manifest's: the truth does not change with it).
             let mut table = Scenario::resolved_table(file)?;
             for o in &w.set {
                 o.apply(&mut table)
                     .map_err(|e| CliError::Input(format!("--set {}: {e}", o.dotted())))?;
             }
-            table.insert("seed".into(), toml::Value::Integer(seed as i64));
             let text = toml::to_string(&table).map_err(|e| CliError::Failure(e.to_string()))?;
             let started = std::time::Instant::now();
             let manifest = write(out, |staging| {
