@@ -28,6 +28,7 @@ pub mod object;
 pub mod recognition;
 pub mod records;
 pub mod table;
+pub mod whisks;
 
 use crate::error::{CliError, CliResult};
 use crate::scenario::Scenario;

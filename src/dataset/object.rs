@@ -16,26 +16,25 @@ use super::manifest::{
 };
 use super::records::{self, POSE_COLUMNS};
 use super::table::{Row, Table, columns};
+use super::whisks::{WhiskFiles, put_model, replay_sensing};
 use super::{Staging, array_info};
 use crate::error::{CliError, CliResult};
-use crate::object_slam::physics::{PhysicsSensing, WhiskLog};
+use crate::object_slam::physics::PhysicsSensing;
 use crate::object_slam::{self, Options, Sensed, SensingArg, Walk};
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use rayon::prelude::*;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
 use whisker_sim::environment::assets::{CATALOGUE, generate};
 use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::sensing::physics::WhiskerConfig;
 use whisker_sim::whisker::array;
 use whisker_slam::sensor::Odometry;
-use whisker_slam::sensor::{SAMPLE_RATE_HZ, Sample as Reading};
+use whisker_slam::sensor::SAMPLE_RATE_HZ;
 
 pub(super) const ODOMETRY_COLUMNS: &str =
     "whisk,time_s,vx_m_s,vy_m_s,vz_m_s,wx_rad_s,wy_rad_s,wz_rad_s,dt_s";
-pub(super) const TRUTH_COLUMNS: &str = "whisk,time_s,x_m,y_m,z_m,qx,qy,qz,qw";
 
 /// `whisker dataset object-slam`.
 #[derive(clap::Args, Debug)]
@@ -92,37 +91,24 @@ pub fn write(o: &WriteOptions, s: &mut Staging) -> CliResult<Manifest> {
     };
     let array = array_info(&whiskers);
     let sensor = sensing_configs()[0].sensor;
-    // Physics: each whisk's samples straight to its file (the walks are simulated in
-    // parallel); the first failure kept.
-    let failure = Arc::new(Mutex::new(None::<String>));
-    let log: Option<WhiskLog> = physics.then(|| {
-        let (dir, labels, failure) = (s.path("log"), array.labels.clone(), failure.clone());
-        let log: WhiskLog = Arc::new(move |stream: &str, k: usize, streams: &[Vec<Reading>]| {
+    // Physics: each whisk's samples straight to its file, as the walks are simulated.
+    let files = physics.then(|| {
+        let dir = s.path("log");
+        let path = move |stream: &str, k: usize| {
             // `object-slam/<object>/<A|B>/physics/<k>`.
             let walk = stream.strip_prefix("object-slam/").unwrap_or(stream);
             let walk = walk.split("/physics/").next().unwrap_or(walk);
-            let path = dir.join(walk).join("whisks").join(records::whisk_name(k));
-            let written = records::whisk_csv(&labels, streams, sensor.angle_resolution_rad)
-                .map_err(|e| e.to_string())
-                .and_then(|csv| {
-                    std::fs::create_dir_all(path.parent().expect("a parent"))
-                        .and_then(|_| std::fs::write(&path, csv))
-                        .map_err(|e| format!("cannot write {}: {e}", path.display()))
-                });
-            if let Err(e) = written {
-                failure.lock().expect("not poisoned").get_or_insert(e);
-            }
-        });
-        log
+            dir.join(walk).join("whisks").join(records::whisk_name(k))
+        };
+        WhiskFiles::new(path, array.labels.clone(), sensor.angle_resolution_rad)
     });
-    let data = object_slam::sense(&options, !o.clean, log)?;
-    if let Some(e) = failure.lock().expect("not poisoned").take() {
-        return Err(CliError::Failure(e));
-    }
-    if physics {
-        let model = crate::frontend::radial_model(o.radial_model.as_deref())?;
-        let text = serde_json::to_string_pretty(&model).expect("plain JSON") + "\n";
-        s.put("log/radial_model.json", Role::Log, text.as_bytes())?;
+    let data = object_slam::sense(&options, !o.clean, files.as_ref().map(|f| f.log.clone()))?;
+    if let Some(files) = &files {
+        files.finish()?;
+        put_model(
+            s,
+            &crate::frontend::radial_model(o.radial_model.as_deref())?,
+        )?;
     }
     let mut walks = Vec::new();
     for (asset, a, b, _) in &data {
@@ -153,15 +139,8 @@ pub fn write(o: &WriteOptions, s: &mut Staging) -> CliResult<Manifest> {
                 Role::Log,
                 pose_log(&truth[0], &walk.odometry, false, None).as_bytes(),
             )?;
-            let mut poses = String::from(TRUTH_COLUMNS) + "\n";
-            for (k, p) in truth.iter().enumerate() {
-                let (t, q) = (p.translation.vector, p.rotation.coords);
-                let _ = writeln!(
-                    poses,
-                    "{k},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
-                    k as f64, t.x, t.y, t.z, q.x, q.y, q.z, q.w
-                );
-            }
+            let times: Vec<f64> = (0..truth.len()).map(|k| k as f64).collect();
+            let poses = records::truth_poses_csv(truth, &times);
             s.put(
                 &format!("truth/{dir}/poses.csv"),
                 Role::Truth,
@@ -280,15 +259,7 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<Vec<Sensed<'static>>> {
     };
     let physics = match (info.sensing.as_str(), m.level) {
         ("kinematic", Level::Contacts) => None,
-        ("physics", Level::Streams) => {
-            let model =
-                crate::frontend::radial_model(Some(&m.file(dir, "log/radial_model.json")?))?;
-            Some(PhysicsSensing::with_configs(
-                Vec::new(),
-                model,
-                sensing_configs(),
-            ))
-        }
+        ("physics", Level::Streams) => Some(replay_sensing(dir, m)?),
         _ => {
             return Err(CliError::field(
                 &file,
@@ -439,7 +410,7 @@ fn read_walk(
     let truth = if truth {
         Some(read_rows(
             &m.file(dir, &format!("truth/{base}/poses.csv"))?,
-            TRUTH_COLUMNS,
+            records::TRUTH_POSE_COLUMNS,
             n,
             |row| {
                 let v: Vec<f64> = (2..9).map(|i| row.f64(i)).collect::<CliResult<_>>()?;

@@ -19,10 +19,10 @@ use super::manifest::{
     ClosedLoopInfo, ContactNoiseInfo, Experiment, Level, Manifest, NoiseInfo, Role, SensorInfo,
     SensorNoise,
 };
-use super::object::{TRUTH_COLUMNS, odometry_csv, pose_log, read_odometry};
+use super::object::{odometry_csv, pose_log, read_odometry};
+use super::whisks::{WhiskFiles, put_model, replay_sensing};
 use super::{Staging, array_info, records};
 use crate::error::{CliError, CliResult};
-use crate::object_slam::physics::{PhysicsSensing, WhiskLog};
 use crate::scenario::Scenario;
 use crate::scenario::explore::Task;
 use nalgebra::Point3;
@@ -30,12 +30,11 @@ use rayon::prelude::*;
 use serde_json::json;
 use std::fmt::Write;
 use std::path::Path;
-use std::sync::{Arc, Mutex};
 use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker};
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_slam::recognition::Recognition;
-use whisker_slam::sensor::{SAMPLE_RATE_HZ, Sample as Reading};
+use whisker_slam::sensor::SAMPLE_RATE_HZ;
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 use whisker_slam::whisker_ratslam::slam::WhiskerRatSlam;
 
@@ -55,36 +54,25 @@ pub fn write(
     let array = array_info(&whiskers);
     let physics = scenario.sensing == crate::scenario::Sensing::Physics;
     // Physics: each whisk's samples to its whisk file as the loop runs.
-    let failure = Arc::new(Mutex::new(None::<String>));
-    let log: Option<WhiskLog> = physics.then(|| {
-        let (dir, labels, failure) = (s.path("log/whisks"), array.labels.clone(), failure.clone());
-        let q = configs[0].sensor.angle_resolution_rad;
-        let log: WhiskLog = Arc::new(move |_: &str, k: usize, streams: &[Vec<Reading>]| {
-            let path = dir.join(records::whisk_name(k));
-            let written = records::whisk_csv(&labels, streams, q)
-                .map_err(|e| e.to_string())
-                .and_then(|csv| {
-                    std::fs::create_dir_all(&dir)
-                        .and_then(|_| std::fs::write(&path, csv))
-                        .map_err(|e| format!("cannot write {}: {e}", path.display()))
-                });
-            if let Err(e) = written {
-                failure.lock().expect("not poisoned").get_or_insert(e);
-            }
-        });
-        log
+    let files = physics.then(|| {
+        let dir = s.path("log/whisks");
+        let path = move |_: &str, k: usize| dir.join(records::whisk_name(k));
+        WhiskFiles::new(
+            path,
+            array.labels.clone(),
+            configs[0].sensor.angle_resolution_rad,
+        )
     });
+    let log = files.as_ref().map(|f| f.log.clone());
     let outcome = crate::explore::run_logged(scenario, file, plan, &environment, log)?;
-    if let Some(e) = failure.lock().expect("not poisoned").take() {
-        return Err(CliError::Failure(e));
+    if let Some(files) = &files {
+        files.finish()?;
     }
     if physics {
         for k in 0..outcome.poses.len() {
             s.register(&format!("log/whisks/{}", records::whisk_name(k)), Role::Log)?;
         }
-        let model = scenario.frontend.model(file)?;
-        let text = serde_json::to_string_pretty(&model).expect("plain JSON") + "\n";
-        s.put("log/radial_model.json", Role::Log, text.as_bytes())?;
+        put_model(s, &scenario.frontend.model(file)?)?;
     } else {
         s.put(
             "log/contacts.csv",
@@ -117,15 +105,7 @@ pub fn write(
         maps.push(name);
     }
     // Ground truth.
-    let mut poses = String::from(TRUTH_COLUMNS) + "\n";
-    for (k, (p, t)) in outcome.poses.iter().zip(&outcome.times).enumerate() {
-        let (v, q) = (p.translation.vector, p.rotation.coords);
-        let _ = writeln!(
-            poses,
-            "{k},{t:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
-            v.x, v.y, v.z, q.x, q.y, q.z, q.w
-        );
-    }
+    let poses = records::truth_poses_csv(&outcome.poses, &outcome.times);
     s.put("truth/poses.csv", Role::Truth, poses.as_bytes())?;
     let mut sweep = KinematicArray::new(
         whiskers.clone(),
@@ -222,14 +202,7 @@ pub fn replay(dir: &Path, m: &Manifest, o: &Replay) -> CliResult {
         // Physics: the front end and the radial-distance model on each whisk file, with
         // the live run's draws (sub-streams `explore/physics/<k>` of its seed).
         Level::Streams => {
-            let path = m.file(dir, "log/radial_model.json")?;
-            let model = crate::frontend::radial_model(Some(&path))?;
-            let configs = whisker_sim::whisker::array::modules()
-                .into_iter()
-                .map(whisker_sim::sensing::physics::WhiskerConfig::with_defaults)
-                .collect();
-            let p = PhysicsSensing::with_configs(Vec::new(), model, configs)
-                .with_rigid(super::rigid_whiskers(dir, &m.array)?);
+            let p = replay_sensing(dir, m)?;
             (0..n)
                 .into_par_iter()
                 .map(|k| {

@@ -176,6 +176,23 @@ fn contact(row: &Row, w: usize) -> CliResult<Contact> {
     })
 }
 
+/// The header of a true-pose file (object walks, closed loops).
+pub const TRUTH_POSE_COLUMNS: &str = "whisk,time_s,x_m,y_m,z_m,qx,qy,qz,qw";
+
+/// A true-pose file's text: each whisk's pose at its time.
+pub fn truth_poses_csv(poses: &[Isometry3<f64>], times: &[f64]) -> String {
+    let mut csv = String::from(TRUTH_POSE_COLUMNS) + "\n";
+    for (k, (p, t)) in poses.iter().zip(times).enumerate() {
+        let (v, q) = (p.translation.vector, p.rotation.coords);
+        let _ = writeln!(
+            csv,
+            "{k},{t:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
+            v.x, v.y, v.z, q.x, q.y, q.z, q.w
+        );
+    }
+    csv
+}
+
 /// The header of the pose log.
 pub const POSE_COLUMNS: &str = "time_s,x_m,y_m,z_m,qx,qy,qz,qw,whisk_file";
 

@@ -1,0 +1,77 @@
+//! Physics whisks as whisk files (docs/dataset.md, level `streams`) for the datasets of
+//! held-still whisks — object walks and closed loops: the files written as the simulation
+//! produces the whisks (in parallel), the radial-distance model beside them, and the same
+//! front end rebuilt from a dataset to replay them.
+
+use super::manifest::{Manifest, Role};
+use super::{Staging, records};
+use crate::error::{CliError, CliResult};
+use crate::object_slam::physics::{PhysicsSensing, WhiskLog};
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+use whisker_slam::radial::RadialEstimator;
+use whisker_slam::sensor::Sample as Reading;
+
+/// A [`WhiskLog`] that writes each whisk's samples to a whisk file, keeping the first
+/// failure for [`WhiskFiles::finish`] (a log cannot return one).
+pub struct WhiskFiles {
+    /// The log to hand to the sensing.
+    pub log: WhiskLog,
+    failure: Arc<Mutex<Option<String>>>,
+}
+
+impl WhiskFiles {
+    /// Writes whisk `k` of stream `stream` to `path(stream, k)` (parent created), whisker
+    /// columns `labels`, angles in counts of `angle_resolution` (rad).
+    pub fn new(
+        path: impl Fn(&str, usize) -> PathBuf + Send + Sync + 'static,
+        labels: Vec<String>,
+        angle_resolution: f64,
+    ) -> Self {
+        let failure = Arc::new(Mutex::new(None::<String>));
+        let kept = failure.clone();
+        let log: WhiskLog = Arc::new(move |stream: &str, k: usize, streams: &[Vec<Reading>]| {
+            let path = path(stream, k);
+            let written = records::whisk_csv(&labels, streams, angle_resolution)
+                .map_err(|e| e.to_string())
+                .and_then(|csv| {
+                    std::fs::create_dir_all(path.parent().expect("a file in a directory"))
+                        .and_then(|_| std::fs::write(&path, csv))
+                        .map_err(|e| format!("cannot write {}: {e}", path.display()))
+                });
+            if let Err(e) = written {
+                kept.lock().expect("not poisoned").get_or_insert(e);
+            }
+        });
+        Self { log, failure }
+    }
+
+    /// The first failure to write, if any.
+    pub fn finish(&self) -> CliResult {
+        match self.failure.lock().expect("not poisoned").take() {
+            Some(e) => Err(CliError::Failure(e)),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The radial-distance model's file in a dataset.
+const MODEL: &str = "log/radial_model.json";
+
+/// Writes `model` to `log/radial_model.json` (the format of `whisker radial train`).
+pub fn put_model(s: &mut Staging, model: &RadialEstimator) -> CliResult {
+    let text = serde_json::to_string_pretty(model).expect("plain JSON") + "\n";
+    s.put(MODEL, Role::Log, text.as_bytes())
+}
+
+/// The front end of held-still physics whisks as the dataset in `dir` (manifest `m`) was
+/// sensed: its radial-distance model, its array's shafts, the default detection levels.
+pub fn replay_sensing(dir: &Path, m: &Manifest) -> CliResult<PhysicsSensing> {
+    let model = crate::frontend::radial_model(Some(&m.file(dir, MODEL)?))?;
+    let configs = whisker_sim::whisker::array::modules()
+        .into_iter()
+        .map(whisker_sim::sensing::physics::WhiskerConfig::with_defaults)
+        .collect();
+    Ok(PhysicsSensing::with_configs(Vec::new(), model, configs)
+        .with_rigid(super::rigid_whiskers(dir, &m.array)?))
+}
