@@ -11,13 +11,14 @@ use crate::error::CliResult;
 use crate::output;
 use crate::plan::Plan;
 use crate::recording::Recording;
+use crate::recording::world::{Contact, ContactKind};
 use crate::scenario::Scenario;
 use nalgebra::Isometry3;
 use std::fmt::Write as _;
 use std::path::Path;
 use whisker_sim::environment::Environment;
 use whisker_sim::kinematics::Chain;
-use whisker_sim::sensing::kinematic::{KinematicArray, SweepTarget};
+use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_slam::contact::ContactCycle;
@@ -27,18 +28,21 @@ pub const HEADER: &str = "cycle,t_cycle_s,whisker,pixel,t_contact_s,angle_deg,ra
                           x_m,y_m,z_m,world_x_m,world_y_m,world_z_m,slope\n";
 
 /// Appends the rows of one whisk cycle's contacts, made with the array at `pose`, to a
-/// `contacts.csv` text (`pixels`: each whisker's tactile-image label); returns the contact
-/// points in the world.
+/// `contacts.csv` text (`pixels`: each whisker's tactile-image label); returns the contacts
+/// in the world.
 pub fn append_cycle(
     csv: &mut String,
     cycle: &ContactCycle,
     pose: &Isometry3<f64>,
     pixels: &[String],
-) -> Vec<[f64; 3]> {
+) -> Vec<Contact> {
     let mut world = Vec::with_capacity(cycle.contacts.len());
     for c in &cycle.contacts {
         let w = pose * c.point;
-        world.push([w.x, w.y, w.z]);
+        world.push(Contact {
+            whisker: c.whisker,
+            point: [w.x, w.y, w.z],
+        });
         let _ = writeln!(
             csv,
             "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
@@ -61,6 +65,44 @@ pub fn append_cycle(
     world
 }
 
+/// The anticipated intersects of `whiskers` with the array at `pose`: the noise-free
+/// contacts (world), for the recording's ground truth.
+pub fn anticipated(
+    target: &SweepTarget,
+    whiskers: &[RigidWhisker],
+    pose: &Isometry3<f64>,
+) -> Vec<Contact> {
+    whiskers
+        .iter()
+        .filter_map(|w| {
+            let hit = target.sweep(w, pose)?;
+            Some(Contact {
+                whisker: w.module.index,
+                point: [hit.point.x, hit.point.y, hit.point.z],
+            })
+        })
+        .collect()
+}
+
+/// The straight shafts of a kinematic `array` at time `t` with the array at `pose` (world;
+/// base and tip of each), at each whisker's pattern angle.
+pub fn rigid_shafts(array: &KinematicArray, pose: &Isometry3<f64>, t: f64) -> Vec<Vec<[f64; 3]>> {
+    array
+        .whiskers
+        .iter()
+        .zip(&array.patterns)
+        .map(|(w, p)| {
+            let theta = p.angle(t);
+            [0.0, w.module.beam.length]
+                .map(|r| {
+                    let q = w.shaft_point(pose, theta, r);
+                    [q.x, q.y, q.z]
+                })
+                .to_vec()
+        })
+        .collect()
+}
+
 /// Anticipated-intersect sensing along a run.
 pub struct ContactSensing {
     array: KinematicArray,
@@ -70,8 +112,10 @@ pub struct ContactSensing {
     next_cycle: i64,
     pixels: Vec<String>,
     csv: String,
-    /// Output file name (`contacts.csv` or `anticipated.csv`) and recording entity.
+    /// Output file name (`contacts.csv` or `anticipated.csv`).
     name: &'static str,
+    /// Whether the contacts carry noise (then the recording also gets the intersect).
+    noisy: bool,
     cycles: u64,
     contacts: u64,
 }
@@ -108,6 +152,7 @@ impl ContactSensing {
             next_cycle: pattern.cycle(0.0) + i64::from(pattern.phase != 0.0),
             pixels: configs.iter().map(|c| c.module.pixel()).collect(),
             csv: HEADER.to_string(),
+            noisy: noise != ContactNoise::NONE,
             name,
             cycles: 0,
             contacts: 0,
@@ -129,7 +174,15 @@ impl ContactSensing {
                 .sense(&self.target, self.next_cycle as u64, start, &pose);
             let world = append_cycle(&mut self.csv, &cycle, &pose, &self.pixels);
             if let Some(rec) = recording {
-                rec.contacts(self.entity(), start, &world)?;
+                let k = self.next_cycle as u64;
+                if self.noisy {
+                    // The ground truth of a noisy sweep: the intersect itself.
+                    let truth = anticipated(&self.target, &self.array.whiskers, &pose);
+                    rec.contacts(ContactKind::True, k, start, &truth)?;
+                    rec.contacts(ContactKind::Estimated, k, start, &world)?;
+                } else {
+                    rec.contacts(ContactKind::True, k, start, &world)?;
+                }
             }
             self.cycles += 1;
             self.contacts += cycle.contacts.len() as u64;
@@ -138,8 +191,11 @@ impl ContactSensing {
         Ok(())
     }
 
-    fn entity(&self) -> &'static str {
-        self.name.trim_end_matches(".csv")
+    /// The rigid shafts at time `t` (world; base and tip), at the whisk angle of each
+    /// whisker's pattern then, the arm following the plan.
+    pub fn shafts(&self, plan: &Plan, t: f64) -> Vec<Vec<[f64; 3]>> {
+        let pose = self.chain.fk(&plan.trajectory.sample(t));
+        rigid_shafts(&self.array, &pose, t)
     }
 
     /// Whisk cycles swept and contacts found so far.

@@ -14,6 +14,7 @@ use crate::contacts::HEADER;
 use crate::error::{CliError, CliResult};
 use crate::output;
 use crate::recording::Recording;
+use crate::recording::world::{Contact, ContactKind};
 use crate::scenario::Scenario;
 use nalgebra::Isometry3;
 use std::fmt::Write as _;
@@ -113,7 +114,10 @@ impl FrontEnd {
             let pose = self.poses[event.onset.min(self.poses.len() - 1)];
             let p = whisker.shaft_point(&pose, event.onset_angle, r);
             let local = pose.inverse_transform_point(&p);
-            world.push([p.x, p.y, p.z]);
+            world.push(Contact {
+                whisker: w,
+                point: [p.x, p.y, p.z],
+            });
             let _ = writeln!(
                 self.csv,
                 "{index},{},{w},{},{},{},{r},{},{},{},{},{},{},{}",
@@ -132,7 +136,12 @@ impl FrontEnd {
             self.contacts += 1;
         }
         if let Some(rec) = recording {
-            rec.contacts("frontend", self.cycle_start, &world)?;
+            rec.contacts(
+                ContactKind::Estimated,
+                index as u64,
+                self.cycle_start,
+                &world,
+            )?;
         }
         Ok(())
     }

@@ -7,6 +7,7 @@
 
 pub mod assets_cmd;
 pub mod bench;
+pub mod bench_recording;
 pub mod bench_sensing;
 pub mod bench_slam;
 pub mod characterize;

@@ -36,6 +36,8 @@ enum Command {
         /// (VALUE is TOML; a bare word is a string). Repeatable.
         #[arg(long = "set", value_name = "PATH=VALUE", value_parser = Override::parse)]
         set: Vec<Override>,
+        #[command(flatten)]
+        rrd: whisker::recording::RrdArgs,
     },
     /// Validate a scenario and print what would run; writes nothing.
     Check {
@@ -92,6 +94,8 @@ enum BenchCommand {
     Sensing(bench_sensing::Options),
     /// WhiskerRatSLAM's core: one 6-D pose-cell update against a naive dense convolution.
     Slam(bench_slam::Options),
+    /// What the Rerun recording costs a run: wall time with and without, and its size.
+    Recording(whisker::bench_recording::Options),
     /// Batch trials on 1 against 2 worker threads (speed-up; same trials.csv).
     Trials(whisker::trials::command::BenchOptions),
 }
@@ -146,7 +150,8 @@ fn main() -> ExitCode {
             out,
             seed,
             set,
-        } => run::run(&scenario, out, seed, &set),
+            rrd,
+        } => run::run(&scenario, out, seed, &set, &rrd),
         Command::Check { scenario, meshes } => run::check(&scenario, meshes.as_deref()),
         Command::Characterize(options) => characterize::run(&options),
         Command::Bench {
@@ -155,6 +160,9 @@ fn main() -> ExitCode {
         Command::Bench {
             command: BenchCommand::Sensing(options),
         } => bench_sensing::sensing(&options),
+        Command::Bench {
+            command: BenchCommand::Recording(options),
+        } => whisker::bench_recording::recording(&options),
         Command::Bench {
             command: BenchCommand::Slam(options),
         } => bench_slam::slam(&options),

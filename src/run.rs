@@ -4,7 +4,8 @@
 //! in a Rapier world at the output sample period, and writes to the output directory:
 //! - `path.csv`: one row per sample (columns documented in `scenarios/README.md`),
 //! - `summary.json`: the run's figures,
-//! - `run.rrd`: the Rerun recording (unless `output.recording = false`),
+//! - `run.rrd`: the Rerun recording (`docs/recording.md`; unless `output.recording =
+//!   false` or `--no-rrd`; `--rrd FILE` writes it elsewhere),
 //! - `whiskers.csv` (physics sensing), `contacts.csv` (kinematic sensing) or
 //!   `anticipated.csv` (the anticipated contacts of a physics run with an environment).
 //!
@@ -15,7 +16,7 @@ use crate::contacts::ContactSensing;
 use crate::error::CliResult;
 use crate::output;
 use crate::plan::Plan;
-use crate::recording::Recording;
+use crate::recording::{Recording, RrdArgs};
 use crate::scenario::overrides::Override;
 use crate::scenario::{Scenario, Sensing};
 use crate::whiskers::ArraySimulation;
@@ -28,6 +29,20 @@ use std::path::{Path, PathBuf};
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::world::World;
 use whisker_slam::pose;
+
+/// Arm samples between the recording's checkpoints.
+const CHECKPOINT_SAMPLES: usize = 100;
+
+/// `, NAME` of the recording a run writes into `dir` (for the `wrote` line), or nothing.
+pub fn recording_name(rrd: &RrdArgs, dir: &Path, scenario: &Scenario) -> String {
+    match rrd.path(Some(dir), scenario.output.recording) {
+        Some(p) if p.parent() == Some(dir) => {
+            format!(", {}", p.file_name().unwrap_or_default().to_string_lossy())
+        }
+        Some(p) => format!("; recording {}", p.display()),
+        None => String::new(),
+    }
+}
 
 fn describe(file: &Path, scenario: &Scenario, plan: &Plan) -> String {
     let c = &plan.chain;
@@ -167,24 +182,32 @@ pub fn check(file: &Path, meshes: Option<&Path>) -> CliResult {
 }
 
 /// `whisker run`: simulate and write the outputs; `seed` replaces the scenario's seed,
-/// `overrides` change fields (`--set`), `out` the output directory.
+/// `overrides` change fields (`--set`), `out` the output directory, `rrd` the recording.
 pub fn run(
     file: &Path,
     out: Option<PathBuf>,
     seed: Option<u64>,
     overrides: &[Override],
+    rrd: &RrdArgs,
 ) -> CliResult {
     let mut scenario = Scenario::load_with(file, overrides)?;
     if let Some(seed) = seed {
         scenario.seed = seed;
     }
     let dir = out.unwrap_or_else(|| scenario.output.dir.clone());
-    execute(file, &scenario, &dir, &mut std::io::stdout())
+    execute(file, &scenario, &dir, rrd, &mut std::io::stdout())
 }
 
 /// Runs `scenario` (read from `file`) into `dir` (created), saying what it does to
-/// `say`: `whisker run` and each trial of `whisker trials`.
-pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, say: &mut dyn Write) -> CliResult {
+/// `say`: `whisker run` and each trial of `whisker trials`; the recording goes where
+/// `rrd` and the scenario's `output.recording` say.
+pub fn execute(
+    file: &Path,
+    scenario: &Scenario,
+    dir: &Path,
+    rrd: &RrdArgs,
+    say: &mut dyn Write,
+) -> CliResult {
     let plan = Plan::new(scenario, file)?;
     let _ = write!(say, "{}", describe(file, scenario, &plan));
     let loaded = scenario.environment(file)?;
@@ -199,22 +222,33 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, say: &mut dyn Write
     output::create_dir(dir)?;
 
     if scenario.explore.is_some() {
-        return crate::explore::write(file, scenario, plan, &environment, dir, say);
+        return crate::explore::write(file, scenario, plan, &environment, dir, rrd, say);
     }
     let dt = scenario.output.sample_period_s;
     let chain = &plan.chain;
     let model = &plan.model;
     let skeleton_links = plan.skeleton();
 
-    let recording = Recording::for_scenario(file, scenario, dir)?;
+    let layout = crate::recording::blueprint::run(scenario.sensing == Sensing::Physics);
+    let recording = Recording::for_scenario(file, scenario, dir, rrd, layout)?;
     if let Some(rec) = &recording {
         let tips: Vec<Isometry3<f64>> = plan.waypoints.iter().map(|q| chain.fk(q)).collect();
         rec.waypoints(&tips)?;
         rec.environment(&environment)?;
     }
+    let array_chain = match scenario.sensing {
+        Sensing::None => None,
+        _ => Some(crate::whiskers::array_chain(scenario, file, &plan)?),
+    };
 
     let mut whiskers = match scenario.sensing {
-        Sensing::Physics => Some(ArraySimulation::new(scenario, file, &plan, &environment)?),
+        Sensing::Physics => Some(ArraySimulation::new(
+            scenario,
+            file,
+            &plan,
+            &environment,
+            recording.as_ref(),
+        )?),
         _ => None,
     };
     let mut contacts = match scenario.sensing {
@@ -290,6 +324,19 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, say: &mut dyn Write
         );
         if let Some(rec) = &recording {
             rec.arm(t, &plan.link_frames(&q, &skeleton_links), &tip)?;
+            if let Some(a) = &array_chain {
+                rec.array(t, &a.fk(&q))?;
+            }
+            if let Some(w) = &whiskers {
+                rec.shafts(t, &w.shafts())?;
+            } else if let Some(c) = &contacts {
+                rec.shafts(t, &c.shafts(&plan, t))?;
+            }
+            // A fixed point every simulated second: the recording's chunks do not depend
+            // on timing.
+            if k % CHECKPOINT_SAMPLES == 0 {
+                rec.checkpoint()?;
+            }
         }
         tip_path.push(tip);
     }
@@ -338,14 +385,15 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, say: &mut dyn Write
     let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
     output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
     if let Some(w) = whiskers {
-        w.finish(dir)?;
+        w.finish(dir, recording.as_ref())?;
     }
     let contacts_file = contacts.as_ref().map(|c| c.counts());
     if let Some(c) = contacts {
         c.finish(dir)?;
     }
     if let Some(rec) = recording {
-        rec.finish(&tip_path)?;
+        rec.tip_path(&tip_path)?;
+        rec.finish()?;
     }
     let _ = writeln!(
         say,
@@ -360,11 +408,7 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, say: &mut dyn Write
             )
         }
     );
-    let rrd = if scenario.output.recording {
-        ", run.rrd"
-    } else {
-        ""
-    };
+    let rrd = recording_name(rrd, dir, scenario);
     let csv = match (scenario.sensing, contacts_file.is_some()) {
         (Sensing::Physics, true) => ", whiskers.csv, frontend.csv, anticipated.csv",
         (Sensing::Physics, false) => ", whiskers.csv, frontend.csv",

@@ -11,6 +11,8 @@
 //! than the shaft's base radius, 1 mm) or breaks.
 
 use crate::error::{CliError, CliResult};
+use crate::recording::Recording;
+use crate::recording::sensors::SensorColumns;
 use crate::scenario::Scenario;
 use nalgebra::{Isometry3, Vector3};
 use rayon::prelude::*;
@@ -23,6 +25,7 @@ use whisker_sim::environment::solids::Solids;
 use whisker_sim::environment::viewpoints;
 use whisker_sim::sensing::physics::{DT, PhysicsArray, SolverPath};
 use whisker_sim::whisker::array;
+use whisker_slam::sensor::Sample;
 
 /// Depth of a shaft's centre line inside a solid that counts as tunnelling (m).
 const TUNNEL_DEPTH: f64 = 1.0e-3;
@@ -59,6 +62,80 @@ pub struct Options {
     /// Print one JSON list.
     #[arg(long)]
     pub json: bool,
+    /// Write a Rerun recording to FILE: per case the environment, the shafts every 10 ms
+    /// and the simulated whiskers' 2 kHz streams (docs/recording.md). Large: about 1 MB
+    /// per simulated second per whisker.
+    #[arg(long, value_name = "FILE")]
+    pub rrd: Option<PathBuf>,
+}
+
+/// Spacing of the cases' frames in the recording, along y (m).
+const CASE_SPACING_M: f64 = 1.5;
+
+/// What a case puts in the recording: the frame and the streams of its whiskers.
+struct CaseRecording<'a> {
+    rec: &'a Recording,
+    frame: String,
+    columns: SensorColumns,
+    /// Whether the controllers run open loop (then the RCP state is known: off).
+    open_loop: bool,
+}
+
+impl<'a> CaseRecording<'a> {
+    fn new(
+        rec: &'a Recording,
+        k: usize,
+        name: &str,
+        environment: &Environment,
+        array: &PhysicsArray,
+    ) -> CliResult<Self> {
+        let frame = format!("world/cases/{}", crate::recording::world::entity_name(name));
+        rec.log_static(
+            frame.as_str(),
+            &rerun::Transform3D::from_translation([0.0, (CASE_SPACING_M * k as f64) as f32, 0.0]),
+        )?;
+        rec.environment_in(&format!("{frame}/environment"), environment)?;
+        let labels: Vec<String> = array
+            .units
+            .iter()
+            .map(|u| u.config.module.pixel())
+            .collect();
+        let columns = SensorColumns::new(
+            rec,
+            &format!("sensors/{}", crate::recording::world::entity_name(name)),
+            &labels,
+        )?;
+        let open_loop = array.units.iter().all(|u| u.config.rcp_threshold.is_none());
+        Ok(Self {
+            rec,
+            frame,
+            columns,
+            open_loop,
+        })
+    }
+
+    /// Logs the samples of steps `k0 + 1 ..` (per whisker) and the shafts now.
+    fn chunk(&mut self, k0: usize, samples: &[Vec<Sample>], array: &PhysicsArray) -> CliResult {
+        let n = samples.first().map_or(0, Vec::len);
+        let off = vec![false; samples.len()];
+        for i in 0..n {
+            let row: Vec<Sample> = samples.iter().map(|s| s[i]).collect();
+            let rcp = self.open_loop.then_some(off.as_slice());
+            self.columns
+                .push(self.rec, (k0 + i + 1) as f64 * DT, &row, rcp)?;
+        }
+        let shafts: Vec<Vec<[f64; 3]>> = array.units.iter().map(|u| u.shaft()).collect();
+        self.rec.shafts_at(
+            &format!("{}/whiskers", self.frame),
+            (k0 + n) as f64 * DT,
+            &shafts,
+        )
+    }
+
+    fn finish(mut self) -> CliResult {
+        self.columns.send(self.rec)?;
+        self.rec.checkpoint()
+    }
 }
 
 /// Runs one case; returns its JSON record and whether it passed.
@@ -69,7 +146,8 @@ fn run_case(
     pose: Isometry3<f64>,
     touching: &[usize],
     o: &Options,
-) -> (serde_json::Value, bool) {
+    recording: Option<(&Recording, usize)>,
+) -> CliResult<(serde_json::Value, bool)> {
     let configs =
         crate::bench::array_configs(array::modules().len(), o.bending.into(), None, o.substeps)
             .into_iter()
@@ -83,6 +161,10 @@ fn run_case(
             })
             .collect();
     let mut array = PhysicsArray::new(configs, &environment.physics_pieces(), &pose, 0, DT);
+    let mut record = match recording {
+        Some((rec, k)) => Some(CaseRecording::new(rec, k, name, environment, &array)?),
+        None => None,
+    };
     let steps = (o.duration / DT).round() as usize;
     let start = Instant::now();
     let mut deepest: f64 = 0.0;
@@ -93,7 +175,10 @@ fn run_case(
     let mut k = 0;
     while k < steps {
         let n = chunk.len().min(steps - k);
-        array.run(&chunk[..n]);
+        let samples = array.run(&chunk[..n]);
+        if let Some(r) = &mut record {
+            r.chunk(k, &samples, &array)?;
+        }
         k += n;
         let per: Vec<(f64, bool)> = array
             .units
@@ -123,9 +208,12 @@ fn run_case(
     if !o.json {
         eprint!("\r");
     }
+    if let Some(r) = record {
+        r.finish()?;
+    }
     let wall = start.elapsed().as_secs_f64();
     let passed = !broken && deepest <= TUNNEL_DEPTH;
-    let record = json!({
+    let summary = json!({
         "case": name,
         "pieces": environment.pieces.len(),
         "triangles": environment.pieces.iter().map(|p| p.mesh.triangles.len()).sum::<usize>(),
@@ -155,7 +243,7 @@ fn run_case(
             );
         }
     }
-    (record, passed)
+    Ok((summary, passed))
 }
 
 /// An environment and the array pose where the most whiskers touch it.
@@ -244,9 +332,20 @@ pub fn soak(o: &Options) -> CliResult {
     if let Some(file) = &o.maze {
         cases.push(("maze".into(), maze_case(file)?));
     }
+    let recording = match &o.rrd {
+        Some(path) => {
+            let layout = crate::recording::blueprint::run(false);
+            Some(Recording::create(
+                path,
+                &crate::recording::id("soak", 0),
+                layout,
+            )?)
+        }
+        None => None,
+    };
     let mut records = Vec::new();
     let mut all = true;
-    for (name, case) in &cases {
+    for (k, (name, case)) in cases.iter().enumerate() {
         let solids = Solids::new(&case.environment)
             .map_err(|e| CliError::Failure(format!("soak: {name}: {e}")))?;
         let (r, ok) = run_case(
@@ -256,9 +355,13 @@ pub fn soak(o: &Options) -> CliResult {
             case.pose,
             &case.touching,
             o,
-        );
+            recording.as_ref().map(|r| (r, k)),
+        )?;
         records.push(r);
         all &= ok;
+    }
+    if let Some(rec) = recording {
+        rec.finish()?;
     }
     if o.json {
         println!("{}", serde_json::Value::Array(records));

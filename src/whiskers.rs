@@ -6,6 +6,7 @@ use crate::error::{CliError, CliResult};
 use crate::output;
 use crate::plan::Plan;
 use crate::recording::Recording;
+use crate::recording::sensors::SensorColumns;
 use crate::scenario::Scenario;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -89,6 +90,8 @@ pub struct ArraySimulation {
     csv: String,
     /// The signal front end (thesis Ch 4) on the simulated streams.
     frontend: crate::frontend::FrontEnd,
+    /// The 2 kHz streams not yet in the recording.
+    columns: Option<SensorColumns>,
 }
 
 impl ArraySimulation {
@@ -98,6 +101,7 @@ impl ArraySimulation {
         file: &Path,
         plan: &Plan,
         environment: &Environment,
+        recording: Option<&Recording>,
     ) -> CliResult<Self> {
         let mut configs = scenario.array.whisker_configs(file)?;
         let chain = array_chain(scenario, file, plan)?;
@@ -123,6 +127,13 @@ impl ArraySimulation {
         csv.push('\n');
         let start = chain.fk(&plan.waypoints[0]);
         let frontend = crate::frontend::FrontEnd::new(scenario, file, &configs)?;
+        let columns = match recording {
+            Some(rec) => {
+                let labels: Vec<String> = configs.iter().map(|c| c.module.pixel()).collect();
+                Some(SensorColumns::new(rec, "sensors", &labels)?)
+            }
+            None => None,
+        };
         let array = PhysicsArray::new(
             configs,
             &environment.physics_pieces(),
@@ -137,6 +148,7 @@ impl ArraySimulation {
             steps: 0,
             csv,
             frontend,
+            columns,
         })
     }
 
@@ -153,6 +165,10 @@ impl ArraySimulation {
                 let _ = write!(self.csv, ",{},{},{}", s.angle_rad, s.x, s.y);
             }
             self.csv.push('\n');
+            if let (Some(cols), Some(rec)) = (&mut self.columns, recording) {
+                let rcp: Vec<bool> = self.array.units.iter().map(|u| u.rcp_active()).collect();
+                cols.push(rec, time, &samples, Some(&rcp))?;
+            }
             self.frontend.push(time, &pose, &samples, recording)?;
         }
         Ok(())
@@ -168,8 +184,17 @@ impl ArraySimulation {
         self.steps
     }
 
-    /// Writes `whiskers.csv` and `frontend.csv` into `dir`.
-    pub fn finish(self, dir: &Path) -> CliResult {
+    /// Every whisker's shaft now (world), base to tip.
+    pub fn shafts(&self) -> Vec<Vec<[f64; 3]>> {
+        self.array.units.iter().map(|u| u.shaft()).collect()
+    }
+
+    /// Writes `whiskers.csv` and `frontend.csv` into `dir` and the last streams into the
+    /// recording.
+    pub fn finish(mut self, dir: &Path, recording: Option<&Recording>) -> CliResult {
+        if let (Some(cols), Some(rec)) = (&mut self.columns, recording) {
+            cols.send(rec)?;
+        }
         output::write_atomic(&dir.join("whiskers.csv"), self.csv.as_bytes())?;
         self.frontend.finish(dir)
     }

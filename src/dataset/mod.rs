@@ -314,6 +314,7 @@ pub fn slam(o: &SlamOptions) -> CliResult {
                 radial_model: None,
                 slam: crate::object_slam::SlamArg::Corrected,
                 dataset: Some(o.dataset.clone()),
+                rrd: Default::default(),
             };
             crate::object_slam::analyse(&options, &data)
         }

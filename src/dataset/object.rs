@@ -81,6 +81,7 @@ pub fn write(o: &WriteOptions, s: &mut Staging) -> CliResult<Manifest> {
         radial_model: o.radial_model.clone(),
         slam: object_slam::SlamArg::Corrected,
         dataset: None,
+        rrd: Default::default(),
     };
     let whiskers: Vec<RigidWhisker> = match physics {
         true => sensing_configs().iter().map(WhiskerConfig::rigid).collect(),

@@ -64,7 +64,7 @@ pub fn write(
         )
     });
     let log = files.as_ref().map(|f| f.log.clone());
-    let outcome = crate::explore::run_logged(scenario, file, plan, &environment, log)?;
+    let outcome = crate::explore::run_logged(scenario, file, plan, &environment, log, None)?;
     if let Some(files) = &files {
         files.finish()?;
     }

@@ -30,6 +30,7 @@
 
 mod log;
 mod policy;
+mod record;
 mod report;
 pub mod robot;
 mod strategy;
@@ -37,6 +38,9 @@ mod strategy;
 use crate::error::{CliError, CliResult};
 use crate::object_slam::physics::PhysicsSensing;
 use crate::plan::Plan;
+use crate::recording::Recording;
+use crate::recording::sensors::SensorColumns;
+use crate::recording::slam::GraphSchedule;
 use crate::scenario::explore::{ExploreConfig, Task};
 use crate::scenario::{Scenario, Sensing};
 use log::{Row, Summary};
@@ -54,6 +58,7 @@ use whisker_slam::exploration::goal_mesh::GoalMesh;
 use whisker_slam::exploration::placement::{self, Placement};
 use whisker_slam::recognition::Recognition;
 use whisker_slam::rng::substream;
+use whisker_slam::sensor::Sample;
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 use whisker_slam::whisker_ratslam::slam::WhiskerRatSlam;
 
@@ -77,8 +82,8 @@ pub struct Outcome {
     pub map: Option<ObjectMap>,
     /// The true array pose at every whisk, for the recording.
     pub poses: Vec<Isometry3<f64>>,
-    /// Each whisk's contact points (world), for the recording.
-    pub contacts: Vec<Vec<[f64; 3]>>,
+    /// Each whisk's contacts (world), for the recording.
+    pub contacts: Vec<Vec<crate::recording::world::Contact>>,
     /// `contacts.csv`'s text: every registered contact of every whisk.
     pub contacts_csv: String,
     /// Each whisk's time (s).
@@ -108,6 +113,7 @@ enum Sensor {
 impl Sensor {
     /// One whisk cycle (number `k`, at time `t`) with the array held at `pose`, and the
     /// cycle's duration (s).
+    /// Physics: also the whisk's samples of every whisker.
     fn whisk(
         &mut self,
         target: &SweepTarget,
@@ -115,11 +121,15 @@ impl Sensor {
         t: f64,
         pose: &Isometry3<f64>,
         seed: u64,
-    ) -> (ContactCycle, f64) {
+    ) -> (ContactCycle, f64, Option<Vec<Vec<Sample>>>) {
         match self {
-            Sensor::Kinematic(a) => (a.sense(target, k, t, pose), 1.0 / a.patterns[0].frequency),
+            Sensor::Kinematic(a) => (
+                a.sense(target, k, t, pose),
+                1.0 / a.patterns[0].frequency,
+                None,
+            ),
             Sensor::Physics(p) => {
-                let mut c = p.whisk(
+                let (mut c, streams) = p.whisk_streams(
                     target,
                     k as usize,
                     pose,
@@ -127,7 +137,7 @@ impl Sensor {
                     &format!("explore/physics/{k}"),
                 );
                 c.start_s = t;
-                (c, 1.0)
+                (c, 1.0, Some(streams))
             }
         }
     }
@@ -155,6 +165,10 @@ struct Loop<'a> {
     anchor: Option<(usize, Isometry3<f64>)>,
     fallbacks: BTreeMap<&'static str, usize>,
     time: f64,
+    /// The recording, its map schedule and its buffered physics streams.
+    recording: Option<&'a Recording>,
+    graph: GraphSchedule,
+    columns: Option<SensorColumns>,
 }
 
 /// Runs the closed loop of `scenario` (read from `file`) in `environment`.
@@ -164,16 +178,18 @@ pub fn run(
     plan: Plan,
     environment: &Environment,
 ) -> CliResult<Outcome> {
-    run_logged(scenario, file, plan, environment, None)
+    run_logged(scenario, file, plan, environment, None, None)
 }
 
-/// [`run`], physics whisks' samples handed to `log` (stream `explore/physics/<k>`).
+/// [`run`], physics whisks' samples handed to `log` (stream `explore/physics/<k>`), each
+/// whisk logged to `recording` ([`record`]).
 pub fn run_logged(
     scenario: &Scenario,
     file: &Path,
     plan: Plan,
     environment: &Environment,
     log: Option<crate::object_slam::physics::WhiskLog>,
+    recording: Option<&Recording>,
 ) -> CliResult<Outcome> {
     let config = scenario
         .explore
@@ -287,6 +303,16 @@ pub fn run_logged(
         anchor: None,
         fallbacks: BTreeMap::new(),
         time: 0.0,
+        recording,
+        graph: GraphSchedule::default(),
+        columns: match (recording, scenario.sensing) {
+            (Some(rec), Sensing::Physics) => Some(SensorColumns::new(
+                rec,
+                "sensors",
+                &crate::recording::world::labels(),
+            )?),
+            _ => None,
+        },
     };
     state.run(scenario.seed, start_pose)
 }
@@ -350,7 +376,8 @@ impl Loop<'_> {
             }
             // 3. Whisk where the array is.
             let pose = self.robot.array_pose();
-            let (cycle, period) =
+            let start = self.time;
+            let (cycle, period, streams) =
                 self.sensing
                     .whisk(&self.target, iteration as u64, self.time, &pose, seed);
             self.time += period;
@@ -417,6 +444,21 @@ impl Loop<'_> {
                 &pose,
                 &pixels,
             ));
+            if let (Some(rec), Some(contacts)) = (self.recording, out.contacts.last()) {
+                let whisk = record::Whisk {
+                    iteration,
+                    start,
+                    period,
+                    goal: goal.as_ref(),
+                    pose: &pose,
+                    contacts,
+                    step: &step,
+                    onto: onto.as_deref(),
+                    spc: decision,
+                    streams: streams.as_deref(),
+                };
+                self.record(rec, &whisk)?;
+            }
             out.times.push(self.time);
             out.joints.push(self.robot.q.clone());
             out.cycles.push(cycle);
@@ -451,6 +493,9 @@ impl Loop<'_> {
             time: self.time,
         };
         out.summary = summary.json();
+        if let Some(rec) = self.recording {
+            self.record_end(rec, &out.summary)?;
+        }
         if self.config.task == Task::Map {
             out.map = Some(self.slam.map.clone());
         }

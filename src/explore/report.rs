@@ -1,6 +1,6 @@
 //! What `whisker check` and `whisker run` say and write for an `[explore]` scenario.
 
-use super::{CSV_NAME, SUMMARY_NAME, run};
+use super::{CSV_NAME, SUMMARY_NAME, run_logged};
 use crate::error::{CliError, CliResult};
 use crate::plan::Plan;
 use crate::scenario::Scenario;
@@ -52,13 +52,18 @@ pub fn write(
     plan: Plan,
     environment: &Environment,
     dir: &Path,
+    rrd: &crate::recording::RrdArgs,
     say: &mut dyn std::io::Write,
 ) -> CliResult {
-    let recording = crate::recording::Recording::for_scenario(file, scenario, dir)?;
+    let layout = crate::recording::blueprint::closed_loop();
+    let recording = crate::recording::Recording::for_scenario(file, scenario, dir, rrd, layout)?;
+    if let Some(rec) = &recording {
+        rec.environment(environment)?;
+    }
     let skeleton = plan.skeleton();
     let frames = plan.clone();
     let started = std::time::Instant::now();
-    let out = run(scenario, file, plan, environment)?;
+    let out = run_logged(scenario, file, plan, environment, None, recording.as_ref())?;
     let wall = started.elapsed().as_secs_f64();
     crate::output::write_atomic(&dir.join(CSV_NAME), out.csv.as_bytes())?;
     crate::output::write_atomic(&dir.join("contacts.csv"), out.contacts_csv.as_bytes())?;
@@ -68,16 +73,13 @@ pub fn write(
         map.save(&dir.join("map.json")).map_err(CliError::Failure)?;
     }
     if let Some(rec) = recording {
-        rec.environment(environment)?;
         for (k, q) in out.joints.iter().enumerate() {
-            rec.arm(
-                out.times[k],
-                &frames.link_frames(q, &skeleton),
-                &out.poses[k],
-            )?;
-            rec.contacts("contacts", out.times[k], &out.contacts[k])?;
+            let tip = frames.chain.fk(q);
+            rec.arm(out.times[k], &frames.link_frames(q, &skeleton), &tip)?;
         }
-        rec.finish(&out.poses)?;
+        let tips: Vec<_> = out.joints.iter().map(|q| frames.chain.fk(q)).collect();
+        rec.tip_path(&tips)?;
+        rec.finish()?;
     }
     let s = &out.summary;
     let _ = writeln!(
@@ -107,11 +109,7 @@ pub fn write(
         );
     }
     let map = if out.map.is_some() { ", map.json" } else { "" };
-    let rrd = if scenario.output.recording {
-        ", run.rrd"
-    } else {
-        ""
-    };
+    let rrd = crate::run::recording_name(rrd, dir, scenario);
     let _ = writeln!(
         say,
         "wrote      {}/{{{CSV_NAME}, {SUMMARY_NAME}, contacts.csv{map}{rrd}}}",

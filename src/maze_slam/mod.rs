@@ -28,9 +28,11 @@
 use crate::characterize::BendingArg;
 use crate::error::{CliError, CliResult};
 use crate::object_slam::SensingArg;
+use crate::recording::{Recording, RrdArgs};
 use crate::scenario::Scenario;
 use crate::scenario::overrides::Override;
 use path::Sample;
+use record::RunRecording;
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use whisker_slam::ratslam::experience_map::Pose2;
@@ -43,6 +45,7 @@ use whisker_slam::ratslam::{RatSlam, RatSlamParams};
 pub mod images;
 pub mod path;
 pub mod physics;
+pub mod record;
 mod sensing;
 
 pub use sensing::{
@@ -108,6 +111,8 @@ pub struct Options {
     /// simulator: its log, its parameters and, when present, its ground truth.
     #[arg(long, conflicts_with_all = ["seeds", "images", "sensing", "rcp", "bending", "segments", "substeps", "set"])]
     pub dataset: Option<PathBuf>,
+    #[command(flatten)]
+    pub rrd: RrdArgs,
 }
 
 impl Options {
@@ -129,6 +134,7 @@ impl Options {
             substeps: None,
             set: Vec::new(),
             dataset: None,
+            rrd: RrdArgs::default(),
         }
     }
 }
@@ -159,13 +165,18 @@ impl Evaluation {
         start: Sample,
         truth: Option<&[Sample]>,
         base_end: usize,
-    ) -> Self {
+        mut record: Option<&mut RunRecording>,
+    ) -> CliResult<Self> {
         let mut slam = RatSlam::new(params);
-        let log: Vec<usize> = images
-            .iter()
-            .zip(steps)
-            .map(|(img, &(d, t))| slam.step(img, d, t).experience)
-            .collect();
+        let mut log: Vec<usize> = Vec::with_capacity(images.len());
+        for (k, (img, &(d, t))) in images.iter().zip(steps).enumerate() {
+            let step = slam.step(img, d, t);
+            log.push(step.experience);
+            if let Some(r) = record.as_deref_mut() {
+                let last = k + 1 == images.len();
+                r.update(k, img, &slam, &step, truth.map(|t| &t[k]), last)?;
+            }
+        }
         // Relaxation moves the whole map (its links fix only relative poses): anchor it
         // at the first update's experience, placed at the start pose.
         let anchor = slam.map.experiences[log[0]].pose;
@@ -176,14 +187,17 @@ impl Evaluation {
         let metric = truth.map(|t| experience_metric(&log, t, base_end, 0.1, 25f64.to_radians()));
         let energy =
             truth.map(|t| energy_metric(&estimate, t, &consecutive(t.len())).unwrap_or(f64::NAN));
-        Self {
+        if let Some(r) = record {
+            r.finish(truth, &estimate)?;
+        }
+        Ok(Self {
             log,
             estimate,
             metric,
             energy,
             templates: slam.view.templates.len(),
             experiences: slam.map.experiences.len(),
-        }
+        })
     }
 
     /// `trajectory-….csv`: true (empty without ground truth) and estimated poses and the
@@ -271,9 +285,88 @@ pub fn replay(o: &Options, dir: &Path, manifest: &crate::dataset::manifest::Mani
         )));
     }
     let tunings = tunings(params, o)?;
-    let results = run_sensed(&sensed, &tunings, kidnap || o.kidnap, o.out.as_deref())?;
+    let kidnap = kidnap || o.kidnap;
+    let sets: Vec<String> = sensed.image_sets.iter().map(|(n, _)| n.clone()).collect();
+    let stem = dir.file_name().unwrap_or_default().to_string_lossy();
+    let recording = open_recording(o, true, &stem, &[sensed.seed], &sets, &tunings, kidnap)?;
+    let plane = Plane {
+        z: 0.0,
+        recording: recording.as_ref(),
+    };
+    let results = run_sensed(&sensed, &tunings, kidnap, o.out.as_deref(), &plane)?;
+    if let Some(rec) = recording {
+        rec.finish()?;
+    }
     report(&results, o.json);
     Ok(())
+}
+
+/// Where a maze-slam's recording draws and goes.
+pub struct Plane<'a> {
+    /// Height of the array's plane (m; 0 from a dataset).
+    pub z: f64,
+    pub recording: Option<&'a Recording>,
+}
+
+/// The names of the runs of `seeds` × variants × image `sets` × `tunings`, as
+/// [`slam_runs`] names them.
+fn run_names(
+    seeds: &[u64],
+    sets: &[String],
+    tunings: &[RatSlamParams],
+    kidnap: bool,
+) -> Vec<String> {
+    let variants: &[&str] = if kidnap {
+        &["normal", "kidnapped"]
+    } else {
+        &["normal"]
+    };
+    let mut names = Vec::new();
+    for &seed in seeds {
+        for variant in variants {
+            for set in sets {
+                for params in tunings {
+                    names.push(record::run_name(
+                        set,
+                        variant,
+                        &tuning_tag(params, tunings.len() > 1),
+                        seed,
+                    ));
+                }
+            }
+        }
+    }
+    names
+}
+
+/// The tag of a tuning in a sweep (`-t<threshold>-e<energy>`), or nothing.
+fn tuning_tag(params: &RatSlamParams, sweep: bool) -> String {
+    if sweep {
+        let lv = params.local_view;
+        format!("-t{}-e{}", lv.match_threshold, lv.inject_energy)
+    } else {
+        String::new()
+    }
+}
+
+/// The recording of a maze-slam (`--rrd`, else `run.rrd` in `--out` when `default_on`).
+fn open_recording(
+    o: &Options,
+    default_on: bool,
+    stem: &str,
+    seeds: &[u64],
+    sets: &[String],
+    tunings: &[RatSlamParams],
+    kidnap: bool,
+) -> CliResult<Option<Recording>> {
+    let Some(path) = o.rrd.path(o.out.as_deref(), default_on) else {
+        return Ok(None);
+    };
+    let runs = run_names(seeds, sets, tunings, kidnap);
+    let layout = crate::recording::blueprint::slam_runs(&runs, true, "update");
+    let seeds: Vec<String> = seeds.iter().map(u64::to_string).collect();
+    let id = format!("{stem}-seed{}", seeds.join(","));
+    Recording::create(&path, &id, layout).map(Some)
 }
 
 /// One trial of a batch (`trials.experiment = "maze-slam"`): `whisker maze-slam` of the
@@ -318,12 +411,38 @@ pub fn evaluate(o: &Options, scenario: &Scenario) -> CliResult<Vec<serde_json::V
     let tunings = tunings(scenario.maze_slam.ratslam, o)?;
     let kidnap = o.kidnap || scenario.maze_slam.kidnap;
     let seeds = o.seeds.clone().unwrap_or(vec![scenario.seed]);
+    let stem = o.scenario.file_stem().unwrap_or_default().to_string_lossy();
+    let recording = open_recording(
+        o,
+        scenario.output.recording,
+        &stem,
+        &seeds,
+        &setup.set_names,
+        &tunings,
+        kidnap,
+    )?;
+    if let Some(rec) = &recording {
+        rec.environment(&environment)?;
+    }
+    let plane = Plane {
+        z: setup.geometry.plane_z,
+        recording: recording.as_ref(),
+    };
     // The kinematic sweep's target (a BVH of the world mesh), built once for all seeds.
     let target = std::cell::OnceCell::new();
     let mut results = Vec::new();
     for &seed in &seeds {
         let sensed = sensing::sense(o, scenario, &setup, &environment, &target, seed)?;
-        results.extend(run_sensed(&sensed, &tunings, kidnap, o.out.as_deref())?);
+        results.extend(run_sensed(
+            &sensed,
+            &tunings,
+            kidnap,
+            o.out.as_deref(),
+            &plane,
+        )?);
+    }
+    if let Some(rec) = recording {
+        rec.finish()?;
     }
     Ok(results)
 }
@@ -334,6 +453,7 @@ fn run_sensed(
     tunings: &[RatSlamParams],
     kidnap: bool,
     out: Option<&Path>,
+    plane: &Plane,
 ) -> CliResult<Vec<serde_json::Value>> {
     if let Some(dir) = out {
         crate::output::create_dir(dir)?;
@@ -344,7 +464,7 @@ fn run_sensed(
             )?;
         }
     }
-    slam_runs(sensed, tunings, kidnap, out)
+    slam_runs(sensed, tunings, kidnap, out, plane)
 }
 
 /// RatSLAM over one seed's data: the normal variant (and, with `kidnap`, the kidnapped
@@ -354,6 +474,7 @@ pub fn slam_runs(
     tunings: &[RatSlamParams],
     kidnap: bool,
     out: Option<&Path>,
+    plane: &Plane,
 ) -> CliResult<Vec<serde_json::Value>> {
     let seed = sensed.seed;
     let sweep = tunings.len() > 1;
@@ -375,6 +496,13 @@ pub fn slam_runs(
         for (images_name, images) in &sensed.image_sets {
             let images = without(images, &cut);
             for params in tunings {
+                let tuning = tuning_tag(params, sweep);
+                let mut record = plane.recording.map(|rec| RunRecording {
+                    rec,
+                    name: record::run_name(images_name, name, &tuning, seed),
+                    z: plane.z,
+                    graph: Default::default(),
+                });
                 let run = Evaluation::of(
                     *params,
                     &images,
@@ -382,13 +510,10 @@ pub fn slam_runs(
                     sensed.start,
                     truth.as_deref(),
                     starts[1] - 1,
-                );
+                    record.as_mut(),
+                )?;
                 if let Some(dir) = out {
-                    let mut tag = images_name.replace('/', "-");
-                    if sweep {
-                        let lv = params.local_view;
-                        tag += &format!("-t{}-e{}", lv.match_threshold, lv.inject_energy);
-                    }
+                    let tag = images_name.replace('/', "-") + &tuning;
                     crate::output::write_atomic(
                         &dir.join(format!("trajectory-{tag}-{name}-{seed}.csv")),
                         run.trajectory_csv(truth.as_deref()).as_bytes(),

@@ -30,6 +30,7 @@
 //! whisk) is fed by re-localisations.
 
 pub mod physics;
+mod record;
 mod trajectory;
 pub use trajectory::{Trajectory, mean_step};
 
@@ -95,6 +96,8 @@ pub struct Options {
     /// simulator: its objects, seed and contacts.
     #[arg(long, conflicts_with_all = ["objects", "seed", "sensing", "radial_model"])]
     pub dataset: Option<PathBuf>,
+    #[command(flatten)]
+    pub rrd: crate::recording::RrdArgs,
 }
 
 /// `--slam`.
@@ -537,7 +540,7 @@ pub fn analyse(o: &Options, data: &[Sensed]) -> CliResult {
     let id_runs: Vec<_> = (0..data.len())
         .flat_map(|i| [(i, Trajectory::A), (i, Trajectory::B)])
         .collect();
-    let identification: Vec<IdentificationRun> = id_runs
+    let id_results: Vec<IdentificationRun> = id_runs
         .par_iter()
         .map(|&(i, which)| {
             let (_, a, b, _) = &data[i];
@@ -568,7 +571,8 @@ pub fn analyse(o: &Options, data: &[Sensed]) -> CliResult {
             (i, which, events, series)
         })
         .collect();
-    let identification = report::identification(o, data, &mapped, &identification)?;
+    let identification = report::identification(o, data, &mapped, &id_results)?;
+    record::write(o, data, &id_results)?;
     if o.json {
         println!(
             "{}",

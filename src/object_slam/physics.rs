@@ -112,13 +112,30 @@ impl PhysicsSensing {
         seed: u64,
         stream: &str,
     ) -> ContactCycle {
+        self.whisk_streams(target, k, pose, seed, stream).0
+    }
+
+    /// [`Self::whisk`], and the whisk's samples of every whisker.
+    pub fn whisk_streams(
+        &self,
+        target: &SweepTarget,
+        k: usize,
+        pose: &Isometry3<f64>,
+        seed: u64,
+        stream: &str,
+    ) -> (ContactCycle, Vec<Vec<Reading>>) {
         let streams = self.streams(target, pose, seed, stream);
         if let Some(log) = &self.log {
             log(stream, k, &streams);
         }
         let mut cycle = self.contacts(k, &streams, seed, stream);
         cycle.array_pose = *pose;
-        cycle
+        (cycle, streams)
+    }
+
+    /// The straight (rigid) whiskers, for the anticipated intersect.
+    pub fn rigid(&self) -> &[RigidWhisker] {
+        &self.rigid
     }
 
     /// One whisk's 2 kHz samples of every whisker at `pose` (noise from sub-stream

@@ -36,6 +36,7 @@ use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_slam::frontend::contact::{FrontEndParams, detect};
 use whisker_slam::radial::dataset::{RadialSample, to_csv};
 use whisker_slam::rng::{substream, substream_key};
+use whisker_slam::sensor::Sample;
 
 /// Whisker lengths of the training set (mm, §4.1.2.1).
 pub const TRAINING_LENGTHS_MM: [f64; 8] = [65.0, 78.0, 87.0, 88.0, 94.0, 107.0, 113.0, 137.0];
@@ -84,6 +85,8 @@ pub struct GenerateOptions {
     /// Rapier substeps per 0.5 ms step.
     #[arg(long, default_value_t = DEFAULT_SUBSTEPS)]
     pub substeps: usize,
+    #[command(flatten)]
+    pub rrd: crate::recording::RrdArgs,
 }
 
 /// A candidate pose: whiskers touching at ≤ 0.7 L, the pose, (whisker, intersect) of all touching.
@@ -100,10 +103,12 @@ struct Job {
     whisks: usize,
 }
 
-/// What a job's whisks gave: detected contacts, and whisks with none.
+/// What a job's whisks gave: detected contacts, and whisks with none; for the recording,
+/// the whisks' samples.
 struct Outcome {
     samples: Vec<RadialSample>,
     missed: usize,
+    streams: Vec<Sample>,
 }
 
 fn whisker_config(module: Module, frequency: f64, substeps: usize) -> WhiskerConfig {
@@ -256,7 +261,7 @@ fn validation_jobs(o: &GenerateOptions) -> CliResult<Vec<Job>> {
     Ok(jobs)
 }
 
-fn run_job(job: &Job, seed: u64, params: &FrontEndParams) -> Outcome {
+fn run_job(job: &Job, seed: u64, params: &FrontEndParams, keep: bool) -> Outcome {
     let pieces = Environment {
         pieces: job.environment.clone(),
     }
@@ -274,9 +279,13 @@ fn run_job(job: &Job, seed: u64, params: &FrontEndParams) -> Outcome {
     let mut outcome = Outcome {
         samples: Vec::new(),
         missed: 0,
+        streams: Vec::new(),
     };
     for w in 0..job.whisks {
         let cycle = array.whisk(w as u64, |_| job.array_pose);
+        if keep {
+            outcome.streams.extend(&cycle.samples[0]);
+        }
         let Some(event) = detect(&cycle.samples[0], cycle.rate_hz, length, params) else {
             outcome.missed += 1;
             continue;
@@ -320,12 +329,19 @@ pub fn run(o: &GenerateOptions) -> CliResult {
         jobs.len()
     );
     let params = FrontEndParams::default();
+    // The recording: `--rrd`, else beside the data set (`<out>.rrd`).
+    let recording = (!o.rrd.no_rrd).then(|| {
+        o.rrd
+            .rrd
+            .clone()
+            .unwrap_or_else(|| o.out.with_extension("rrd"))
+    });
     let done = AtomicUsize::new(0);
     let start = Instant::now();
     let outcomes: Vec<Outcome> = jobs
         .par_iter()
         .map(|j| {
-            let out = run_job(j, o.seed, &params);
+            let out = run_job(j, o.seed, &params, recording.is_some());
             let n = done.fetch_add(1, Ordering::Relaxed) + 1;
             if n.is_multiple_of((jobs.len() / 20).max(1)) || n == jobs.len() {
                 eprintln!(
@@ -337,6 +353,9 @@ pub fn run(o: &GenerateOptions) -> CliResult {
             out
         })
         .collect();
+    if let Some(path) = &recording {
+        record(path, o, &jobs, &outcomes)?;
+    }
     let missed: usize = outcomes.iter().map(|o| o.missed).sum();
     let samples: Vec<RadialSample> = outcomes.into_iter().flat_map(|o| o.samples).collect();
     let whisks: usize = jobs.iter().map(|j| j.whisks).sum();
@@ -354,4 +373,67 @@ pub fn run(o: &GenerateOptions) -> CliResult {
         start.elapsed().as_secs_f64()
     );
     Ok(())
+}
+
+/// Spacing of the jobs' frames in the recording (a grid of 20 per row, m).
+const JOB_SPACING_M: f64 = 0.3;
+
+/// Writes the recording of a data set (docs/recording.md): per simulation
+/// (`world/cases/<case>`, on a grid) its environment and the ground-truth contact, and its
+/// whisker's 2 kHz streams (`sensors/<case>/<label>`), the jobs one after the other in
+/// their order (the recording does not depend on the thread count).
+fn record(
+    path: &std::path::Path,
+    o: &GenerateOptions,
+    jobs: &[Job],
+    outcomes: &[Outcome],
+) -> CliResult {
+    use crate::recording::{self, Recording, sensors::SensorColumns, world};
+    let rec = Recording::create(
+        path,
+        &recording::id(&format!("radial-{:?}", o.set).to_lowercase(), o.seed),
+        recording::blueprint::run(true),
+    )?;
+    for (k, (job, out)) in jobs.iter().zip(outcomes).enumerate() {
+        let case = world::entity_name(&job.case);
+        let frame = format!("world/cases/{case}");
+        let (x, y) = (
+            (k % 20) as f64 * JOB_SPACING_M,
+            (k / 20) as f64 * JOB_SPACING_M,
+        );
+        rec.log_static(
+            frame.as_str(),
+            &rerun::Transform3D::from_translation([x as f32, y as f32, 0.0]),
+        )?;
+        rec.environment_in(
+            &format!("{frame}/environment"),
+            &Environment {
+                pieces: job.environment.clone(),
+            },
+        )?;
+        let p = job.truth.point;
+        rec.at(0.0);
+        rec.contacts_in(
+            &format!("{frame}/contacts"),
+            world::ContactKind::True,
+            k as u64,
+            &[world::Contact {
+                whisker: job.config.module.index,
+                point: [p.x, p.y, p.z],
+            }],
+        )?;
+        let label = job.config.module.pixel();
+        let mut columns = SensorColumns::new(
+            &rec,
+            &format!("sensors/{case}"),
+            std::slice::from_ref(&label),
+        )?;
+        for (i, s) in out.streams.iter().enumerate() {
+            // RCP state is not kept by a whisk cycle.
+            columns.push(&rec, (i + 1) as f64 * DT, std::slice::from_ref(s), None)?;
+        }
+        columns.send(&rec)?;
+        rec.checkpoint()?;
+    }
+    rec.finish()
 }

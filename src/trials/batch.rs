@@ -230,7 +230,13 @@ pub fn run_trial(batch: &Batch, trial: &Trial, dir: &Path) -> Result<serde_json:
             .build()
             .map_err(|e| CliError::Failure(format!("thread pool: {e}")))?;
         pool.install(|| match batch.config.experiment {
-            Experiment::Run => crate::run::execute(&batch.file, &scenario, dir, &mut say),
+            Experiment::Run => crate::run::execute(
+                &batch.file,
+                &scenario,
+                dir,
+                &crate::recording::RrdArgs::default(),
+                &mut say,
+            ),
             Experiment::MazeSlam => crate::maze_slam::trial(&batch.file, &scenario, dir, &mut say),
         })?;
         if batch.config.outputs == Outputs::Light {

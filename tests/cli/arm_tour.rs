@@ -111,27 +111,19 @@ fn the_arm_tour_reaches_its_waypoints_within_the_joint_speed_limit() {
 /// frame is logged once per sample on the `sim_time` timeline, and there is no wall-clock
 /// `log_time` timeline.
 fn check_recording(path: &Path, samples: usize) {
-    use rerun::external::re_log_encoding::DecoderApp;
-    use rerun::log::{Chunk, LogMsg};
-    let reader = std::io::BufReader::new(std::fs::File::open(path).unwrap());
-    let mut rows = std::collections::BTreeMap::<String, usize>::new();
-    for msg in DecoderApp::decode_eager(reader).expect("an RRD file") {
-        if let LogMsg::ArrowMsg(_, arrow) = msg.expect("decodes") {
-            let chunk = Chunk::from_arrow_msg(&arrow).expect("a chunk");
-            assert!(!chunk.timelines().keys().any(|t| t.as_str() == "log_time"));
-            *rows.entry(chunk.entity_path().to_string()).or_default() += chunk.num_rows();
-        }
-    }
-    for entity in [
-        "/world/arm/skeleton",
-        "/world/arm/tip",
-        "/world/arm/tip_path",
-        "/world/waypoints",
-    ] {
-        assert!(rows.contains_key(entity), "{entity} missing from {rows:?}");
-    }
-    assert_eq!(rows["/world/arm/tip"], samples);
-    assert_eq!(rows["/world/arm/skeleton"], samples);
+    let chunks = super::recording::checked(
+        path,
+        &[
+            "world/arm/skeleton",
+            "world/arm/tip",
+            "world/arm/tip_path",
+            "world/waypoints",
+        ],
+    );
+    let entities = whisker::recording::decode::entities(&chunks);
+    assert!(entities.values().all(|e| !e.timelines.contains("log_time")));
+    assert_eq!(entities["/world/arm/tip"].rows, samples);
+    assert_eq!(entities["/world/arm/skeleton"].rows, samples);
 }
 
 #[test]

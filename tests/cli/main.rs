@@ -13,6 +13,7 @@ mod maze_slam;
 mod object_slam;
 mod physics;
 mod radial;
+mod recording;
 mod trials;
 mod urdf;
 

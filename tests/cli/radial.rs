@@ -22,6 +22,27 @@ fn a_physics_validation_set_is_detected_near_the_anticipated_contacts_and_evalua
     assert!(o.status.success(), "{}", stderr(&o));
     let set = rows(&data);
     assert!(set.len() >= 3, "{} contacts", set.len());
+    // The recording beside the data set: each simulation's whisker streams, one whisk
+    // (1 Hz: 2000 samples), and its ground-truth contact.
+    let chunks = super::recording::checked(&tmp.path().join("validation.rrd"), &[]);
+    let entities = whisker::recording::decode::entities(&chunks);
+    let streams: Vec<&String> = entities
+        .keys()
+        .filter(|p| p.starts_with("/sensors/"))
+        .collect();
+    let truths = entities
+        .keys()
+        .filter(|p| p.ends_with("/contacts/true"))
+        .count();
+    assert!(!streams.is_empty());
+    assert_eq!(streams.len(), truths);
+    for p in streams {
+        assert_eq!(
+            whisker::recording::decode::scalars(&chunks, p).len(),
+            2000,
+            "{p}"
+        );
+    }
     for r in &set {
         let f = |k: usize| r[k].parse::<f64>().unwrap();
         let (truth, truth_angle, onset, wl) = (f(4), f(5), f(6), f(13));

@@ -317,6 +317,26 @@ impl WhiskerUnit {
         self.last
     }
 
+    /// The shaft's centre line after the last step: the points at every segment boundary
+    /// from base to tip (world, m), for drawing.
+    pub fn shaft(&self) -> Vec<[f64; 3]> {
+        let beam = &self.whisker.beam;
+        let l = beam.segment_length();
+        (0..=beam.segments)
+            .map(|k| {
+                let p = self
+                    .whisker
+                    .point_at(&self.world, (k as f64 * l).min(beam.length));
+                [p.x, p.y, p.z]
+            })
+            .collect()
+    }
+
+    /// Whether the controller is retracting early (RCP fired, §3.2.2).
+    pub fn rcp_active(&self) -> bool {
+        self.controller.retracting_early()
+    }
+
     /// Whether any body of the world holds a non-finite value or was quarantined.
     pub fn is_broken(&self) -> bool {
         !self.world.quarantine().is_empty()

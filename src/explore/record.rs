@@ -1,0 +1,134 @@
+//! What a closed loop puts in its recording per whisk (`docs/recording.md`): the goal and
+//! the array, the shafts through the whisk, the contacts (ground truth and estimate), the
+//! 2 kHz streams of physics whiskers, the 6-D pose cells, the object map with the current
+//! experience and the strategy's target, re-localisations, and the raw and integrated
+//! confidence in each object (§6.2).
+
+use super::{Loop, Sensor};
+use crate::error::CliResult;
+use crate::recording::Recording;
+use crate::recording::slam::tiles6;
+use crate::recording::world::{Contact, ContactKind};
+use nalgebra::Isometry3;
+use whisker_slam::sensor::Sample;
+use whisker_slam::whisker_ratslam::slam::Step;
+
+/// Instants per whisk at which the shafts are drawn.
+const SHAFT_FRAMES: usize = 10;
+
+/// One whisk's record.
+pub(super) struct Whisk<'a> {
+    pub iteration: usize,
+    /// When the whisk started and how long it took (s).
+    pub start: f64,
+    pub period: f64,
+    pub goal: Option<&'a (Isometry3<f64>, String)>,
+    pub pose: &'a Isometry3<f64>,
+    pub contacts: &'a [Contact],
+    pub step: &'a Step,
+    pub onto: Option<&'a str>,
+    pub spc: &'a str,
+    /// Physics: every whisker's samples of the whisk.
+    pub streams: Option<&'a [Vec<Sample>]>,
+}
+
+impl Loop<'_> {
+    /// Logs the final map and the outcome (a line of the event log) at the end of the run.
+    pub(super) fn record_end(&mut self, rec: &Recording, summary: &serde_json::Value) -> CliResult {
+        rec.at(self.time);
+        rec.object_map(
+            "slam/map",
+            &self.slam.map,
+            self.slam.current,
+            self.stepping_to,
+        )?;
+        let text = match summary["recognition"].as_object() {
+            Some(r) => format!(
+                "outcome {}: identified {} (true object {}), SRT {}, IM {}",
+                r["outcome"], r["identified"], summary["object"], r["srt"], r["im"]
+            ),
+            None => format!(
+                "map built: {} experiences in {} whisks",
+                summary["experiences"], summary["iterations"]
+            ),
+        };
+        rec.event(&text)?;
+        rec.checkpoint()
+    }
+
+    /// Logs whisk `w` to `rec`.
+    pub(super) fn record(&mut self, rec: &Recording, w: &Whisk) -> CliResult {
+        let t = w.start;
+        let k = w.iteration as u64;
+        rec.at(t);
+        rec.at_step("whisk", k);
+        if let Some((goal, kind)) = w.goal {
+            rec.goal(goal, kind)?;
+        }
+        rec.log("world/array", &crate::recording::world::transform(w.pose))?;
+        let (truth, shafts) = match &self.sensing {
+            Sensor::Kinematic(a) => (
+                crate::contacts::anticipated(&self.target, &a.whiskers, w.pose),
+                Some(a),
+            ),
+            Sensor::Physics(p) => (
+                crate::contacts::anticipated(&self.target, p.rigid(), w.pose),
+                None,
+            ),
+        };
+        rec.contacts_in("world/contacts", ContactKind::True, k, &truth)?;
+        rec.contacts_in("world/contacts", ContactKind::Estimated, k, w.contacts)?;
+        // The straight shafts through the whisk (on `sim_time` only).
+        if let Some(a) = shafts {
+            for f in 0..SHAFT_FRAMES {
+                let tf = t + w.period * f as f64 / SHAFT_FRAMES as f64;
+                rec.shafts(tf, &crate::contacts::rigid_shafts(a, w.pose, tf - t))?;
+            }
+        }
+        if let (Some(streams), Some(cols)) = (w.streams, &mut self.columns) {
+            let dt = 1.0 / whisker_slam::sensor::SAMPLE_RATE_HZ;
+            let n = streams.iter().map(Vec::len).min().unwrap_or(0);
+            for i in 0..n {
+                let row: Vec<Sample> = streams.iter().map(|s| s[i]).collect();
+                cols.push(rec, t + (i + 1) as f64 * dt, &row, None)?;
+            }
+            cols.send(rec)?;
+        }
+        // The SLAM state after the whisk.
+        let te = t + w.period;
+        rec.at(te);
+        rec.at_step("whisk", k);
+        rec.pose_cells("slam/pose_cells", tiles6(&self.slam.cells.grid))?;
+        if self.graph.due(self.slam.map.experiences.len(), false) {
+            rec.object_map(
+                "slam/map",
+                &self.slam.map,
+                Some(w.step.experience),
+                self.stepping_to,
+            )?;
+        }
+        if w.step.relocalised {
+            let onto = w.onto.map_or(String::new(), |o| format!(" ({o})"));
+            rec.relocalisation(
+                "world/relocalisations",
+                w.pose,
+                &format!(
+                    "whisk {}: re-localised onto experience {}{onto}",
+                    w.iteration, w.step.experience
+                ),
+            )?;
+        }
+        if w.spc != "off" && w.spc != "done" {
+            rec.event(&format!("whisk {}: SPC {}", w.iteration, w.spc))?;
+        }
+        if let Some(r) = &self.recognition {
+            for (o, v) in &r.raw.confidence {
+                rec.scalar(&format!("recognition/raw/{o}"), *v)?;
+            }
+            for (o, v) in &r.integrated {
+                rec.scalar(&format!("recognition/integrated/{o}"), *v)?;
+            }
+        }
+        rec.step_done(w.iteration)
+    }
+}

@@ -1,0 +1,164 @@
+//! What `whisker object-slam` puts in its recording (`docs/recording.md`): each object in a
+//! frame of its own (`world/objects/<object>`, placed side by side 0.4 m apart along y),
+//! and for the best parameter set's walks A (two laps, building the map) and B (one lap
+//! in A's map) at every whisk (timeline `whisk`): the array, the contacts — ground truth
+//! (the anticipated intersect) and estimate —, the 6-D pose cells, the object map, the
+//! re-localisations; then the identification runs' confidence per mapped object.
+//!
+//! The localisation runs are parallel; the recorded walks are run again, one after the
+//! other on this thread, with the same parameters and data (WhiskerRatSLAM is
+//! deterministic), so that the recording does not depend on the thread count.
+
+use super::{Combo, IdentificationRun, Options, Sensed, Walk, anticipated, features, params};
+use crate::error::CliResult;
+use crate::recording::slam::{GraphSchedule, tiles6};
+use crate::recording::world::{Contact, ContactKind};
+use crate::recording::{self, Recording, f32x3};
+use whisker_sim::environment::assets::generate;
+use whisker_sim::sensing::kinematic::SweepTarget;
+use whisker_sim::whisker::array::{self, Module};
+use whisker_slam::whisker_ratslam::object_map::ObjectMap;
+use whisker_slam::whisker_ratslam::slam::WhiskerRatSlam;
+
+/// Spacing of the objects' frames along y (m).
+const SPACING_M: f64 = 0.4;
+
+/// Writes the recording of an object-slam run (`--rrd`, else `run.rrd` in `--out`).
+pub(super) fn write(
+    o: &Options,
+    data: &[Sensed],
+    identification: &[IdentificationRun],
+) -> CliResult {
+    let Some(path) = o.rrd.path(o.out.as_deref(), true) else {
+        return Ok(());
+    };
+    let runs: Vec<String> = data
+        .iter()
+        .flat_map(|(a, ..)| [format!("{}-A", a.name), format!("{}-B", a.name)])
+        .collect();
+    let layout = recording::blueprint::slam_runs(&runs, false, "whisk");
+    let rec = Recording::create(&path, &recording::id("object-slam", o.seed), layout)?;
+    let modules = array::modules();
+    for (k, (asset, a, b, _)) in data.iter().enumerate() {
+        let frame = format!("world/objects/{}", asset.name);
+        rec.log_static(
+            frame.as_str(),
+            &rerun::Transform3D::from_translation([0.0, (SPACING_M * k as f64) as f32, 0.0]),
+        )?;
+        let mesh = generate(asset);
+        let positions: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| f32x3(&v.coords)).collect();
+        rec.log_static(
+            format!("{frame}/mesh"),
+            &rerun::Mesh3D::new(positions)
+                .with_triangle_indices(mesh.triangles.iter().copied())
+                .with_albedo_factor(rerun::Rgba32::from_unmultiplied_rgba(150, 150, 170, 255)),
+        )?;
+        let target = SweepTarget::new(mesh);
+        let walk = Walked {
+            rec: &rec,
+            frame: &frame,
+            target: &target,
+            modules: &modules,
+        };
+        let mut slam = WhiskerRatSlam::new(params(Combo::BEST, o.slam), ObjectMap::default());
+        walk.replay(&format!("{}-A", asset.name), "A", &mut slam, a)?;
+        let mut slam_b = WhiskerRatSlam::new(params(Combo::BEST, o.slam), slam.map.clone());
+        walk.replay(&format!("{}-B", asset.name), "B", &mut slam_b, b)?;
+    }
+    for (i, which, _, series) in identification {
+        let run = format!("{}-{}", data[*i].0.name, which.name());
+        for (k, confidence) in series.iter().enumerate() {
+            rec.at_step("whisk", k as u64);
+            for (object, v) in confidence {
+                rec.scalar(&format!("recognition/{run}/{object}"), *v)?;
+            }
+        }
+        rec.checkpoint()?;
+    }
+    rec.finish()
+}
+
+/// The recording of one object's walks.
+struct Walked<'a> {
+    rec: &'a Recording,
+    frame: &'a str,
+    target: &'a SweepTarget,
+    modules: &'a [Module],
+}
+
+impl Walked<'_> {
+    /// Runs `walk` through `slam` again, logging every whisk (run `run`, walk `which`).
+    fn replay(&self, run: &str, which: &str, slam: &mut WhiskerRatSlam, walk: &Walk) -> CliResult {
+        let (rec, frame) = (self.rec, self.frame);
+        let mut graph = GraphSchedule::default();
+        let truth_cycles = walk.truth.as_ref().map(|t| anticipated(self.target, t));
+        let n = walk.cycles.len();
+        for (k, (cycle, odo)) in walk.cycles.iter().zip(&walk.odometry).enumerate() {
+            let step = slam.step(&features(cycle, Combo::BEST.contact, self.modules), odo);
+            rec.at_step("whisk", k as u64);
+            rec.pose_cells(&format!("slam/{run}/pose_cells"), tiles6(&slam.cells.grid))?;
+            if graph.due(slam.map.experiences.len(), k + 1 == n) {
+                rec.object_map(
+                    &format!("slam/{run}/map"),
+                    &slam.map,
+                    Some(step.experience),
+                    None,
+                )?;
+            }
+            if let (Some(truth), Some(anticipated)) = (&walk.truth, &truth_cycles) {
+                let pose = &truth[k];
+                let q = pose.rotation.quaternion();
+                rec.log(
+                    format!("{frame}/{which}/array"),
+                    &rerun::Transform3D::from_translation_rotation(
+                        f32x3(&pose.translation.vector),
+                        rerun::Quaternion::from_xyzw([
+                            q.i as f32, q.j as f32, q.k as f32, q.w as f32,
+                        ]),
+                    ),
+                )?;
+                let world = |c: &whisker_slam::contact::ContactCycle| -> Vec<Contact> {
+                    c.contacts
+                        .iter()
+                        .map(|c| {
+                            let p = pose * c.point;
+                            Contact {
+                                whisker: c.whisker,
+                                point: [p.x, p.y, p.z],
+                            }
+                        })
+                        .collect()
+                };
+                rec.contacts_in(
+                    &format!("{frame}/{which}/contacts"),
+                    ContactKind::True,
+                    k as u64,
+                    &world(&anticipated[k]),
+                )?;
+                rec.contacts_in(
+                    &format!("{frame}/{which}/contacts"),
+                    ContactKind::Estimated,
+                    k as u64,
+                    &world(cycle),
+                )?;
+                if step.relocalised {
+                    rec.relocalisation(
+                        &format!("{frame}/{which}/relocalisations"),
+                        pose,
+                        &format!(
+                            "{run} whisk {k}: re-localised onto experience {}",
+                            step.experience
+                        ),
+                    )?;
+                }
+            }
+            rec.step_done(k)?;
+        }
+        rec.checkpoint()?;
+        if let Some(t) = &walk.truth {
+            let points: Vec<[f64; 3]> = t.iter().map(|p| p.translation.vector.into()).collect();
+            rec.trajectory(&format!("{frame}/{which}/true"), &points, [40, 200, 80])?;
+        }
+        Ok(())
+    }
+}

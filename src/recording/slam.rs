@@ -1,0 +1,238 @@
+//! The SLAM state and the closed loop's decisions in a recording (`slam/…`,
+//! `recognition/…`, `world/explore/…`; `docs/recording.md`): per SLAM update the tactile
+//! image (Ch 3), a readable projection of the pose-cell activity (planar: the maximum over
+//! θ; 6-D: the six maximum projections onto pairs of axes), the experience or object map
+//! as a graph drawn at its map positions (points and links in a 2-D view: Rerun's graph
+//! view lays nodes out by a force simulation, which would move them off their map poses;
+//! current experience red, the strategy's target blue), and the
+//! re-localisations; per whisk of a closed loop the goal and its kind, the raw and
+//! integrated confidence in each object (§6.2) and the outcome.
+
+use super::Recording;
+use crate::error::CliResult;
+use nalgebra::Isometry3;
+use whisker_slam::pose_grid::PoseGrid;
+use whisker_slam::ratslam::local_view::{COLUMNS, ROWS, TactileImage};
+use whisker_slam::whisker_ratslam::object_map::ObjectMap;
+
+/// Experiences of a map logged in full at most about this often: every update while the
+/// map is small, then every k-th with k growing with the map (bounding the file).
+const GRAPH_BUDGET: usize = 100;
+
+/// The maximum of `grid` over every axis but `a` and `b`: a `dims[a]` × `dims[b]` image
+/// (a across, b down), scaled to its own maximum (0–1).
+pub fn max_projection(grid: &PoseGrid, a: usize, b: usize) -> (usize, usize, Vec<f32>) {
+    let dims = grid.dims();
+    let (w, h) = (dims[a], dims[b]);
+    let mut out = vec![0f32; w * h];
+    for (k, &v) in grid.cells.iter().enumerate() {
+        let c = grid.coords(k);
+        let p = &mut out[c[b] * w + c[a]];
+        *p = p.max(v as f32);
+    }
+    let max = out.iter().cloned().fold(0f32, f32::max);
+    if max > 0.0 {
+        out.iter_mut().for_each(|v| *v /= max);
+    }
+    (w, h, out)
+}
+
+/// The six projections of a 6-D grid onto pairs of axes, tiled with a 1-pixel gap: top
+/// row (x,y) (x,z) (y,z), bottom row (α,β) (α,γ) (β,γ), each tile scaled to its maximum.
+pub fn tiles6(grid: &PoseGrid) -> (usize, usize, Vec<f32>) {
+    const PAIRS: [[(usize, usize); 3]; 2] = [[(0, 1), (0, 2), (1, 2)], [(3, 4), (3, 5), (4, 5)]];
+    let n = grid.dims()[0];
+    let (w, h) = (3 * n + 2, 2 * n + 1);
+    let mut out = vec![0f32; w * h];
+    for (row, pairs) in PAIRS.iter().enumerate() {
+        for (col, &(a, b)) in pairs.iter().enumerate() {
+            let (tw, th, tile) = max_projection(grid, a, b);
+            for y in 0..th {
+                for x in 0..tw {
+                    out[(row * (n + 1) + y) * w + col * (n + 1) + x] = tile[y * tw + x];
+                }
+            }
+        }
+    }
+    (w, h, out)
+}
+
+/// One experience graph: positions (map frame, m) and links.
+pub struct Graph<'a> {
+    /// Each experience's position (x, y) in the map, m.
+    pub positions: Vec<[f64; 2]>,
+    /// Each link (from, to).
+    pub links: Vec<(usize, usize)>,
+    /// The current experience.
+    pub current: Option<usize>,
+    /// The experience the strategy is heading for.
+    pub target: Option<usize>,
+    /// Each experience's object (appended maps), for the label.
+    pub objects: Option<&'a [Option<String>]>,
+}
+
+/// Decides which updates log the whole map ([`GRAPH_BUDGET`]).
+#[derive(Debug, Default)]
+pub struct GraphSchedule {
+    since: usize,
+}
+
+impl GraphSchedule {
+    /// Whether to log the map of `experiences` at this update (always when `last`).
+    pub fn due(&mut self, experiences: usize, last: bool) -> bool {
+        self.since += 1;
+        let every = 1 + experiences / GRAPH_BUDGET;
+        if last || self.since >= every {
+            self.since = 0;
+            true
+        } else {
+            false
+        }
+    }
+}
+
+impl Recording {
+    /// Logs a tactile image (6 × 3, intensities 0–255) at `entity`.
+    pub fn tactile_image(&self, entity: &str, image: &TactileImage) -> CliResult {
+        self.log(
+            entity,
+            &rerun::Image::from_elements(
+                &image.pixels,
+                [COLUMNS as u32, ROWS as u32],
+                rerun::ColorModel::L,
+            ),
+        )
+    }
+
+    /// Logs a pose-cell projection (`w` × `h`, 0–1) at `entity`.
+    pub fn pose_cells(&self, entity: &str, (w, h, v): (usize, usize, Vec<f32>)) -> CliResult {
+        self.log(
+            entity,
+            &rerun::Image::from_elements(&v, [w as u32, h as u32], rerun::ColorModel::L),
+        )
+    }
+
+    /// Logs an experience graph under `entity`, in map space (x, y in metres, a 2-D view):
+    /// `<entity>/experiences` (points labelled with their index, and object in appended
+    /// maps; the current experience red and large, the strategy's target blue) and
+    /// `<entity>/links` (a 2-point strip per link).
+    pub fn graph(&self, entity: &str, g: &Graph) -> CliResult {
+        let n = g.positions.len();
+        let colours = (0..n).map(|k| {
+            if Some(k) == g.current {
+                rerun::Color::from_rgb(230, 40, 40)
+            } else if Some(k) == g.target {
+                rerun::Color::from_rgb(40, 90, 230)
+            } else {
+                rerun::Color::from_rgb(170, 170, 170)
+            }
+        });
+        let labels = (0..n).map(|k| match g.objects.and_then(|o| o[k].as_deref()) {
+            Some(o) => format!("{o}:{k}"),
+            None => k.to_string(),
+        });
+        let radii = (0..n).map(|k| {
+            if Some(k) == g.current || Some(k) == g.target {
+                rerun::Radius::new_ui_points(7.0)
+            } else {
+                rerun::Radius::new_ui_points(2.5)
+            }
+        });
+        let point = |p: &[f64; 2]| [p[0] as f32, p[1] as f32];
+        self.log(
+            format!("{entity}/experiences"),
+            &rerun::Points2D::new(g.positions.iter().map(point))
+                .with_colors(colours)
+                .with_labels(labels)
+                .with_radii(radii)
+                .with_show_labels(false),
+        )?;
+        self.log(
+            format!("{entity}/links"),
+            &rerun::LineStrips2D::new(
+                g.links
+                    .iter()
+                    .map(|&(a, b)| [point(&g.positions[a]), point(&g.positions[b])]),
+            )
+            .with_radii([rerun::Radius::new_ui_points(0.75)])
+            .with_colors([rerun::Color::from_rgb(110, 110, 110)]),
+        )
+    }
+
+    /// Logs a WhiskerRatSLAM object map under `entity` ([`Self::graph`]), `current`
+    /// highlighted red and the strategy's `target` blue; appended maps' experiences are
+    /// labelled with their object.
+    pub fn object_map(
+        &self,
+        entity: &str,
+        map: &ObjectMap,
+        current: Option<usize>,
+        target: Option<usize>,
+    ) -> CliResult {
+        let objects: Vec<Option<String>> =
+            map.experiences.iter().map(|e| e.object.clone()).collect();
+        self.graph(
+            entity,
+            &Graph {
+                positions: map
+                    .experiences
+                    .iter()
+                    .map(|e| [e.position_m[0], e.position_m[1]])
+                    .collect(),
+                links: map.links.iter().map(|l| (l.from, l.to)).collect(),
+                current,
+                target,
+                objects: Some(&objects),
+            },
+        )
+    }
+
+    /// Logs a whole path (world) as a static line strip at `entity`.
+    pub fn trajectory(&self, entity: &str, points: &[[f64; 3]], colour: [u8; 3]) -> CliResult {
+        let strip: Vec<[f32; 3]> = points.iter().map(|p| p.map(|v| v as f32)).collect();
+        let [r, g, b] = colour;
+        self.log_static(
+            entity,
+            &rerun::LineStrips3D::new([strip])
+                .with_colors([rerun::Color::from_rgb(r, g, b)])
+                .with_radii([0.0015]),
+        )
+    }
+
+    /// Marks a re-localisation at the current time: a point at the true pose (at
+    /// `entity`) and a line of the event log.
+    pub fn relocalisation(&self, entity: &str, at: &Isometry3<f64>, text: &str) -> CliResult {
+        let p = at.translation.vector;
+        self.log(
+            entity,
+            &rerun::Points3D::new([[p.x as f32, p.y as f32, p.z as f32]])
+                .with_radii([0.008])
+                .with_colors([rerun::Color::from_rgb(230, 40, 200)]),
+        )?;
+        self.event(text)
+    }
+
+    /// Logs one scalar at `entity` at the current time.
+    pub fn scalar(&self, entity: &str, value: f64) -> CliResult {
+        self.log(entity, &rerun::Scalars::single(value))
+    }
+
+    /// Logs a closed loop's goal of kind `kind` (`face:<k>`, `spc`, `step:<e>`) at the
+    /// current time (`world/explore/goal`: a point labelled with its kind, blue for the
+    /// strategy's goals, orange for the SPC's corrections).
+    pub fn goal(&self, pose: &Isometry3<f64>, kind: &str) -> CliResult {
+        let p = pose.translation.vector;
+        let colour = if kind == "spc" {
+            rerun::Color::from_rgb(255, 140, 0)
+        } else {
+            rerun::Color::from_rgb(40, 90, 230)
+        };
+        self.log(
+            "world/explore/goal",
+            &rerun::Points3D::new([[p.x as f32, p.y as f32, p.z as f32]])
+                .with_radii([0.006])
+                .with_colors([colour])
+                .with_labels([kind]),
+        )
+    }
+}
