@@ -36,6 +36,9 @@ impl Loop<'_> {
     /// Logs the final map and the outcome (a line of the event log) at the end of the run.
     pub(super) fn record_end(&mut self, rec: &Recording, summary: &serde_json::Value) -> CliResult {
         rec.at(self.time);
+        // On the `whisk` timeline too: the state after the last whisk.
+        let whisks = summary["iterations"].as_u64().unwrap_or(0);
+        rec.at_step("whisk", whisks.saturating_sub(1));
         rec.object_map(
             "slam/map",
             &self.slam.map,

@@ -71,23 +71,20 @@ pub struct Graph<'a> {
     pub objects: Option<&'a [Option<String>]>,
 }
 
-/// Decides which updates log the whole map ([`GRAPH_BUDGET`]).
+/// Decides which updates log the whole map ([`GRAPH_BUDGET`]): the first, then every
+/// (1 + n / budget)-th for a map of n experiences, and the last.
 #[derive(Debug, Default)]
 pub struct GraphSchedule {
-    since: usize,
+    updates: usize,
 }
 
 impl GraphSchedule {
     /// Whether to log the map of `experiences` at this update (always when `last`).
     pub fn due(&mut self, experiences: usize, last: bool) -> bool {
-        self.since += 1;
         let every = 1 + experiences / GRAPH_BUDGET;
-        if last || self.since >= every {
-            self.since = 0;
-            true
-        } else {
-            false
-        }
+        let due = last || self.updates.is_multiple_of(every);
+        self.updates += 1;
+        due
     }
 }
 
