@@ -1,9 +1,11 @@
 //! What `whisker object-slam` puts in its recording (`docs/recording.md`): each object in a
 //! frame of its own (`world/objects/<object>`, placed side by side 0.4 m apart along y),
 //! and for the best parameter set's walks A (two laps, building the map) and B (one lap
-//! in A's map) at every whisk (timeline `whisk`): the array, the contacts — ground truth
-//! (the anticipated intersect) and estimate —, the 6-D pose cells, the object map, the
-//! re-localisations; then the identification runs' confidence per mapped object.
+//! in A's map) at every whisk (timeline `whisk`): the array, the estimated position (the
+//! current experience's map pose relative to the first, placed at A's first true pose), the
+//! contacts — ground truth (the anticipated intersect) and estimate —, the 6-D pose
+//! cells, the object map, the re-localisations; then the identification runs' confidence
+//! per mapped object.
 //!
 //! The localisation runs are parallel; the recorded walks are run again, one after the
 //! other on this thread, with the same parameters and data (WhiskerRatSLAM is
@@ -14,6 +16,7 @@ use crate::error::CliResult;
 use crate::recording::slam::{GraphSchedule, tiles6};
 use crate::recording::world::{Contact, ContactKind};
 use crate::recording::{self, Recording, f32x3};
+use nalgebra::Isometry3;
 use whisker_sim::environment::assets::generate;
 use whisker_sim::sensing::kinematic::SweepTarget;
 use whisker_sim::whisker::array::{self, Module};
@@ -59,6 +62,7 @@ pub(super) fn write(
             frame: &frame,
             target: &target,
             modules: &modules,
+            origin: a.truth.as_ref().map(|t| t[0]),
         };
         let mut slam = WhiskerRatSlam::new(params(Combo::BEST, o.slam), ObjectMap::default());
         walk.replay(&format!("{}-A", asset.name), "A", &mut slam, a)?;
@@ -84,6 +88,9 @@ struct Walked<'a> {
     frame: &'a str,
     target: &'a SweepTarget,
     modules: &'a [Module],
+    /// A's first true pose: where the estimate (the map relative to its first
+    /// experience) is placed.
+    origin: Option<Isometry3<f64>>,
 }
 
 impl Walked<'_> {
@@ -103,6 +110,16 @@ impl Walked<'_> {
                     &slam.map,
                     Some(step.experience),
                     None,
+                )?;
+            }
+            if let Some(origin) = &self.origin {
+                // The estimate: the current experience's map pose relative to the first.
+                let estimate = origin * slam.map.pose(0).inverse() * slam.map.pose(step.experience);
+                rec.log(
+                    format!("{frame}/{which}/estimated"),
+                    &rerun::Points3D::new([f32x3(&estimate.translation.vector)])
+                        .with_radii([0.004])
+                        .with_colors([rerun::Color::from_rgb(255, 140, 0)]),
                 )?;
             }
             if let (Some(truth), Some(anticipated)) = (&walk.truth, &truth_cycles) {

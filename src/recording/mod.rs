@@ -64,6 +64,8 @@ pub struct Recording {
     finished: bool,
     /// Contacts waiting for their other half (ground truth or estimate) of a cycle.
     pending: std::cell::RefCell<world::Pending>,
+    /// Links of the arm logged (their axes are logged at the end).
+    links: std::cell::Cell<usize>,
 }
 
 pub(crate) fn fail(path: &Path, e: impl std::fmt::Display) -> CliError {
@@ -100,6 +102,7 @@ impl Recording {
             path: path.to_path_buf(),
             finished: false,
             pending: Default::default(),
+            links: Default::default(),
         };
         rec.log_static("world", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
         Ok(rec)

@@ -99,8 +99,9 @@ impl Recording {
         )
     }
 
-    /// Logs the arm at time `t`: its link frame origins along the chain
-    /// (`world/arm/skeleton`) and the tip frame (`world/arm/tip`).
+    /// Logs the arm at time `t`: its link frames along the chain from the root
+    /// (`world/arm/links/<k>`), a line through their origins (`world/arm/skeleton`) and
+    /// the tip frame (`world/arm/tip`).
     pub fn arm(&self, t: f64, links: &[Isometry3<f64>], tip: &Isometry3<f64>) -> CliResult {
         self.at(t);
         let strip: Vec<[f32; 3]> = links.iter().map(point).collect();
@@ -108,6 +109,10 @@ impl Recording {
             "world/arm/skeleton",
             &rerun::LineStrips3D::new([strip]).with_radii([0.004]),
         )?;
+        for (k, link) in links.iter().enumerate() {
+            self.log(format!("world/arm/links/{k}"), &transform(link))?;
+        }
+        self.links.set(links.len());
         self.log("world/arm/tip", &transform(tip))
     }
 
@@ -126,6 +131,12 @@ impl Recording {
             &rerun::LineStrips3D::new([strip]).with_radii([rerun::Radius::new_ui_points(1.0)]),
         )?;
         self.log_static("world/arm/tip", &rerun::TransformAxes3D::new(0.05))?;
+        for k in 0..self.links.get() {
+            self.log_static(
+                format!("world/arm/links/{k}"),
+                &rerun::TransformAxes3D::new(0.03),
+            )?;
+        }
         self.log_static("world/array", &rerun::TransformAxes3D::new(0.03))
     }
 

@@ -446,6 +446,7 @@ fn object_slam_records_the_walks_and_maps_alike_on_any_thread_count() {
             "world/objects/mug",
             "world/objects/mug/mesh",
             "world/objects/mug/A/array",
+            "world/objects/mug/A/estimated",
             "world/objects/mug/A/contacts/true",
             "world/objects/mug/A/contacts/estimated",
             "world/objects/mug/A/contacts/error",
@@ -468,6 +469,30 @@ fn object_slam_records_the_walks_and_maps_alike_on_any_thread_count() {
     assert_eq!(
         nodes.last().unwrap().1.len(),
         map["experiences"].as_array().unwrap().len()
+    );
+    // An estimate per whisk beside each true pose; at the first whisk both are the origin.
+    let entities = decode::entities(&chunks);
+    let (truth, estimate) = (
+        decode::rows::<[f32; 3]>(
+            &chunks,
+            "/world/objects/mug/A/array",
+            "Transform3D:translation",
+            "whisk",
+        ),
+        decode::rows::<[f32; 3]>(
+            &chunks,
+            "/world/objects/mug/A/estimated",
+            "Points3D:positions",
+            "whisk",
+        ),
+    );
+    assert_eq!(entities["/world/objects/mug/A/estimated"].rows, truth.len());
+    let d: f32 = (0..3)
+        .map(|i| (truth[0].1[0][i] - estimate[0].1[0][i]).powi(2))
+        .sum();
+    assert!(
+        d.sqrt() < 1e-6,
+        "first estimate {d} m² off the first true pose"
     );
     let two = run("two", "2");
     let (_, again) = decode::read(&two.join("run.rrd")).unwrap();
