@@ -45,7 +45,10 @@ pub fn recording(o: &Options) -> CliResult {
             .enumerate()
         {
             let _ = std::fs::remove_dir_all(dir);
-            let rrd = RrdArgs { rrd: None, no_rrd };
+            let rrd = RrdArgs {
+                no_rrd,
+                ..Default::default()
+            };
             let start = Instant::now();
             crate::run::execute(&o.scenario, &scenario, dir, &rrd, &mut std::io::sink())?;
             best[k] = best[k].min(start.elapsed().as_secs_f64());

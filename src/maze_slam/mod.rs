@@ -365,20 +365,26 @@ fn open_recording(
     let runs = run_names(seeds, sets, tunings, kidnap);
     let layout = crate::recording::blueprint::slam_runs(&runs, true, "update");
     let seeds: Vec<String> = seeds.iter().map(u64::to_string).collect();
-    let id = format!("{stem}-seed{}", seeds.join(","));
+    let id = o
+        .rrd
+        .id
+        .clone()
+        .unwrap_or_else(|| format!("{stem}-seed{}", seeds.join(",")));
     Recording::create(&path, &id, layout).map(Some)
 }
 
 /// One trial of a batch (`trials.experiment = "maze-slam"`): `whisker maze-slam` of the
-/// scenario's seed with `--out dir`, and `summary.json`: each run's figures under
+/// scenario's seed with `--out dir` (the recording as `rrd` says), and `summary.json`: each run's figures under
 /// `<variant>.<images>` (e.g. `normal.kinematic.arr`).
 pub fn trial(
     file: &Path,
     scenario: &Scenario,
     dir: &Path,
+    rrd: &RrdArgs,
     say: &mut dyn std::io::Write,
 ) -> CliResult {
     let mut o = Options::of(file);
+    o.rrd = rrd.clone();
     o.seeds = Some(vec![scenario.seed]);
     o.out = Some(dir.to_path_buf());
     o.json = true;

@@ -39,6 +39,10 @@ pub struct RrdArgs {
     /// Write no Rerun recording.
     #[arg(long, conflicts_with = "rrd")]
     pub no_rrd: bool,
+    /// The recording id, when not the default `<scenario>-seed<seed>` (a batch trial's
+    /// names its trial).
+    #[arg(skip)]
+    pub id: Option<String>,
 }
 
 impl RrdArgs {
@@ -121,7 +125,8 @@ impl Recording {
             return Ok(None);
         };
         let stem = file.file_stem().unwrap_or_default().to_string_lossy();
-        Self::create(&path, &id(&stem, scenario.seed), layout).map(Some)
+        let name = rrd.id.clone().unwrap_or_else(|| id(&stem, scenario.seed));
+        Self::create(&path, &name, layout).map(Some)
     }
 
     /// Where the recording will be.

@@ -229,15 +229,17 @@ pub fn run_trial(batch: &Batch, trial: &Trial, dir: &Path) -> Result<serde_json:
             .num_threads(1)
             .build()
             .map_err(|e| CliError::Failure(format!("thread pool: {e}")))?;
+        // A trial's recording (outputs = "all") is named after the trial.
+        let stem = batch.file.file_stem().unwrap_or_default().to_string_lossy();
+        let rrd = crate::recording::RrdArgs {
+            id: Some(format!("{stem}-{}", trial.key)),
+            ..Default::default()
+        };
         pool.install(|| match batch.config.experiment {
-            Experiment::Run => crate::run::execute(
-                &batch.file,
-                &scenario,
-                dir,
-                &crate::recording::RrdArgs::default(),
-                &mut say,
-            ),
-            Experiment::MazeSlam => crate::maze_slam::trial(&batch.file, &scenario, dir, &mut say),
+            Experiment::Run => crate::run::execute(&batch.file, &scenario, dir, &rrd, &mut say),
+            Experiment::MazeSlam => {
+                crate::maze_slam::trial(&batch.file, &scenario, dir, &rrd, &mut say)
+            }
         })?;
         if batch.config.outputs == Outputs::Light {
             drop_heavy(dir)?;
