@@ -334,7 +334,7 @@ pub fn soak(o: &Options) -> CliResult {
     }
     let recording = match &o.rrd {
         Some(path) => {
-            let layout = crate::recording::blueprint::run(false);
+            let layout = crate::recording::blueprint::cases();
             Some(Recording::create(
                 path,
                 &crate::recording::id("soak", 0),

@@ -392,7 +392,7 @@ fn record(
     let rec = Recording::create(
         path,
         &recording::id(&format!("radial-{:?}", o.set).to_lowercase(), o.seed),
-        recording::blueprint::run(true),
+        recording::blueprint::cases(),
     )?;
     for (k, (job, out)) in jobs.iter().zip(outcomes).enumerate() {
         let case = world::entity_name(&job.case);

@@ -32,14 +32,27 @@ fn sensor_tabs(labels: &[String]) -> ContainerLike {
 }
 
 /// `whisker run` without a closed loop: the scene, and with physics whiskers their
-/// streams (a tab per whisker); `whisker soak` and `radial generate` alike.
+/// streams (a tab per whisker). (Such runs log no events.)
 pub fn run(physics: bool) -> Blueprint {
-    let mut panels = Vec::new();
-    if physics {
-        panels.push(sensor_tabs(&super::world::labels()));
-    }
-    panels.push(TextLogView::new("Events").with_origin("/events").into());
+    let panels = if physics {
+        vec![sensor_tabs(&super::world::labels())]
+    } else {
+        Vec::new()
+    };
     layout(panels, super::SIM_TIME)
+}
+
+/// `whisker soak` and `radial generate`: the scene (cases side by side) and every case's
+/// streams in one time-series view (`sensors/<case>/<label>`).
+pub fn cases() -> Blueprint {
+    layout(
+        vec![
+            TimeSeriesView::new("Whisker streams")
+                .with_origin("/sensors")
+                .into(),
+        ],
+        super::SIM_TIME,
+    )
 }
 
 /// A closed loop (Ch 6): the scene; confidence over time; the object map and the pose
