@@ -58,7 +58,11 @@ pub fn recording(o: &Options) -> CliResult {
         &std::fs::read_to_string(with_dir.join("summary.json")).unwrap_or_default(),
     )
     .unwrap_or_default();
-    let simulated = summary["duration_s"].as_f64().unwrap_or(f64::NAN);
+    // A run's duration, or a closed loop's simulated time.
+    let simulated = summary["duration_s"]
+        .as_f64()
+        .or(summary["simulated_time_s"].as_f64())
+        .unwrap_or(f64::NAN);
     let bytes = std::fs::metadata(with_dir.join("run.rrd")).map_or(0, |m| m.len());
     let ratio = best[1] / best[0];
     let mb_per_s = bytes as f64 / 1e6 / simulated;

@@ -84,6 +84,18 @@ pub fn anticipated(
         .collect()
 }
 
+/// The anticipated intersects of a kinematic `array`'s last whisk, before noise (world).
+pub fn intersects(array: &KinematicArray) -> Vec<Contact> {
+    array
+        .intersects
+        .iter()
+        .map(|(w, p)| Contact {
+            whisker: *w,
+            point: [p.x, p.y, p.z],
+        })
+        .collect()
+}
+
 /// The straight shafts of a kinematic `array` at time `t` with the array at `pose` (world;
 /// base and tip of each), at each whisker's pattern angle.
 pub fn rigid_shafts(array: &KinematicArray, pose: &Isometry3<f64>, t: f64) -> Vec<Vec<[f64; 3]>> {
@@ -177,7 +189,7 @@ impl ContactSensing {
                 let k = self.next_cycle as u64;
                 if self.noisy {
                     // The ground truth of a noisy sweep: the intersect itself.
-                    let truth = anticipated(&self.target, &self.array.whiskers, &pose);
+                    let truth = intersects(&self.array);
                     rec.contacts(ContactKind::True, k, start, &truth)?;
                     rec.contacts(ContactKind::Estimated, k, start, &world)?;
                 } else {

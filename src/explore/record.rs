@@ -70,10 +70,7 @@ impl Loop<'_> {
         }
         rec.log("world/array", &crate::recording::world::transform(w.pose))?;
         let (truth, shafts) = match &self.sensing {
-            Sensor::Kinematic(a) => (
-                crate::contacts::anticipated(&self.target, &a.whiskers, w.pose),
-                Some(a),
-            ),
+            Sensor::Kinematic(a) => (crate::contacts::intersects(a), Some(a)),
             Sensor::Physics(p) => (
                 crate::contacts::anticipated(&self.target, p.rigid(), w.pose),
                 None,

@@ -19,42 +19,90 @@ use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 /// map is small, then every k-th with k growing with the map (bounding the file).
 const GRAPH_BUDGET: usize = 100;
 
-/// The maximum of `grid` over every axis but `a` and `b`: a `dims[a]` × `dims[b]` image
-/// (a across, b down), scaled to its own maximum (0–1).
+/// The maxima of `grid` over every axis but each pair (a, b) of `pairs`: per pair a
+/// `dims[a]` × `dims[b]` image (a across, b down, row-major), scaled to its own maximum
+/// (0–1). One pass over the cells, their coordinates counted up as the index runs (the
+/// first axis fastest).
+pub fn projections(grid: &PoseGrid, pairs: &[(usize, usize)]) -> Vec<Vec<f32>> {
+    let dims = grid.dims();
+    let mut out: Vec<Vec<f32>> = pairs
+        .iter()
+        .map(|&(a, b)| vec![0f32; dims[a] * dims[b]])
+        .collect();
+    let mut c = vec![0usize; dims.len()];
+    for &v in &grid.cells {
+        for (tile, &(a, b)) in out.iter_mut().zip(pairs) {
+            let p = &mut tile[c[b] * dims[a] + c[a]];
+            *p = p.max(v as f32);
+        }
+        for (ci, &n) in c.iter_mut().zip(dims) {
+            *ci += 1;
+            if *ci < n {
+                break;
+            }
+            *ci = 0;
+        }
+    }
+    for tile in &mut out {
+        let max = tile.iter().cloned().fold(0f32, f32::max);
+        if max > 0.0 {
+            tile.iter_mut().for_each(|v| *v /= max);
+        }
+    }
+    out
+}
+
+/// The maximum of `grid` over every axis but `a` and `b` ([`projections`]): (width,
+/// height, pixels).
 pub fn max_projection(grid: &PoseGrid, a: usize, b: usize) -> (usize, usize, Vec<f32>) {
     let dims = grid.dims();
-    let (w, h) = (dims[a], dims[b]);
-    let mut out = vec![0f32; w * h];
-    for (k, &v) in grid.cells.iter().enumerate() {
-        let c = grid.coords(k);
-        let p = &mut out[c[b] * w + c[a]];
-        *p = p.max(v as f32);
-    }
-    let max = out.iter().cloned().fold(0f32, f32::max);
-    if max > 0.0 {
-        out.iter_mut().for_each(|v| *v /= max);
-    }
-    (w, h, out)
+    let tile = projections(grid, &[(a, b)]).remove(0);
+    (dims[a], dims[b], tile)
 }
 
 /// The six projections of a 6-D grid onto pairs of axes, tiled with a 1-pixel gap: top
 /// row (x,y) (x,z) (y,z), bottom row (α,β) (α,γ) (β,γ), each tile scaled to its maximum.
 pub fn tiles6(grid: &PoseGrid) -> (usize, usize, Vec<f32>) {
-    const PAIRS: [[(usize, usize); 3]; 2] = [[(0, 1), (0, 2), (1, 2)], [(3, 4), (3, 5), (4, 5)]];
+    const PAIRS: [(usize, usize); 6] = [(0, 1), (0, 2), (1, 2), (3, 4), (3, 5), (4, 5)];
     let n = grid.dims()[0];
     let (w, h) = (3 * n + 2, 2 * n + 1);
     let mut out = vec![0f32; w * h];
-    for (row, pairs) in PAIRS.iter().enumerate() {
-        for (col, &(a, b)) in pairs.iter().enumerate() {
-            let (tw, th, tile) = max_projection(grid, a, b);
-            for y in 0..th {
-                for x in 0..tw {
-                    out[(row * (n + 1) + y) * w + col * (n + 1) + x] = tile[y * tw + x];
-                }
+    for (k, tile) in projections(grid, &PAIRS).iter().enumerate() {
+        let (row, col) = (k / 3, k % 3);
+        for y in 0..n {
+            for x in 0..n {
+                out[(row * (n + 1) + y) * w + col * (n + 1) + x] = tile[y * n + x];
             }
         }
     }
     (w, h, out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The one-pass projection equals the definition: the maximum over every cell whose
+    /// coordinates (by the grid's own `coords`) on the two axes are the pixel's.
+    #[test]
+    fn projections_are_the_maxima_over_the_other_axes() {
+        let mut grid = PoseGrid::new(&[3, 4, 2, 5]);
+        for (k, v) in grid.cells.iter_mut().enumerate() {
+            *v = ((k * 7919) % 97) as f64;
+        }
+        for (a, b) in [(0, 1), (1, 0), (2, 3), (0, 3)] {
+            let (w, h, got) = max_projection(&grid, a, b);
+            let mut want = vec![0.0f64; w * h];
+            for (k, &v) in grid.cells.iter().enumerate() {
+                let c = grid.coords(k);
+                want[c[b] * w + c[a]] = want[c[b] * w + c[a]].max(v);
+            }
+            let max = want.iter().cloned().fold(0.0, f64::max);
+            for (g, x) in got.iter().zip(&want) {
+                assert!((*g as f64 - x / max).abs() < 1e-6, "axes {a},{b}");
+            }
+        }
+    }
 }
 
 /// One experience graph: positions (map frame, m) and links.

@@ -364,6 +364,9 @@ pub struct KinematicArray {
     pub patterns: Vec<WhiskingPattern>,
     /// The contact noise.
     pub noise: ContactNoise,
+    /// The last whisk's anticipated intersects before any noise: (whisker index, world
+    /// point), every whisker that touched (ground truth for a recording).
+    pub intersects: Vec<(usize, Point3<f64>)>,
     rngs: Vec<StreamRng>,
 }
 
@@ -382,6 +385,7 @@ impl KinematicArray {
             whiskers,
             patterns,
             noise,
+            intersects: Vec::new(),
             rngs,
         }
     }
@@ -397,10 +401,12 @@ impl KinematicArray {
         array_pose: &Isometry3<f64>,
     ) -> ContactCycle {
         let mut contacts = Vec::new();
+        self.intersects.clear();
         for (i, w) in self.whiskers.iter().enumerate() {
             let Some(hit) = target.sweep(w, array_pose) else {
                 continue;
             };
+            self.intersects.push((w.module.index, hit.point));
             let length = w.module.beam.length;
             let Some((offset, slope)) = self.noise.draw(length, hit.slope(), &mut self.rngs[i])
             else {
