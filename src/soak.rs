@@ -118,12 +118,8 @@ impl<'a> CaseRecording<'a> {
     fn chunk(&mut self, k0: usize, samples: &[Vec<Sample>], array: &PhysicsArray) -> CliResult {
         let n = samples.first().map_or(0, Vec::len);
         let off = vec![false; samples.len()];
-        for i in 0..n {
-            let row: Vec<Sample> = samples.iter().map(|s| s[i]).collect();
-            let rcp = self.open_loop.then_some(off.as_slice());
-            self.columns
-                .push(self.rec, (k0 + i + 1) as f64 * DT, &row, rcp)?;
-        }
+        let rcp = self.open_loop.then_some(off.as_slice());
+        self.columns.push_streams(self.rec, 0.0, k0, samples, rcp)?;
         let shafts: Vec<Vec<[f64; 3]>> = array.units.iter().map(|u| u.shaft()).collect();
         self.rec.shafts_at(
             &format!("{}/whiskers", self.frame),

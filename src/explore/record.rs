@@ -86,12 +86,7 @@ impl Loop<'_> {
             }
         }
         if let (Some(streams), Some(cols)) = (w.streams, &mut self.columns) {
-            let dt = 1.0 / whisker_slam::sensor::SAMPLE_RATE_HZ;
-            let n = streams.iter().map(Vec::len).min().unwrap_or(0);
-            for i in 0..n {
-                let row: Vec<Sample> = streams.iter().map(|s| s[i]).collect();
-                cols.push(rec, t + (i + 1) as f64 * dt, &row, None)?;
-            }
+            cols.push_streams(rec, t, 0, streams, None)?;
             cols.send(rec)?;
         }
         // The SLAM state after the whisk.

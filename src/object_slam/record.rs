@@ -124,15 +124,9 @@ impl Walked<'_> {
             }
             if let (Some(truth), Some(anticipated)) = (&walk.truth, &truth_cycles) {
                 let pose = &truth[k];
-                let q = pose.rotation.quaternion();
                 rec.log(
                     format!("{frame}/{which}/array"),
-                    &rerun::Transform3D::from_translation_rotation(
-                        f32x3(&pose.translation.vector),
-                        rerun::Quaternion::from_xyzw([
-                            q.i as f32, q.j as f32, q.k as f32, q.w as f32,
-                        ]),
-                    ),
+                    &crate::recording::world::transform(pose),
                 )?;
                 let world = |c: &whisker_slam::contact::ContactCycle| -> Vec<Contact> {
                     c.contacts

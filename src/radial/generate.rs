@@ -428,10 +428,8 @@ fn record(
             &format!("sensors/{case}"),
             std::slice::from_ref(&label),
         )?;
-        for (i, s) in out.streams.iter().enumerate() {
-            // RCP state is not kept by a whisk cycle.
-            columns.push(&rec, (i + 1) as f64 * DT, std::slice::from_ref(s), None)?;
-        }
+        // RCP state is not kept by a whisk cycle.
+        columns.push_streams(&rec, 0.0, 0, std::slice::from_ref(&out.streams), None)?;
         columns.send(&rec)?;
         rec.checkpoint()?;
     }

@@ -88,9 +88,26 @@ fn columns<'a>(
         })
 }
 
+/// Each row of `component` at `entity` with its time on `timeline` ([`columns`]), sorted by
+/// time; `rows_of` gives a chunk's rows.
+fn gather<V>(
+    chunks: &[Chunk],
+    entity: &str,
+    component: &str,
+    timeline: &str,
+    mut rows_of: impl FnMut(&Chunk, rerun::ComponentIdentifier) -> Vec<V>,
+) -> Vec<(i64, V)> {
+    let mut out = Vec::new();
+    for (c, times, id) in columns(chunks, entity, component, timeline) {
+        out.extend(times.into_iter().zip(rows_of(c, id)));
+    }
+    out.sort_by_key(|(t, _)| *t);
+    out
+}
+
 /// The rows of `component` at `entity` with their time on `timeline` (see [`columns`]),
 /// sorted by time, each row's values of native type `T` (`f64` for scalars, `[f32; 3]` for
-/// 3-D points, `u8` for an 8-bit image's bytes …).
+/// 3-D points …).
 pub fn rows<T>(
     chunks: &[Chunk],
     entity: &str,
@@ -103,14 +120,9 @@ where
             Item<'a> = &'a [T],
         > + 'static,
 {
-    let mut out = Vec::new();
-    for (c, times, id) in columns(chunks, entity, component, timeline) {
-        for (t, values) in times.into_iter().zip(c.iter_slices::<T>(id)) {
-            out.push((t, values.to_vec()));
-        }
-    }
-    out.sort_by_key(|(t, _)| *t);
-    out
+    gather(chunks, entity, component, timeline, |c, id| {
+        c.iter_slices::<T>(id).map(<[T]>::to_vec).collect()
+    })
 }
 
 /// [`rows`] of a string component (labels, graph node ids).
@@ -120,14 +132,11 @@ pub fn strings(
     component: &str,
     timeline: &str,
 ) -> Vec<(i64, Vec<String>)> {
-    let mut out = Vec::new();
-    for (c, times, id) in columns(chunks, entity, component, timeline) {
-        for (t, values) in times.into_iter().zip(c.iter_slices::<String>(id)) {
-            out.push((t, values.iter().map(|s| s.to_string()).collect()));
-        }
-    }
-    out.sort_by_key(|(t, _)| *t);
-    out
+    gather(chunks, entity, component, timeline, |c, id| {
+        c.iter_slices::<String>(id)
+            .map(|v| v.iter().map(|s| s.to_string()).collect())
+            .collect()
+    })
 }
 
 /// [`rows`] of a binary component (an image's `Image:buffer`): each row's bytes.
@@ -137,14 +146,11 @@ pub fn blobs(
     component: &str,
     timeline: &str,
 ) -> Vec<(i64, Vec<u8>)> {
-    let mut out = Vec::new();
-    for (c, times, id) in columns(chunks, entity, component, timeline) {
-        for (t, buffers) in times.into_iter().zip(c.iter_slices::<&[u8]>(id)) {
-            out.push((t, buffers.iter().flat_map(|b| b.iter().copied()).collect()));
-        }
-    }
-    out.sort_by_key(|(t, _)| *t);
-    out
+    gather(chunks, entity, component, timeline, |c, id| {
+        c.iter_slices::<&[u8]>(id)
+            .map(|buffers| buffers.iter().flat_map(|b| b.iter().copied()).collect())
+            .collect()
+    })
 }
 
 /// The scalar rows of `entity` on `sim_time`: (time s, values).

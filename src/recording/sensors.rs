@@ -60,6 +60,26 @@ impl SensorColumns {
         Ok(())
     }
 
+    /// Takes whole streams: `streams[w]` holds whisker w's samples of steps `first + 1`,
+    /// `first + 2` … (step k at `start` + k × 0.5 ms; as many steps as the shortest
+    /// stream), with their RCP states when known ([`Self::push`]).
+    pub fn push_streams(
+        &mut self,
+        rec: &Recording,
+        start: f64,
+        first: usize,
+        streams: &[Vec<Sample>],
+        rcp: Option<&[bool]>,
+    ) -> CliResult {
+        let dt = 1.0 / whisker_slam::sensor::SAMPLE_RATE_HZ;
+        let n = streams.iter().map(Vec::len).min().unwrap_or(0);
+        for i in 0..n {
+            let row: Vec<Sample> = streams.iter().map(|s| s[i]).collect();
+            self.push(rec, start + (first + i + 1) as f64 * dt, &row, rcp)?;
+        }
+        Ok(())
+    }
+
     /// Sends what is buffered (one chunk per whisker).
     pub fn send(&mut self, rec: &Recording) -> CliResult {
         let n = self.times.len();
