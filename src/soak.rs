@@ -56,9 +56,15 @@ pub struct Options {
     /// Rapier substeps per 0.5 ms step.
     #[arg(long, default_value_t = whisker_sim::sensing::physics::DEFAULT_SUBSTEPS)]
     pub substeps: usize,
-    /// Rapier's multibody code path (vendor/PATCHES.md) [default: exact].
+    /// Rapier's multibody code path (vendor/PATCHES.md) [default: the whiskers' default,
+    /// exact].
     #[arg(long, value_parser = crate::bench::solver_path_parser())]
     pub path: Option<SolverPath>,
+    /// Also run each case N more times, the k-th with the array moved k nm along world x:
+    /// far below any physical tolerance, so a result that changes is a chaotic coin flip
+    /// of stick-slip contact, not a property of the set-up; prints how many runs tunnelled.
+    #[arg(long, default_value_t = 0)]
+    pub nudges: usize,
     /// Print one JSON list.
     #[arg(long)]
     pub json: bool,
@@ -344,17 +350,33 @@ pub fn soak(o: &Options) -> CliResult {
     for (k, (name, case)) in cases.iter().enumerate() {
         let solids = Solids::new(&case.environment)
             .map_err(|e| CliError::Failure(format!("soak: {name}: {e}")))?;
-        let (r, ok) = run_case(
-            name,
-            &case.environment,
-            &solids,
-            case.pose,
-            &case.touching,
-            o,
-            recording.as_ref().map(|r| (r, k)),
-        )?;
-        records.push(r);
-        all &= ok;
+        let mut failed = 0;
+        for nudge in 0..=o.nudges {
+            let label = match nudge {
+                0 => name.clone(),
+                n => format!("{name}+{n}nm"),
+            };
+            let pose = Isometry3::translation(nudge as f64 * 1e-9, 0.0, 0.0) * case.pose;
+            let (mut r, ok) = run_case(
+                &label,
+                &case.environment,
+                &solids,
+                pose,
+                &case.touching,
+                o,
+                recording.as_ref().filter(|_| nudge == 0).map(|r| (r, k)),
+            )?;
+            r["nudge_m"] = json!(nudge as f64 * 1e-9);
+            records.push(r);
+            failed += usize::from(!ok);
+            all &= ok;
+        }
+        if o.nudges > 0 && !o.json {
+            println!(
+                "{name}: {failed} of {} runs tunnelled or broke",
+                o.nudges + 1
+            );
+        }
     }
     if let Some(rec) = recording {
         rec.finish()?;
