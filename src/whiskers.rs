@@ -154,22 +154,36 @@ impl ArraySimulation {
 
     /// Simulates up to time `t` (s), the arm following the plan's trajectory; the front
     /// end processes every whisk cycle completed.
+    ///
+    /// The array's poses follow from the plan alone, so every whisker runs all the
+    /// samples up to `t` in one task ([`PhysicsArray::run_with_rcp`]: the same samples as
+    /// a step per sample, without a barrier per sample; issue #18, scheduling), and the
+    /// samples are then written and passed to the front end in time order.
     pub fn advance_to(&mut self, plan: &Plan, t: f64, recording: Option<&Recording>) -> CliResult {
-        while (self.steps + 1) as f64 * self.dt <= t + 1e-9 {
-            self.steps += 1;
-            let time = self.steps as f64 * self.dt;
-            let pose = self.chain.fk(&plan.trajectory.sample(time));
-            let samples = self.array.step(&pose);
+        let mut times = Vec::new();
+        while (self.steps + times.len() as u64 + 1) as f64 * self.dt <= t + 1e-9 {
+            times.push((self.steps + times.len() as u64 + 1) as f64 * self.dt);
+        }
+        if times.is_empty() {
+            return Ok(());
+        }
+        self.steps += times.len() as u64;
+        let poses: Vec<_> = times
+            .iter()
+            .map(|&time| self.chain.fk(&plan.trajectory.sample(time)))
+            .collect();
+        let streams = self.array.run_with_rcp(&poses);
+        for (k, (&time, pose)) in times.iter().zip(&poses).enumerate() {
+            let (samples, rcp): (Vec<_>, Vec<_>) = streams.iter().map(|w| w[k]).unzip();
             let _ = write!(self.csv, "{time}");
             for s in &samples {
                 let _ = write!(self.csv, ",{},{},{}", s.angle_rad, s.x, s.y);
             }
             self.csv.push('\n');
             if let (Some(cols), Some(rec)) = (&mut self.columns, recording) {
-                let rcp: Vec<bool> = self.array.units.iter().map(|u| u.rcp_active()).collect();
                 cols.push(rec, time, &samples, Some(&rcp))?;
             }
-            self.frontend.push(time, &pose, &samples, recording)?;
+            self.frontend.push(time, pose, &samples, recording)?;
         }
         Ok(())
     }
