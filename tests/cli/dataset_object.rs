@@ -254,15 +254,25 @@ fn closed_loop_dataset_replays_recognition() {
     }
 }
 
-/// A physics closed loop (40 whisks of `recognise_box_physics.toml`): one whisk file per
-/// whisk, replayed through the front end and the radial-distance model into the live
-/// run's SLAM and recognition.
+/// A physics closed loop (40 whisks of `recognise_box_physics.toml`, with the fast
+/// sweep-plane whiskers to keep the test short): one whisk file per whisk, replayed
+/// through the front end and the radial-distance model into the live run's SLAM and
+/// recognition.
 #[test]
 fn physics_closed_loop_dataset_replays_recognition() {
     let tmp = tempfile::tempdir().unwrap();
     let t = tmp.path();
     let scenario = repo("scenarios/recognise_box_physics.toml");
-    let set = ["--set", "explore.max_iterations=40"];
+    let set = [
+        "--set",
+        "explore.max_iterations=40",
+        "--set",
+        "array.bending=sweep-plane",
+        "--set",
+        "array.segments=8",
+        "--set",
+        "array.substeps=2",
+    ];
     let (d, l) = closed_loop_equals_replay(t, &scenario, &set);
     let m = manifest(&d);
     assert_eq!(m["level"], "streams");
