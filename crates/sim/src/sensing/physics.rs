@@ -71,22 +71,22 @@ pub enum SolverPath {
     /// Not the default yet. In contact, rounding-level differences grow as any
     /// perturbation does (stick-slip is chaotic), so single runs are coin flips: moving
     /// the array by nanometres, whisker D1 over the Mug's handle goes deeper than 1 mm or
-    /// non-finite within 10 s in 26 of 60 runs with this path and 19 of 60 with `Exact`
-    /// (= Rapier as released), non-finite in 6 and 2 of them (`whisker soak --objects mug
-    /// --whiskers D1 --duration 10 --nudges 19 --path …` gives 20 of the 60). Within
-    /// chance (Fisher's exact test, one-sided p ≈ 0.13 for each), but leaning against it, so
-    /// the bit-identical path stays the default until more runs decide.
+    /// non-finite within 10 s in 59 of 140 runs with this path and 50 of 140 with `Exact`
+    /// (= Rapier as released), non-finite in 12 and 6 of them (`whisker soak --objects mug
+    /// --whiskers D1 --duration 10 --nudges 19 --path …` gives 20 of the 140). Within
+    /// chance (Fisher's exact test, one-sided p ≈ 0.16 and 0.11), but leaning against it,
+    /// so the bit-identical path stays the default until more runs decide.
     Composite,
     /// Patches 1–3 and 5: as `Composite`, the mass matrix assembled and factorised once
     /// per step instead of at each of its substeps (~2.3× faster again). Against
     /// `Released`, free whisking at 10 Hz agrees within 0.12 % RMS and contacts start at
     /// the same samples with mean deflection within 0.1 % (`tests/solver_paths.rs`), and
     /// every test passes with it as the default; but not the default: in 20 nudged Mug
-    /// runs as above, 3 went non-finite (7 failed in all; `Exact`: 2 of 60).
+    /// runs as above, 3 went non-finite (7 failed in all; `Exact`: 6 of 140).
     OncePerStep,
     /// Patches 1–5: as `OncePerStep`, the gyroscopic and Coriolis terms explicit, so one
     /// mass matrix and one factorisation instead of two (~1.6× faster again). Not the
-    /// default: 5 of 12 nudged Mug runs went non-finite.
+    /// default: 5 of 12 nudged Mug runs went non-finite (`Exact`: 6 of 140).
     ExplicitCoriolis,
 }
 
@@ -159,7 +159,7 @@ impl WhiskerConfig {
 /// (`whisker soak --objects mug --whiskers E1 --substeps 2`); with 3 its centre line stays
 /// outside for 60 s. (Each of those is one trajectory. With the array moved by a few
 /// nanometres, whisker D1 over the Mug's handle tunnels within 10 s (composite path) in
-/// 26 of 60 runs at 3 substeps, 7 of 10 at 4 and 7 of 10 at 6: more substeps do not
+/// 59 of 140 runs at 3 substeps, 7 of 10 at 4 and 7 of 10 at 6: more substeps do not
 /// prevent it. A snap of the
 /// shaft off the handle's edge moves a segment at ~6 m/s, 3 mm in one step, past the
 /// 0.5 mm speculative-contact horizon and through the surface; see
@@ -257,7 +257,7 @@ pub fn contact_parameters(p: &mut IntegrationParameters, dt: f64) {
     // touching whiskers of the Mug and of the Barrel). Whisks at 10 Hz (tips at ~3 m/s,
     // 1.5 mm per step) still do not pass through (tests/whisking.rs).
     // (With the array nudged by nanometres, composite path: horizons of 1, 2 and 3 mm let
-    // D1 through the Mug's handle in 3, 3 and 10 of 10 10-s runs, against 26 of 60 at
+    // D1 through the Mug's handle in 3, 3 and 10 of 10 10-s runs, against 59 of 140 at
     // 0.5 mm; a longer horizon does not stop the fast snaps of `DEFAULT_SUBSTEPS`' note.)
     p.normalized_prediction_distance = 0.05;
     // Penetration is corrected at up to 1 m/s. Rapier's default (3 length units/s, here
