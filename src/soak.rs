@@ -30,6 +30,9 @@ use whisker_slam::sensor::Sample;
 /// Depth of a shaft's centre line inside a solid that counts as tunnelling (m).
 const TUNNEL_DEPTH: f64 = 1.0e-3;
 
+/// The step of `--nudges`: the k-th extra run moves the array k × this along world x (m).
+const NUDGE_M: f64 = 1.0e-9;
+
 /// Options of `whisker soak`.
 #[derive(clap::Args, Debug)]
 pub struct Options {
@@ -356,7 +359,8 @@ pub fn soak(o: &Options) -> CliResult {
                 0 => name.clone(),
                 n => format!("{name}+{n}nm"),
             };
-            let pose = Isometry3::translation(nudge as f64 * 1e-9, 0.0, 0.0) * case.pose;
+            let shift = nudge as f64 * NUDGE_M;
+            let pose = Isometry3::translation(shift, 0.0, 0.0) * case.pose;
             let (mut r, ok) = run_case(
                 &label,
                 &case.environment,
@@ -366,7 +370,7 @@ pub fn soak(o: &Options) -> CliResult {
                 o,
                 recording.as_ref().filter(|_| nudge == 0).map(|r| (r, k)),
             )?;
-            r["nudge_m"] = json!(nudge as f64 * 1e-9);
+            r["nudge_m"] = json!(shift);
             records.push(r);
             failed += usize::from(!ok);
             all &= ok;

@@ -160,14 +160,15 @@ impl ArraySimulation {
     /// a step per sample, without a barrier per sample; issue #18, scheduling), and the
     /// samples are then written and passed to the front end in time order.
     pub fn advance_to(&mut self, plan: &Plan, t: f64, recording: Option<&Recording>) -> CliResult {
-        let mut times = Vec::new();
-        while (self.steps + times.len() as u64 + 1) as f64 * self.dt <= t + 1e-9 {
-            times.push((self.steps + times.len() as u64 + 1) as f64 * self.dt);
+        let mut end = self.steps;
+        while (end + 1) as f64 * self.dt <= t + 1e-9 {
+            end += 1;
         }
-        if times.is_empty() {
+        if end == self.steps {
             return Ok(());
         }
-        self.steps += times.len() as u64;
+        let times: Vec<f64> = (self.steps + 1..=end).map(|k| k as f64 * self.dt).collect();
+        self.steps = end;
         let poses: Vec<_> = times
             .iter()
             .map(|&time| self.chain.fk(&plan.trajectory.sample(time)))

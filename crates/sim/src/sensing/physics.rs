@@ -160,9 +160,8 @@ impl WhiskerConfig {
 /// outside for 60 s. (Each of those is one trajectory. With the array moved by a few
 /// nanometres, whisker D1 over the Mug's handle tunnels within 10 s (composite path) in
 /// 59 of 140 runs at 3 substeps, 7 of 10 at 4 and 7 of 10 at 6: more substeps do not
-/// prevent it. A snap of the
-/// shaft off the handle's edge moves a segment at ~6 m/s, 3 mm in one step, past the
-/// 0.5 mm speculative-contact horizon and through the surface; see
+/// prevent it. A snap of the shaft off the handle's edge moves a segment at ~6 m/s, 3 mm
+/// in one step, past the 0.5 mm speculative-contact horizon and through the surface; see
 /// [`SolverPath::Composite`] and `vendor/PATCHES.md`, patch 5.)
 pub const DEFAULT_SUBSTEPS: usize = 3;
 
@@ -491,21 +490,31 @@ impl PhysicsArray {
     /// from one [`Self::step`] per pose, without a barrier per sample (§2 L6 of the
     /// physics-speed note: a whisker in contact costs many times a free one).
     pub fn run(&mut self, poses: &[Isometry3<f64>]) -> Vec<Vec<Sample>> {
-        self.units
-            .par_iter_mut()
-            .map(|u| poses.iter().map(|pose| u.step(pose)).collect())
-            .collect()
+        self.run_each(poses, |_, s| s)
     }
 
     /// As [`Self::run`], each sample with the whisker's RCP state after its step
     /// ([`WhiskerUnit::rcp_active`]).
     pub fn run_with_rcp(&mut self, poses: &[Isometry3<f64>]) -> Vec<Vec<(Sample, bool)>> {
+        self.run_each(poses, |u, s| (s, u.rcp_active()))
+    }
+
+    /// Steps every whisker through `poses` in one task each, keeping `keep(unit, sample)`
+    /// after every step.
+    fn run_each<T: Send>(
+        &mut self,
+        poses: &[Isometry3<f64>],
+        keep: impl Fn(&WhiskerUnit, Sample) -> T + Sync,
+    ) -> Vec<Vec<T>> {
         self.units
             .par_iter_mut()
             .map(|u| {
                 poses
                     .iter()
-                    .map(|pose| (u.step(pose), u.rcp_active()))
+                    .map(|pose| {
+                        let s = u.step(pose);
+                        keep(u, s)
+                    })
                     .collect()
             })
             .collect()
