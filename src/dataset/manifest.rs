@@ -225,8 +225,18 @@ pub struct ObjectSlamInfo {
     /// under `log/<object>/<A|B>/whisks/`, the radial-distance model in
     /// `log/radial_model.json`).
     pub sensing: String,
+    /// Where the objects sat relative to the trajectories (`whisker object-slam
+    /// --placement`): `thesis` or `centred` (provenance: the true poses are in `truth/`).
+    /// Datasets written before the option had centred objects, and read as such.
+    #[serde(default = "centred")]
+    pub placement: String,
     /// Every walk, each object's A (two laps) then B (one lap).
     pub walks: Vec<WalkInfo>,
+}
+
+/// `object_slam.placement` of a dataset that predates it.
+fn centred() -> String {
+    "centred".into()
 }
 
 /// One walk around an object: a whisk at each pose, one per second.

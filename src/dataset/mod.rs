@@ -313,6 +313,7 @@ pub fn slam(o: &SlamOptions) -> CliResult {
                 sensing: crate::object_slam::SensingArg::Kinematic,
                 radial_model: None,
                 slam: crate::object_slam::SlamArg::Corrected,
+                placement: crate::object_slam::Placement::Thesis,
                 dataset: Some(o.dataset.clone()),
                 rrd: Default::default(),
             };

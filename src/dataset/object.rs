@@ -60,6 +60,10 @@ pub struct WriteOptions {
     /// copied into the dataset.
     #[arg(long)]
     pub radial_model: Option<PathBuf>,
+    /// Where each object sits relative to its trajectories (as `whisker object-slam
+    /// --placement`); recorded in the manifest.
+    #[arg(long, value_enum, default_value_t = object_slam::Placement::Thesis)]
+    pub placement: object_slam::Placement,
 }
 
 /// Writes the walks of `o` into `s` (as `whisker object-slam` senses them).
@@ -80,6 +84,7 @@ pub fn write(o: &WriteOptions, s: &mut Staging) -> CliResult<Manifest> {
         sensing: o.sensing,
         radial_model: o.radial_model.clone(),
         slam: object_slam::SlamArg::Corrected,
+        placement: o.placement,
         dataset: None,
         rrd: Default::default(),
     };
@@ -199,6 +204,7 @@ pub fn write(o: &WriteOptions, s: &mut Staging) -> CliResult<Manifest> {
         },
         object_slam: Some(ObjectSlamInfo {
             sensing: if physics { "physics" } else { "kinematic" }.into(),
+            placement: o.placement.name().into(),
             walks,
         }),
         ..Manifest::new(Experiment::ObjectSlam, level, o.seed, array)
@@ -269,6 +275,13 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<Vec<Sensed<'static>>> {
             ));
         }
     };
+    if !matches!(info.placement.as_str(), "thesis" | "centred") {
+        return Err(CliError::field(
+            &file,
+            "object_slam.placement",
+            "expected \"thesis\" or \"centred\"",
+        ));
+    }
     super::rigid_whiskers(dir, &m.array)?;
     let truth = m.has_truth(dir);
     let mut out = Vec::new();

@@ -5,7 +5,9 @@
 //!
 //! For each object, the array whisks once per pose along trajectory A (two laps: the
 //! first builds the object map, the second re-localises in it) and along the novel
-//! trajectory B (one lap, the map of A as prior knowledge). Contacts come from the
+//! trajectory B (one lap, the map of A as prior knowledge); `--placement` puts the object
+//! where the thesis did relative to the trajectories (the Kettle on their centre, the
+//! others off it: [`Placement`]) or centres every object. Contacts come from the
 //! kinematic sweep with the noise of §6.1.3.1.2 (sub-streams `object-slam/<object>/<A|B>`
 //! of the seed); odometry is the true motion between poses with Gaussian errors —
 //! 5 % of the step per translation axis, 0.5° per rotation axis
@@ -32,7 +34,7 @@
 pub mod physics;
 mod record;
 mod trajectory;
-pub use trajectory::{Trajectory, mean_step};
+pub use trajectory::{Placement, Trajectory, mean_step};
 
 use crate::error::{CliError, CliResult};
 use nalgebra::{Isometry3, Point3, Vector3};
@@ -92,9 +94,14 @@ pub struct Options {
     /// closed loop's default; robust relaxation on in both).
     #[arg(long, value_enum, default_value_t = SlamArg::Corrected)]
     pub slam: SlamArg,
+    /// Where each object sits relative to its trajectories (§5.2.2.1): the thesis' set-up
+    /// (the Kettle on the trajectory's centre, the others 5 cm off it) or every object
+    /// centred.
+    #[arg(long, value_enum, default_value_t = Placement::Thesis)]
+    pub placement: Placement,
     /// Run from a dataset (`whisker dataset object-slam`; docs/dataset.md) instead of the
     /// simulator: its objects, seed and contacts.
-    #[arg(long, conflicts_with_all = ["objects", "seed", "sensing", "radial_model"])]
+    #[arg(long, conflicts_with_all = ["objects", "seed", "sensing", "radial_model", "placement"])]
     pub dataset: Option<PathBuf>,
     #[command(flatten)]
     pub rrd: crate::recording::RrdArgs,
@@ -239,14 +246,14 @@ pub fn stream(object: &str, which: Trajectory) -> String {
 /// contact noise and the odometry error (a clean dataset).
 pub fn walk(
     asset: &Asset,
-    which: Trajectory,
+    (which, placement): (Trajectory, Placement),
     laps: usize,
     (target, shape): (&SweepTarget, &parry3d_f64::shape::SharedShape),
     seed: u64,
     physics: Option<&PhysicsSensing>,
     noise: bool,
 ) -> Walk {
-    let lap = trajectory::lap(which, asset.name, shape, asset.size);
+    let lap = trajectory::lap(which, placement, asset.name, shape, asset.size);
     let truth: Vec<Isometry3<f64>> = (0..laps).flat_map(|_| lap.iter().copied()).collect();
     let stream = stream(asset.name, which);
     let cycles = match physics {
@@ -485,8 +492,17 @@ pub fn sense(
             });
             let p = physics.as_ref();
             let object = (&target, &shape);
-            let a = walk(asset, Trajectory::A, 2, object, o.seed, p, noise);
-            let b = walk(asset, Trajectory::B, 1, object, o.seed, p, noise);
+            let a = (Trajectory::A, o.placement);
+            let a = walk(asset, a, 2, object, o.seed, p, noise);
+            let b = walk(
+                asset,
+                (Trajectory::B, o.placement),
+                1,
+                object,
+                o.seed,
+                p,
+                noise,
+            );
             let truth = a.truth.as_deref().unwrap_or_default();
             let step = trajectory::mean_step(&truth[..truth.len() / 2]);
             eprintln!(

@@ -194,8 +194,9 @@ fn malformed_datasets_are_refused_naming_file_and_line() {
     assert!(stderr(&o).contains("already exists"), "{}", stderr(&o));
     assert_eq!(files(&good).len(), 8);
 
-    // Object datasets: an object the catalogue does not have; a 6-D odometry row with a
-    // field missing; a walk's truth poses with a non-unit quaternion.
+    // Object datasets: an object the catalogue does not have; a placement that is neither
+    // of the two; a 6-D odometry row with a field missing; a walk's truth poses with a
+    // non-unit quaternion.
     let object = t.join("object");
     ok(
         2,
@@ -209,7 +210,7 @@ fn malformed_datasets_are_refused_naming_file_and_line() {
         ],
     );
     type Damage = fn(&Path);
-    let cases: [(&str, Damage, &[&str]); 3] = [
+    let cases: [(&str, Damage, &[&str]); 4] = [
         (
             "unknown object",
             |d| {
@@ -218,6 +219,15 @@ fn malformed_datasets_are_refused_naming_file_and_line() {
                 std::fs::write(d.join("dataset.json"), m.to_string()).unwrap();
             },
             &["dataset.json", "object_slam.walks", "teapot"],
+        ),
+        (
+            "unknown placement",
+            |d| {
+                let mut m = manifest(d);
+                m["object_slam"]["placement"] = "sideways".into();
+                std::fs::write(d.join("dataset.json"), m.to_string()).unwrap();
+            },
+            &["dataset.json", "object_slam.placement", "centred"],
         ),
         (
             "short odometry row",

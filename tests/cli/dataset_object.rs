@@ -34,6 +34,7 @@ fn object_dataset_replays_the_live_run() {
     for rel in a.keys().filter(|k| k.as_str() != "dataset.json") {
         assert_eq!(a[rel] != b[rel], rel.starts_with("log/"), "{rel}");
     }
+    assert_eq!(manifest(&d)["object_slam"]["placement"], "thesis");
     let walks = &manifest(&d)["object_slam"]["walks"];
     assert_eq!(walks[0]["object"], "mug");
     assert_eq!(

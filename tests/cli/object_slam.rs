@@ -90,6 +90,24 @@ fn identification_picks_the_explored_object_and_not_the_unmapped_skull() {
     assert_eq!(stdout(&one), stdout(&o));
 }
 
+/// The placement moves every object but the Kettle (which the thesis put on its
+/// trajectory's centre) off the centre: the Kettle's results are the same either way,
+/// the Mug's are not.
+#[test]
+fn the_placement_moves_the_mug_but_not_the_kettle() {
+    let run = |object: &str, placement: &str| {
+        let args = ["--objects", object, "--placement", placement, "--json"];
+        let o = object_slam(&args, "2");
+        assert!(o.status.success(), "{}", stderr(&o));
+        stdout(&o)
+    };
+    assert_eq!(run("kettle", "thesis"), run("kettle", "centred"));
+    assert_ne!(run("mug", "thesis"), run("mug", "centred"));
+    let o = object_slam(&["--placement", "sideways"], "1");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--placement"), "{}", stderr(&o));
+}
+
 #[test]
 fn an_unknown_object_is_refused_with_exit_code_2() {
     let o = object_slam(&["--objects", "mug,teapot"], "1");
