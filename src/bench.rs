@@ -6,17 +6,18 @@
 //! 2 worker threads and by four code paths measured side by side in the same run:
 //!
 //! - `released`: Rapier 0.36.1 as released (dense mass matrix, `MultibodyMassMatrix::Dense`)
-//!   and the array stepped with a barrier per sample (`PhysicsArray::step`), the code path
-//!   before issue #18;
+//!   and the array stepped with a barrier per sample (`PhysicsArray::step`), one world step
+//!   per sample (no speed-adaptive steps), the code path before issue #18;
 //! - `exact`: the vendored patches 1–2 (`vendor/PATCHES.md`), bit-identical to `released`,
-//!   and one task per whisker for the whole run (`PhysicsArray::run`): the default;
+//!   and one task per whisker for the whole run (`PhysicsArray::run`); this and the paths
+//!   below split a sample's step while a segment nears a surface fast
+//!   (`whisker_sim::sensing::adaptive_step`), which costs the contact cases a little;
 //! - `composite`: also patch 5 (the composite-rigid-body assembly of the same matrices,
-//!   equal up to rounding; not the default yet, `SolverPath::Composite`);
+//!   equal up to rounding; the default, `SolverPath::Composite`);
 //! - `once-per-step`: also patch 3 (the mass matrix factorised once per step);
 //! - `explicit-coriolis`: also patch 4 (explicit gyroscopic and Coriolis terms).
 //!
-//! `exact` is the default; the faster paths go non-finite more often in nudged Mug soaks
-//! (a whisker bent over the handle; `SolverPath`).
+//! `composite` is the default; `SolverPath` says why the faster two are not.
 //!
 //! Then the scaling with segment count (8, 12, 16, 24) against the Box on 2 threads by
 //! every path. Reported: the real-time factor (simulated seconds per wall-clock second),
@@ -138,6 +139,8 @@ fn time_case(
         );
         for c in &mut configs {
             c.solver = path;
+            // The released path is the code before #18: one world step per sample too.
+            c.adaptive_steps = path != SolverPath::Released;
         }
         let mut array = PhysicsArray::new(configs, case.environment, &case.pose, 0, DT);
         let steps = (o.duration / DT).round() as usize;
@@ -344,8 +347,8 @@ fn print(rows: &[Row], box_touching: &[usize], maze_touching: &[usize], o: &Opti
         );
     }
     println!(
-        "released: Rapier 0.36.1 as released, a barrier per sample; exact: vendor/PATCHES.md 1-2 (bit-identical, the default); \
-         composite: 1-2, 5 (the same matrices up to rounding); once-per-step: 1-3, 5; \
+        "released: Rapier 0.36.1 as released, a barrier per sample; exact: vendor/PATCHES.md 1-2 (bit-identical); \
+         composite: 1-2, 5 (the same matrices up to rounding; the default); once-per-step: 1-3, 5; \
          explicit-coriolis: 1-5 (both go non-finite in nudged Mug soaks); all four one task per whisker. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
          (below 1: cheaper). Speed-up: released wall time / the path's, same case and threads."
     );

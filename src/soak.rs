@@ -60,9 +60,13 @@ pub struct Options {
     #[arg(long, default_value_t = whisker_sim::sensing::physics::DEFAULT_SUBSTEPS)]
     pub substeps: usize,
     /// Rapier's multibody code path (vendor/PATCHES.md) [default: the whiskers' default,
-    /// exact].
+    /// composite].
     #[arg(long, value_parser = crate::bench::solver_path_parser())]
     pub path: Option<SolverPath>,
+    /// One world step per 0.5 ms sample, as before speed-adaptive steps
+    /// (`whisker_sim::sensing::adaptive_step`): for comparison.
+    #[arg(long)]
+    pub fixed_steps: bool,
     /// Also run each case N more times, the k-th with the array moved k nm along world x:
     /// far below any physical tolerance, so a result that changes is a chaotic coin flip
     /// of stick-slip contact, not a property of the set-up; prints how many runs tunnelled.
@@ -162,6 +166,7 @@ fn run_case(
                 if let Some(path) = o.path {
                     c.solver = path;
                 }
+                c.adaptive_steps = !o.fixed_steps;
                 c
             })
             .collect();
@@ -218,6 +223,13 @@ fn run_case(
     }
     let wall = start.elapsed().as_secs_f64();
     let passed = !broken && deepest <= TUNNEL_DEPTH;
+    // World steps per sample, summed over whiskers: 1 without speed-adaptive splits.
+    let (samples, world) = array
+        .units
+        .iter()
+        .map(|u| u.steps())
+        .fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    let per_sample = world as f64 / samples.max(1) as f64;
     let summary = json!({
         "case": name,
         "pieces": environment.pieces.len(),
@@ -230,15 +242,17 @@ fn run_case(
         "tunnelled": deepest > TUNNEL_DEPTH,
         "first_tunnelling": first_tunnel.as_ref().map(|(t, w, d)| json!({"t_s": t, "whisker": w, "depth_m": d})),
         "wall_s": wall,
+        "world_steps_per_sample": per_sample,
         "passed": passed,
     });
     if !o.json {
         println!(
-            "{name:<10} {:>2} whiskers touching  max centre-line depth {:>7.4} mm  {}  {:>6.0} s wall  {}",
+            "{name:<10} {:>2} whiskers touching  max centre-line depth {:>7.4} mm  {}  {:>6.0} s wall  {:.2} world steps/sample  {}",
             touching.len(),
             deepest * 1e3,
             if broken { "NON-FINITE" } else { "finite" },
             wall,
+            per_sample,
             if passed { "ok" } else { "FAILED" }
         );
         if let Some((t, w, d)) = &first_tunnel {

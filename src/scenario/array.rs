@@ -327,6 +327,7 @@ impl ArrayConfig {
                 sensor,
                 substeps: self.substeps.unwrap_or(DEFAULT_SUBSTEPS),
                 solver: Default::default(),
+                adaptive_steps: true,
             });
         }
         Ok(out)

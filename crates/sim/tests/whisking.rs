@@ -43,6 +43,7 @@ fn config(module: Module, frequency: f64, rcp: Option<f64>) -> WhiskerConfig {
         sensor: SensorModel::default(),
         substeps: DEFAULT_SUBSTEPS,
         solver: Default::default(),
+        adaptive_steps: true,
     }
 }
 

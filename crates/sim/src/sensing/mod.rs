@@ -4,6 +4,7 @@
 //! - [`kinematic`]: rigid straight whiskers swept against the environment's meshes
 //!   (anticipated intersect, §4.1.2.3), with the contact noise of [`noise`].
 
+pub mod adaptive_step;
 pub mod kinematic;
 pub mod noise;
 pub mod physics;

@@ -13,6 +13,7 @@
 //! no contact recycling, a length unit of 1 cm, which sets the allowed penetration to
 //! 10 µm, penetration corrected at up to 1 m/s, and contacts predicted 0.5 mm ahead.
 
+use super::adaptive_step;
 use crate::environment::solids::Solids;
 use crate::sensing::kinematic::RigidWhisker;
 use crate::whisker::array::Module;
@@ -50,6 +51,10 @@ pub struct WhiskerConfig {
     pub substeps: usize,
     /// Which of Rapier's multibody code paths steps the whisker.
     pub solver: SolverPath,
+    /// Split a sample's step while a segment approaches a surface faster than the
+    /// speculative contacts can catch ([`super::adaptive_step`]; default true). False:
+    /// one world step per sample, as before (`whisker soak --fixed-steps`).
+    pub adaptive_steps: bool,
 }
 
 /// Which of the vendored Rapier's multibody code paths steps a whisker (`vendor/PATCHES.md`).
@@ -59,34 +64,39 @@ pub enum SolverPath {
     /// substep. Kept for `whisker bench physics`' before/after comparison.
     Released,
     /// Patches 1–2: the mass matrix restricted to each link's ancestors, copied for
-    /// factorisation in one block. Bit-identical to `Released`, ~2× faster. The default.
-    #[default]
+    /// factorisation in one block. Bit-identical to `Released`, ~2× faster. The default
+    /// until speed-adaptive steps made the tunnelling statistics below moot.
     Exact,
     /// Patches 1, 2 and 5: the same matrices as `Exact` assembled the composite-rigid-body
     /// way (each link's forces summed over its subtree, one dot product per entry): the
     /// same model and the same factorisations, equal to `Exact` up to rounding (matrices
     /// within 6e-15 of their scale, free whisking bodies within 1e-16 m,
-    /// `tests/solver_paths.rs`), ~1.5× faster than `Exact`.
+    /// `tests/solver_paths.rs`), ~1.5× faster than `Exact`. The default.
     ///
-    /// Not the default yet. In contact, rounding-level differences grow as any
-    /// perturbation does (stick-slip is chaotic), so single runs are coin flips: moving
-    /// the array by nanometres, whisker D1 over the Mug's handle goes deeper than 1 mm or
+    /// In contact, rounding-level differences grow as any perturbation does (stick-slip
+    /// is chaotic), so single runs are coin flips: moving the array by nanometres, with one
+    /// world step per sample whisker D1 over the Mug's handle went deeper than 1 mm or
     /// non-finite within 10 s in 59 of 140 runs with this path and 50 of 140 with `Exact`
-    /// (= Rapier as released), non-finite in 12 and 6 of them (`whisker soak --objects mug
-    /// --whiskers D1 --duration 10 --nudges 19 --path …` gives 20 of the 140). Within
-    /// chance (Fisher's exact test, one-sided p ≈ 0.16 and 0.11), but leaning against it,
-    /// so the bit-identical path stays the default until more runs decide.
+    /// (= Rapier as released), non-finite in 12 and 6 of them (Fisher's exact test,
+    /// one-sided p ≈ 0.16 and 0.11), which kept `Exact` the default. With speed-adaptive
+    /// steps ([`super::adaptive_step`]) neither tunnels: 0 of 20 runs each (`whisker soak
+    /// --objects mug --whiskers D1 --duration 10 --nudges 19 --path …`; deepest 0.0 mm
+    /// here, 0.61 mm with `Exact`).
+    #[default]
     Composite,
     /// Patches 1–3 and 5: as `Composite`, the mass matrix assembled and factorised once
     /// per step instead of at each of its substeps (~2.3× faster again). Against
     /// `Released`, free whisking at 10 Hz agrees within 0.12 % RMS and contacts start at
     /// the same samples with mean deflection within 0.1 % (`tests/solver_paths.rs`), and
     /// every test passes with it as the default; but not the default: in 20 nudged Mug
-    /// runs as above, 3 went non-finite (7 failed in all; `Exact`: 6 of 140).
+    /// runs as above, 3 went non-finite (7 failed in all; `Exact`: 6 of 140) with one world
+    /// step per sample; with speed-adaptive steps 0 of 20 (deepest 0.0 mm), so it is the
+    /// next candidate, once the whole suite and the 60-s soaks have run with it.
     OncePerStep,
     /// Patches 1–5: as `OncePerStep`, the gyroscopic and Coriolis terms explicit, so one
     /// mass matrix and one factorisation instead of two (~1.6× faster again). Not the
-    /// default: 5 of 12 nudged Mug runs went non-finite (`Exact`: 6 of 140).
+    /// default: 5 of 12 nudged Mug runs went non-finite (`Exact`: 6 of 140) with one world
+    /// step per sample; with speed-adaptive steps 0 of 20.
     ExplicitCoriolis,
 }
 
@@ -136,6 +146,7 @@ impl WhiskerConfig {
             sensor: SensorModel::default(),
             substeps: DEFAULT_SUBSTEPS,
             solver: SolverPath::default(),
+            adaptive_steps: true,
         }
     }
 
@@ -157,12 +168,9 @@ impl WhiskerConfig {
 /// deep by 3 s, `whisker soak --objects barrel --substeps 1`); with 2, the Mug's whisker
 /// E1, strongly bent over the handle, ends up 1.04 mm inside at 39.4 s
 /// (`whisker soak --objects mug --whiskers E1 --substeps 2`); with 3 its centre line stays
-/// outside for 60 s. (Each of those is one trajectory. With the array moved by a few
-/// nanometres, whisker D1 over the Mug's handle tunnels within 10 s (composite path) in
-/// 59 of 140 runs at 3 substeps, 7 of 10 at 4 and 7 of 10 at 6: more substeps do not
-/// prevent it. A snap of the shaft off the handle's edge moves a segment at ~6 m/s, 3 mm
-/// in one step, past the 0.5 mm speculative-contact horizon and through the surface; see
-/// [`SolverPath::Composite`] and `vendor/PATCHES.md`, patch 5.)
+/// outside for 60 s. (Substeps reuse the step's contacts, so they cannot stop a shaft
+/// that snaps off the Mug's handle and flies into it faster than the speculative contacts
+/// reach: that is what speed-adaptive steps are for, [`super::adaptive_step`].)
 pub const DEFAULT_SUBSTEPS: usize = 3;
 
 /// One whisker in its own world.
@@ -181,6 +189,7 @@ pub struct WhiskerUnit {
     rng: StreamRng,
     last: Sample,
     steps: u64,
+    world_steps: u64,
 }
 
 /// Seconds spent in each stage of Rapier's steps, summed (from its `profiler` counters).
@@ -257,7 +266,8 @@ pub fn contact_parameters(p: &mut IntegrationParameters, dt: f64) {
     // 1.5 mm per step) still do not pass through (tests/whisking.rs).
     // (With the array nudged by nanometres, composite path: horizons of 1, 2 and 3 mm let
     // D1 through the Mug's handle in 3, 3 and 10 of 10 10-s runs, against 59 of 140 at
-    // 0.5 mm; a longer horizon does not stop the fast snaps of `DEFAULT_SUBSTEPS`' note.)
+    // 0.5 mm (fixed steps); a longer horizon does not stop fast snaps, the speed-adaptive
+    // steps of `adaptive_step` do.)
     p.normalized_prediction_distance = 0.05;
     // Penetration is corrected at up to 1 m/s. Rapier's default (3 length units/s, here
     // 3 cm/s) lets a whisker tip scraping along a surface sink ~1 mm into it within a
@@ -319,7 +329,14 @@ impl WhiskerUnit {
                 ..Sample::default()
             },
             steps: 0,
+            world_steps: 0,
         }
+    }
+
+    /// Samples stepped so far, and the world steps they took (more than one per sample
+    /// where speed-adaptive steps split it).
+    pub fn steps(&self) -> (u64, u64) {
+        (self.steps, self.world_steps)
     }
 
     /// Simulated time (s).
@@ -333,9 +350,29 @@ impl WhiskerUnit {
         let t = (self.steps + 1) as f64 * self.world.integration_parameters.dt;
         let theta = self.controller.command(t, self.last.y);
         let pose = array_pose * self.config.module.whisker_pose(theta);
-        self.whisker.drive(&mut self.world, pose);
-        self.world.step();
-        self.stages.add(&self.world.physics_pipeline.counters);
+        let dt = self.world.integration_parameters.dt;
+        let mut left = dt;
+        let from = Whisker::pose(&self.world, self.whisker.driver);
+        while left > 0.0 {
+            let h = match self.config.adaptive_steps {
+                true => adaptive_step::next_step(&self.world, &self.whisker, left, dt),
+                false => left,
+            };
+            if h == dt {
+                // The whole sample in one world step (bit for bit the fixed step).
+                self.whisker.drive(&mut self.world, pose);
+            } else {
+                let f = (1.0 - (left - h) / dt).min(1.0);
+                self.whisker
+                    .drive(&mut self.world, from.lerp_slerp(&pose, f));
+                self.world.integration_parameters.dt = h;
+            }
+            self.world.step();
+            self.world_steps += 1;
+            self.world.integration_parameters.dt = dt;
+            self.stages.add(&self.world.physics_pipeline.counters);
+            left = if h >= left { 0.0 } else { left - h };
+        }
         self.steps += 1;
         let magnet = self.whisker.magnet_displacement(&self.world);
         self.last = self.config.sensor.read(theta, magnet, &mut self.rng);
