@@ -5,13 +5,8 @@
 
 use nalgebra::{Isometry3, Point3, Translation3};
 use rapier3d_f64::prelude::SharedShape;
-use whisker_sim::sensing::physics::{
-    DEFAULT_SUBSTEPS, EnvironmentPiece, WhiskerConfig, WhiskerUnit,
-};
+use whisker_sim::sensing::physics::{EnvironmentPiece, WhiskerConfig, WhiskerUnit};
 use whisker_sim::whisker::array::{self, Module};
-use whisker_sim::whisker::control::WhiskingPattern;
-use whisker_sim::whisker::follicle::FollicleDesign;
-use whisker_sim::whisker::sensor::SensorModel;
 use whisker_slam::sensor::Sample;
 
 const DT: f64 = 5e-4;
@@ -20,19 +15,10 @@ const PLATE_ANGLE_DEG: f64 = 100.0;
 const PLATE_HALF: f64 = 0.0005;
 
 fn config(module: Module, frequency: f64, adaptive_steps: bool) -> WhiskerConfig {
-    WhiskerConfig {
-        module,
-        follicle: Some(FollicleDesign::default()),
-        pattern: WhiskingPattern {
-            frequency,
-            ..WhiskingPattern::default()
-        },
-        rcp_threshold: None,
-        sensor: SensorModel::default(),
-        substeps: DEFAULT_SUBSTEPS,
-        solver: Default::default(),
-        adaptive_steps,
-    }
+    let mut c = WhiskerConfig::with_defaults(module);
+    c.pattern.frequency = frequency;
+    c.adaptive_steps = adaptive_steps;
+    c
 }
 
 /// A 1 mm plate in the whisker's path: the plane through the shaft at the plate's whisk
