@@ -349,7 +349,7 @@ fn print(rows: &[Row], box_touching: &[usize], maze_touching: &[usize], o: &Opti
     println!(
         "released: Rapier 0.36.1 as released, a barrier per sample; exact: vendor/PATCHES.md 1-2 (bit-identical); \
          composite: 1-2, 5 (the same matrices up to rounding; the default); once-per-step: 1-3, 5; \
-         explicit-coriolis: 1-5 (both go non-finite in nudged Mug soaks); all four one task per whisker. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
+         explicit-coriolis: 1-5 (both went non-finite in nudged Mug soaks with fixed steps); all four one task per whisker and speed-adaptive steps. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
          (below 1: cheaper). Speed-up: released wall time / the path's, same case and threads."
     );
 }
