@@ -275,7 +275,7 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<Vec<Sensed<'static>>> {
             ));
         }
     };
-    if !matches!(info.placement.as_str(), "thesis" | "centred") {
+    if <object_slam::Placement as clap::ValueEnum>::from_str(&info.placement, false).is_err() {
         return Err(CliError::field(
             &file,
             "object_slam.placement",

@@ -492,17 +492,8 @@ pub fn sense(
             });
             let p = physics.as_ref();
             let object = (&target, &shape);
-            let a = (Trajectory::A, o.placement);
-            let a = walk(asset, a, 2, object, o.seed, p, noise);
-            let b = walk(
-                asset,
-                (Trajectory::B, o.placement),
-                1,
-                object,
-                o.seed,
-                p,
-                noise,
-            );
+            let laps = |which, n| walk(asset, (which, o.placement), n, object, o.seed, p, noise);
+            let (a, b) = (laps(Trajectory::A, 2), laps(Trajectory::B, 1));
             let truth = a.truth.as_deref().unwrap_or_default();
             let step = trajectory::mean_step(&truth[..truth.len() / 2]);
             eprintln!(
