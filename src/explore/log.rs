@@ -8,7 +8,6 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use whisker_slam::pose;
 use whisker_slam::recognition::Recognition;
-use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 use whisker_slam::whisker_ratslam::slam::Step;
 
 /// File name of the per-iteration log.
@@ -96,26 +95,6 @@ pub fn row(out: &mut String, r: &Row, objects: &[String]) {
     let _ = writeln!(out, ",{},{}", r.heading, r.spc);
 }
 
-/// How far each experience's map pose lies from where the array truly was when the
-/// experience was made, both relative to the first experience (m): (max, median, count
-/// over 2 cm, count).
-pub fn map_error(
-    map: &ObjectMap,
-    truth: &[(usize, Isometry3<f64>)],
-) -> Option<(f64, f64, usize, usize)> {
-    let (first, w0) = truth.first()?;
-    let m0 = map.pose(*first).inverse();
-    let w0 = w0.inverse();
-    let errors: Vec<f64> = truth
-        .iter()
-        .map(|(e, w)| pose::distance(&(m0 * map.pose(*e)), &(w0 * w)).0)
-        .collect();
-    let max = errors.iter().cloned().fold(0.0, f64::max);
-    let over = errors.iter().filter(|&&e| e > 0.02).count();
-    let n = errors.len();
-    Some((max, whisker_slam::stats::median(errors), over, n))
-}
-
 /// The figures of `summary.json`.
 pub struct Summary<'a> {
     pub task: Task,
@@ -130,7 +109,7 @@ pub struct Summary<'a> {
     pub recognition: Option<&'a Recognition>,
     pub mean_rc: BTreeMap<String, f64>,
     pub fallbacks: &'a BTreeMap<&'static str, usize>,
-    pub map_error: Option<(f64, f64, usize, usize)>,
+    pub map_accuracy: Option<super::map_accuracy::MapAccuracy>,
     pub time: f64,
 }
 
@@ -168,14 +147,7 @@ impl Summary<'_> {
                 "true_mean_rc": self.mean_rc.get(self.truth),
             })
         });
-        let map = self.map_error.map(|(max, median, over, n)| {
-            json!({
-                "experiences_checked": n,
-                "max_error_m": max,
-                "median_error_m": median,
-                "over_2cm": over,
-            })
-        });
+        let map = self.map_accuracy.as_ref().map(|m| m.json());
         json!({
             "task": match self.task { Task::Map => "map", Task::Recognise => "recognise" },
             "object": self.truth,

@@ -29,6 +29,7 @@
 //! `spc_limit` (a region left unsettled after K adjustments).
 
 mod log;
+mod map_accuracy;
 mod policy;
 mod record;
 mod report;
@@ -360,6 +361,7 @@ impl Loop<'_> {
         };
         let mut relocalisations = 0usize;
         let mut truth_at_creation: Vec<(usize, Isometry3<f64>)> = Vec::new();
+        let mut truth_at_revisit: Vec<(usize, Isometry3<f64>)> = Vec::new();
         let mut rc_sums: BTreeMap<String, f64> = objects.iter().map(|o| (o.clone(), 0.0)).collect();
         let pixels: Vec<String> = whisker_sim::whisker::array::modules()
             .iter()
@@ -394,6 +396,8 @@ impl Loop<'_> {
             let step = self.slam.step(&features, &odometry);
             if step.created {
                 truth_at_creation.push((step.experience, pose));
+            } else if step.relocalised {
+                truth_at_revisit.push((step.experience, pose));
             }
             // 5. Recognition: re-localisations into a loaded map's experiences.
             let onto = (step.relocalised && step.experience < before)
@@ -472,7 +476,8 @@ impl Loop<'_> {
             }
         }
         let iterations = out.poses.len();
-        let map_error = log::map_error(&self.slam.map, &truth_at_creation);
+        let map_accuracy =
+            map_accuracy::measure(&self.slam.map, &truth_at_creation, &truth_at_revisit);
         let summary = Summary {
             task: self.config.task,
             truth: &self.truth,
@@ -489,7 +494,7 @@ impl Loop<'_> {
                 .map(|(o, s)| (o.clone(), s / iterations.max(1) as f64))
                 .collect(),
             fallbacks: &self.fallbacks,
-            map_error,
+            map_accuracy,
             time: self.time,
         };
         out.summary = summary.json();

@@ -99,13 +99,28 @@ pub fn write(
         );
     }
     if let Some(m) = s["map_accuracy"].as_object() {
+        let f = |v: &serde_json::Value| v.as_f64().unwrap_or(f64::NAN);
+        let (a, r) = (&m["aligned"], &m["revisits"]);
         let _ = writeln!(
             say,
-            "map        {} experiences checked: max error {:.4} m, median {:.4} m, {} over 2 cm",
+            "map        {} experiences checked: max error {:.4} m, median {:.4} m, {} over 2 cm \
+             (from the first); after a rigid fit {:.4} / {:.4} m, {} over 2 cm",
             m["experiences_checked"],
-            m["max_error_m"].as_f64().unwrap_or(f64::NAN),
-            m["median_error_m"].as_f64().unwrap_or(f64::NAN),
-            m["over_2cm"]
+            f(&m["max_error_m"]),
+            f(&m["median_error_m"]),
+            m["over_2cm"],
+            f(&a["max_error_m"]),
+            f(&a["median_error_m"]),
+            a["over_2cm"]
+        );
+        let _ = writeln!(
+            say,
+            "revisits   {} re-localisations into this run's experiences, {} true (within 2 cm and \
+             10° of where it was made); median gap {:.3} m, {:.0}°",
+            r["count"],
+            r["true"],
+            f(&r["median_distance_m"]),
+            f(&r["median_angle_deg"])
         );
     }
     let map = if out.map.is_some() { ", map.json" } else { "" };

@@ -108,28 +108,60 @@ fn map_building_of_the_box_reaches_or_counts_every_goal_and_never_collides() {
         s["experiences"].as_u64().unwrap()
     );
     map.validate().unwrap();
+    // Its revisits, recounted from explore.csv's columns and the poses the arm reached:
+    // a re-localisation is true when the array was within 2 cm and 10° of where it was
+    // when the experience was made.
+    let (created, relocalised, experience) = (
+        column(&out.csv, "created"),
+        column(&out.csv, "relocalised"),
+        column(&out.csv, "experience"),
+    );
+    let mut made = std::collections::HashMap::new();
+    let (mut count, mut truly) = (0u64, 0u64);
+    for (k, p) in out.poses.iter().enumerate() {
+        let e: usize = experience[k].parse().unwrap();
+        if created[k] == "1" {
+            made.insert(e, *p);
+        } else if relocalised[k] == "1" {
+            let (d, r) = whisker_slam::pose::distance(&made[&e], p);
+            count += 1;
+            truly += u64::from(d <= 0.02 && r.to_degrees() <= 10.0);
+        }
+    }
+    let revisits = &s["map_accuracy"]["revisits"];
+    assert_eq!(revisits["count"].as_u64(), Some(count), "{s}");
+    assert_eq!(revisits["true"].as_u64(), Some(truly), "{s}");
+    assert_eq!(made.len() as u64, map.experiences.len() as u64);
 }
 
-/// With exact odometry and no feature matches the map is pure dead reckoning: every
-/// experience's map pose is (to rounding over 300 compositions) where the array was when it was made (relative to the
-/// first), so the loop's frames and its odometry agree with the arm's forward kinematics.
+/// With exact odometry and no feature matches the map is pure dead reckoning: over the
+/// full map-building run of the Box, every experience's map pose is (to rounding over
+/// ~1,500 compositions) where the array was when it was made (relative to the first), so
+/// the loop's frames and its odometry agree with the arm's forward kinematics. (With
+/// matches the thesis' SLAM joins revisits that are not: see `map_accuracy.revisits`.)
 #[test]
 fn without_noise_or_matches_the_map_is_where_the_array_was() {
     let (mut scenario, file) = load("explore_map_box.toml");
     let e = scenario.explore.as_mut().unwrap();
     e.odometry = OdometryNoise::NONE;
     e.slam.matching.t_pfh = 0.0;
-    e.max_iterations = 300;
     let out = run(&scenario, &file);
-    let m = &out.summary["map_accuracy"];
-    assert_eq!(m["experiences_checked"].as_u64().unwrap(), 300);
-    assert!(m["max_error_m"].as_f64().unwrap() < 1e-6, "{m}");
+    let s = &out.summary;
+    assert_eq!(s["loops_completed"], 2, "{s}");
+    let m = &s["map_accuracy"];
+    // No match: one new experience per whisk.
+    assert_eq!(m["experiences_checked"], s["iterations"], "{s}");
+    assert!(m["max_error_m"].as_f64().unwrap() < 1e-5, "{m}");
+    assert!(m["aligned"]["max_error_m"].as_f64().unwrap() < 1e-5, "{m}");
+    assert_eq!(m["revisits"]["count"], 0, "{m}");
     // And so the map poses equal the whisk poses relative to the first.
     let map = out.map.unwrap();
     let w0: Isometry3<f64> = out.poses[0].inverse();
-    for (k, p) in out.poses.iter().enumerate().take(50) {
+    // Rounding grows along the chain of ~1,500 compositions (1.0e-6 rad seen at whisk
+    // 865): 1e-5 m and rad, against the 2 cm asked.
+    for (k, p) in out.poses.iter().enumerate() {
         let (d, r) = whisker_slam::pose::distance(&map.pose(k), &(w0 * p));
-        assert!(d < 1e-6 && r < 1e-6, "whisk {k}: {d} m, {r} rad");
+        assert!(d < 1e-5 && r < 1e-5, "whisk {k}: {d} m, {r} rad");
     }
 }
 
