@@ -156,13 +156,22 @@ pub fn simulate<E>(
     let frequency = configs[0].pattern.frequency;
     let (per_cycle, cycles) = (per_cycle(frequency), cycles(path.len(), frequency));
     let mut array = PhysicsArray::new(configs, environment, &pose_at(path, 0.0, g), seed, DT);
+    let started = std::time::Instant::now();
     for c in 0..cycles {
         let poses: Vec<_> = (0..per_cycle)
             .map(|i| pose_at(path, (c * per_cycle + i + 1) as f64 * DT, g))
             .collect();
         each(c, array.run(&poses))?;
         if (c + 1) % 60 == 0 {
-            eprintln!("  {} of {cycles} whisk cycles simulated", c + 1);
+            // A line, not a bar: these runs take hours and are often logged to a file.
+            let elapsed = started.elapsed();
+            let left = elapsed.mul_f64((cycles - c - 1) as f64 / (c + 1) as f64);
+            eprintln!(
+                "  {} of {cycles} whisk cycles simulated ({} elapsed, about {} left)",
+                c + 1,
+                indicatif::HumanDuration(elapsed),
+                indicatif::HumanDuration(left)
+            );
         }
     }
     Ok(())
