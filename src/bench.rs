@@ -13,11 +13,12 @@
 //!   below split a sample's step while a segment nears a surface fast
 //!   (`whisker_sim::sensing::adaptive_step`), which costs the contact cases a little;
 //! - `composite`: also patch 5 (the composite-rigid-body assembly of the same matrices,
-//!   equal up to rounding; the default, `SolverPath::Composite`);
-//! - `once-per-step`: also patch 3 (the mass matrix factorised once per step);
+//!   equal up to rounding);
+//! - `once-per-step`: also patch 3 (the mass matrix factorised once per step; the default,
+//!   `SolverPath::OncePerStep`);
 //! - `explicit-coriolis`: also patch 4 (explicit gyroscopic and Coriolis terms).
 //!
-//! `composite` is the default; `SolverPath` says why the faster two are not.
+//! `once-per-step` is the default; `SolverPath` says why `explicit-coriolis` is not.
 //!
 //! Then the scaling with segment count (8, 12, 16, 24) against the Box on 2 threads by
 //! every path. Reported: the real-time factor (simulated seconds per wall-clock second),
@@ -348,7 +349,7 @@ fn print(rows: &[Row], box_touching: &[usize], maze_touching: &[usize], o: &Opti
     }
     println!(
         "released: Rapier 0.36.1 as released, a barrier per sample; exact: vendor/PATCHES.md 1-2 (bit-identical); \
-         composite: 1-2, 5 (the same matrices up to rounding; the default); once-per-step: 1-3, 5; \
+         composite: 1-2, 5 (the same matrices up to rounding); once-per-step: 1-3, 5 (the default); \
          explicit-coriolis: 1-5 (both went non-finite in nudged Mug soaks with fixed steps); all four one task per whisker and speed-adaptive steps. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
          (below 1: cheaper). Speed-up: released wall time / the path's, same case and threads."
     );

@@ -60,7 +60,7 @@ pub struct Options {
     #[arg(long, default_value_t = whisker_sim::sensing::physics::DEFAULT_SUBSTEPS)]
     pub substeps: usize,
     /// Rapier's multibody code path (vendor/PATCHES.md) [default: the whiskers' default,
-    /// composite].
+    /// once-per-step].
     #[arg(long, value_parser = crate::bench::solver_path_parser())]
     pub path: Option<SolverPath>,
     /// One world step per 0.5 ms sample, as before speed-adaptive steps

@@ -71,7 +71,8 @@ pub enum SolverPath {
     /// way (each link's forces summed over its subtree, one dot product per entry): the
     /// same model and the same factorisations, equal to `Exact` up to rounding (matrices
     /// within 6e-15 of their scale, free whisking bodies within 1e-16 m,
-    /// `tests/solver_paths.rs`), ~1.5× faster than `Exact`. The default.
+    /// `tests/solver_paths.rs`), ~1.5× faster than `Exact`. The default from speed-adaptive
+    /// steps until `OncePerStep` passed the suite and the soaks.
     ///
     /// In contact, rounding-level differences grow as any perturbation does (stick-slip
     /// is chaotic), so single runs are coin flips: moving the array by nanometres, with one
@@ -82,16 +83,17 @@ pub enum SolverPath {
     /// steps ([`super::adaptive_step`]) neither tunnels: 0 of 20 runs each (`whisker soak
     /// --objects mug --whiskers D1 --duration 10 --nudges 19 --path …`; deepest 0.0 mm
     /// here, 0.61 mm with `Exact`).
-    #[default]
     Composite,
     /// Patches 1–3 and 5: as `Composite`, the mass matrix assembled and factorised once
     /// per step instead of at each of its substeps (~2.3× faster again). Against
     /// `Released`, free whisking at 10 Hz agrees within 0.12 % RMS and contacts start at
-    /// the same samples with mean deflection within 0.1 % (`tests/solver_paths.rs`), and
-    /// every test passes with it as the default; but not the default: in 20 nudged Mug
-    /// runs as above, 3 went non-finite (7 failed in all; `Exact`: 6 of 140) with one world
-    /// step per sample; with speed-adaptive steps 0 of 20 (deepest 0.0 mm), so it is the
-    /// next candidate, once the whole suite and the 60-s soaks have run with it.
+    /// the same samples with mean deflection within 0.1 % (`tests/solver_paths.rs`). With
+    /// one world step per sample, 3 of 20 nudged Mug runs as above went non-finite (7
+    /// failed in all; `Exact`: 6 of 140); with speed-adaptive steps 0 of 20 (deepest
+    /// 0.0 mm). **The default**: with it the whole workspace suite passes (245 tests) and so
+    /// do the 60-s soaks of the Box, Barrel and Mug (0.0 mm, finite; 1,513 CPU-s against
+    /// 2,673 with `Composite`, 1.77× less).
+    #[default]
     OncePerStep,
     /// Patches 1–5: as `OncePerStep`, the gyroscopic and Coriolis terms explicit, so one
     /// mass matrix and one factorisation instead of two (~1.6× faster again). Not the
