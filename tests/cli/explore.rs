@@ -157,11 +157,13 @@ fn without_noise_or_matches_the_map_is_where_the_array_was() {
     // And so the map poses equal the whisk poses relative to the first.
     let map = out.map.unwrap();
     let w0: Isometry3<f64> = out.poses[0].inverse();
-    // Rounding grows along the chain of ~1,500 compositions (1.0e-6 rad seen at whisk
-    // 865): 1e-5 m and rad, against the 2 cm asked.
+    // Rounding grows along the chain of ~1,500 compositions: 1e-6 m and rad over the first
+    // 300 whisks (the bound this test held when it stopped there), 1e-5 beyond (1.0e-6 rad
+    // seen at whisk 865), against the 2 cm asked.
     for (k, p) in out.poses.iter().enumerate() {
         let (d, r) = whisker_slam::pose::distance(&map.pose(k), &(w0 * p));
-        assert!(d < 1e-5 && r < 1e-5, "whisk {k}: {d} m, {r} rad");
+        let bound = if k < 300 { 1e-6 } else { 1e-5 };
+        assert!(d < bound && r < bound, "whisk {k}: {d} m, {r} rad");
     }
 }
 
