@@ -113,14 +113,19 @@ pub fn write(
             f(&a["median_error_m"]),
             a["over_2cm"]
         );
+        // Without revisits the medians are null: say so instead of printing NaN.
+        let gap = match (
+            r["median_distance_m"].as_f64(),
+            r["median_angle_deg"].as_f64(),
+        ) {
+            (Some(d), Some(a)) => format!("median gap {d:.3} m, {a:.0}°"),
+            _ => "no gap to measure".to_owned(),
+        };
         let _ = writeln!(
             say,
             "revisits   {} re-localisations into this run's experiences, {} true (within 2 cm and \
-             10° of where it was made); median gap {:.3} m, {:.0}°",
-            r["count"],
-            r["true"],
-            f(&r["median_distance_m"]),
-            f(&r["median_angle_deg"])
+             10° of where it was made); {gap}",
+            r["count"], r["true"]
         );
     }
     let map = if out.map.is_some() { ", map.json" } else { "" };

@@ -167,6 +167,31 @@ fn without_noise_or_matches_the_map_is_where_the_array_was() {
     }
 }
 
+/// A map-building run without matches has no revisits: the console says so instead of
+/// printing a median gap of NaN.
+#[test]
+fn a_run_without_revisits_says_so_on_the_console() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = whisker(&[
+        "run",
+        repo("scenarios/explore_map_box.toml").to_str().unwrap(),
+        "--out",
+        tmp.path().to_str().unwrap(),
+        "--no-rrd",
+        "--set",
+        "explore.slam.matching.t_pfh=0",
+        "--set",
+        "explore.max_iterations=30",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(
+        text.contains("revisits   0 re-localisations") && text.contains("no gap to measure"),
+        "{text}"
+    );
+    assert!(!text.contains("NaN"), "{text}");
+}
+
 #[test]
 fn same_seed_same_bytes_whatever_the_thread_count() {
     let (mut scenario, file) = load("recognise_box_stack_lsr.toml");
