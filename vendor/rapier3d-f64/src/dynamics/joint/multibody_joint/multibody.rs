@@ -139,9 +139,6 @@ pub struct Multibody {
     // rows) summed over its subtree, for `augmented_mass` (first `links.len()`) and
     // `acc_augmented_mass` (the rest).
     composite_w: Vec<Jacobian<Real>>,
-    // whisker-slam patch 6: body Jacobians on each link's leading columns only (set by
-    // `update_mass_matrix` from its mode: every mode but `Dense`).
-    truncated_jacobians: bool,
 }
 impl Default for Multibody {
     fn default() -> Self {
@@ -176,7 +173,6 @@ impl Multibody {
             coriolis_w: Vec::new(),
             i_coriolis_dt: Jacobian::zeros(0),
             composite_w: Vec::new(),
-            truncated_jacobians: false,
             root_is_dynamic: false,
             self_contacts_enabled,
             couplings: Vec::new(),
@@ -798,19 +794,6 @@ impl Multibody {
     }
 
     fn update_body_jacobians(&mut self) {
-        // whisker-slam patch 6: a link's width is its assembly id + its DoFs. When every
-        // link's parent ends before it starts (ancestors first in assembly order, as
-        // `update_mass_matrix` asserts), a body Jacobian is zero past its link's width, and
-        // with `truncated_jacobians` only those columns are computed: the same values.
-        let width = |l: &MultibodyLink| l.assembly_id + l.joint.ndofs();
-        let truncate = self.truncated_jacobians
-            && self.links.0.first().is_none_or(|root| root.assembly_id == 0)
-            && self
-                .links
-                .0
-                .iter()
-                .skip(1)
-                .all(|l| width(&self.links[l.parent_internal_id]) <= l.assembly_id);
         for i in 0..self.links.len() {
             let link = &self.links[i];
 
@@ -827,18 +810,7 @@ impl Multibody {
                 parent_to_world = parent_link.local_to_world;
 
                 let (link_j, parent_j) = self.body_jacobians.index_mut_const(i, parent_id);
-                // whisker-slam patch 6: the parent's columns copied and shifted, the rest
-                // of the link's cleared.
-                let copied = if truncate {
-                    let w = width(parent_link);
-                    link_j.columns_mut(w, self.ndofs - w).fill(0.0);
-                    w
-                } else {
-                    self.ndofs
-                };
-                let mut link_j = link_j.columns_mut(0, copied);
-                let parent_j = parent_j.columns(0, copied);
-                link_j.copy_from(&parent_j);
+                link_j.copy_from(parent_j);
 
                 {
                     let mut link_j_v = link_j.fixed_rows_mut::<DIM>(0);
@@ -863,9 +835,7 @@ impl Multibody {
             link_j_part += link_joint_j;
 
             {
-                // whisker-slam patch 6: the link's own width.
-                let shifted = if truncate { width(link) } else { self.ndofs };
-                let mut link_j = self.body_jacobians[i].columns_mut(0, shifted);
+                let link_j = &mut self.body_jacobians[i];
                 let (mut link_j_v, link_j_w) =
                     link_j.rows_range_pair_mut(0..DIM, DIM..DIM + ANG_DIM);
                 let shift_tr = vect_to_na(link.shift23).gcross_matrix_tr();
@@ -928,8 +898,6 @@ impl Multibody {
             self.composite_w = vec![Jacobian::zeros(self.ndofs); 2 * self.links.len()];
         }
         let nlinks = self.links.len();
-        // whisker-slam patch 6: the next forward kinematics follows the assembly mode.
-        self.truncated_jacobians = mode != MultibodyMassMatrix::Dense;
 
         let mut curr_assembly_id = 0;
 
