@@ -27,10 +27,93 @@ pub fn repo(rel: &str) -> PathBuf {
 }
 
 pub fn whisker(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_whisker"))
+    let o = Command::new(env!("CARGO_BIN_EXE_whisker"))
         .args(args)
         .output()
-        .expect("whisker runs")
+        .expect("whisker runs");
+    keep_refusal(args, &o);
+    o
+}
+
+/// With `WHISKER_REFUSALS=DIR` set, a failed invocation's arguments, exit code and
+/// stderr are kept in DIR, one file per distinct refusal named by a hash of its text, with
+/// temporary directories written `<TMP>`: `scripts/golden.sh` compares the refusals of the
+/// whole suite before and after a refactor (messages byte for byte).
+pub fn keep_refusal(args: &[&str], o: &Output) {
+    let Some(dir) = std::env::var_os("WHISKER_REFUSALS") else {
+        return;
+    };
+    if o.status.success() {
+        return;
+    }
+    // Parallel work prints in no fixed order: the lines sorted, progress counters and
+    // times masked.
+    let mut lines: Vec<String> = stderr(o).lines().map(masked).collect();
+    lines.sort();
+    let text = format!(
+        "args: {}\nexit: {:?}\n{}\n",
+        args.join(" "),
+        o.status.code(),
+        lines.join("\n")
+    );
+    let text = without_temporary_dirs(&text).replace(env!("CARGO_MANIFEST_DIR"), "<REPO>");
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    text.hash(&mut h);
+    let dir = PathBuf::from(dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join(format!("{:016x}.txt", h.finish())), text).unwrap();
+}
+
+/// A line of `whisker trials`' progress (`trials     3/12 ok KEY (0.4 s; elapsed 1s, ETA
+/// 2s)`) without its counter and times; any other line as it is.
+fn masked(line: &str) -> String {
+    let Some(rest) = line.strip_prefix("trials     ") else {
+        return line.to_string();
+    };
+    let Some((count, rest)) = rest.split_once(' ') else {
+        return line.to_string();
+    };
+    let Some((_, total)) = count.split_once('/') else {
+        return line.to_string();
+    };
+    let rest = match (rest.find(" ("), rest.find("; elapsed ")) {
+        (Some(a), Some(b)) if a < b => {
+            let close = rest[b..].find(')').map_or(rest.len(), |c| b + c + 1);
+            format!("{} (<T>){}", &rest[..a], &rest[close..])
+        }
+        _ => rest.to_string(),
+    };
+    format!("trials     <n>/{total} {rest}")
+}
+
+/// `text` with every temporary directory (`<temp>/.tmpXXXXXX`, as `tempfile` names them)
+/// and process id in a partial file's name (`.partial-<pid>`) replaced by a fixed word.
+fn without_temporary_dirs(text: &str) -> String {
+    let prefix = std::env::temp_dir().join(".tmp").display().to_string();
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(i) = rest.find(&prefix) {
+        out.push_str(&rest[..i]);
+        out.push_str("<TMP>");
+        let after = &rest[i + prefix.len()..];
+        let n = after
+            .char_indices()
+            .take_while(|(_, c)| c.is_ascii_alphanumeric())
+            .count();
+        rest = &after[n..];
+    }
+    out.push_str(rest);
+    let mut clean = String::new();
+    let mut rest = out.as_str();
+    while let Some(i) = rest.find(".partial-") {
+        clean.push_str(&rest[..i + ".partial-".len()]);
+        clean.push_str("<PID>");
+        let after = &rest[i + ".partial-".len()..];
+        rest = after.trim_start_matches(|c: char| c.is_ascii_digit());
+    }
+    clean.push_str(rest);
+    clean
 }
 
 /// The rows of a CSV file (header skipped), as strings.

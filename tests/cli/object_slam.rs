@@ -3,17 +3,19 @@
 //! the unmapped Skull, results do not depend on the number of threads, and bad input
 //! exits 2.
 
-use super::{stderr, stdout};
+use super::{keep_refusal, stderr, stdout};
 use std::process::Command;
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 
 fn object_slam(args: &[&str], threads: &str) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_whisker"))
+    let o = Command::new(env!("CARGO_BIN_EXE_whisker"))
         .arg("object-slam")
         .args(args)
         .env("RAYON_NUM_THREADS", threads)
         .output()
-        .expect("whisker runs")
+        .expect("whisker runs");
+    keep_refusal(&[&["object-slam"], args].concat(), &o);
+    o
 }
 
 #[test]

@@ -1,0 +1,29 @@
+//! `rrd_same A.rrd B.rrd`: whether two recordings hold the same content by Rerun's own
+//! decoder (the same chunks entity by entity, timelines and values; row and chunk ids
+//! ignored) and the same recording id. Exit code 0 if so, 1 with the first difference.
+//! `scripts/golden.sh compare` uses it on every `.rrd` of two golden directories.
+
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let [a, b] = args.as_slice() else {
+        eprintln!("usage: rrd_same A.rrd B.rrd");
+        return ExitCode::from(2);
+    };
+    let read = |p: &str| whisker::recording::decode::read(std::path::Path::new(p));
+    let result = read(a).and_then(|(id_a, chunks_a)| {
+        let (id_b, chunks_b) = read(b)?;
+        if id_a != id_b {
+            return Err(format!("recording ids differ: {id_a} against {id_b}"));
+        }
+        whisker::recording::decode::same_content(&chunks_a, &chunks_b)
+    });
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("{a} / {b}: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
