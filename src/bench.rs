@@ -32,11 +32,8 @@ use nalgebra::Isometry3;
 use serde_json::json;
 use std::path::PathBuf;
 use std::time::Instant;
-use whisker_sim::sensing::physics::{
-    DT, EnvironmentPiece, PhysicsArray, SolverPath, StageTimes, WhiskerConfig,
-};
+use whisker_sim::sensing::physics::{DT, EnvironmentPiece, PhysicsArray, SolverPath, StageTimes};
 use whisker_sim::whisker::array;
-use whisker_sim::whisker::beam::Bending;
 
 /// CPU-seconds per simulated second for one whisker of WHISKiT Physics, the reference
 /// simulator (`shared/notes/physics.md`, "The peer to beat").
@@ -75,31 +72,6 @@ pub struct Options {
     pub json: bool,
 }
 
-/// The first `count` modules' configurations: default whiskers, follicle, 1 Hz open-loop
-/// whisking and sensors, with the given bending model, segments and substeps.
-pub fn array_configs(
-    count: usize,
-    bending: Bending,
-    segments: Option<usize>,
-    substeps: usize,
-) -> Vec<WhiskerConfig> {
-    array::modules()
-        .into_iter()
-        .take(count)
-        .map(|mut module| {
-            module.beam.bending = bending;
-            if let Some(n) = segments {
-                module.beam.segments = n;
-            }
-            module
-        })
-        .map(|module| WhiskerConfig {
-            substeps,
-            ..WhiskerConfig::with_defaults(module)
-        })
-        .collect()
-}
-
 /// Parses a code path by its name ([`SolverPath::name`]: `released`, `exact`, …) for
 /// `--path` here and in `whisker soak`.
 pub fn solver_path_parser() -> impl clap::builder::TypedValueParser<Value = SolverPath> {
@@ -132,7 +104,7 @@ fn time_case(
         .build()
         .map_err(|e| e.to_string())?;
     pool.install(|| {
-        let mut configs = array_configs(
+        let mut configs = whisker_sim::sensing::physics::standard_array(
             array::modules().len(),
             o.bending.into(),
             case.segments.or(o.segments),

@@ -16,8 +16,8 @@ use rayon::prelude::*;
 use serde_json::json;
 use std::time::Instant;
 use whisker_sim::environment::assets::{CATALOGUE, generate};
-use whisker_sim::environment::viewpoints;
 use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
+use whisker_sim::sensing::viewpoints;
 use whisker_sim::whisker::array;
 
 /// Options of `whisker bench sensing`.

@@ -158,7 +158,7 @@ impl ContactSensing {
         let pattern = patterns[0];
         Ok(Self {
             array: KinematicArray::new(whiskers, patterns, noise, scenario.seed),
-            target: environment.sweep_target(),
+            target: SweepTarget::of(environment),
             chain,
             pattern,
             next_cycle: pattern.cycle(0.0) + i64::from(pattern.phase != 0.0),

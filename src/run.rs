@@ -21,7 +21,6 @@ use crate::scenario::overrides::Override;
 use crate::scenario::{Scenario, Sensing};
 use crate::whiskers::ArraySimulation;
 use nalgebra::Isometry3;
-use rapier3d_f64::prelude::ColliderBuilder;
 use serde_json::json;
 use std::fmt::Write as _;
 use std::io::Write;
@@ -271,9 +270,7 @@ pub fn execute(
         _ => None,
     };
     let mut world = World::new(model.clone(), plan.model_joints(&plan.waypoints[0]), dt);
-    for piece in &environment.pieces {
-        world.add_fixed(ColliderBuilder::new(piece.shape.clone()).position(piece.pose.into()));
-    }
+    world.add_environment(&environment);
     let mut csv = String::from("t_s");
     for (name, &angular) in chain.joint_names.iter().zip(&chain.angular) {
         let _ = write!(csv, ",{name}_{}", if angular { "rad" } else { "m" });

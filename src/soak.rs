@@ -22,8 +22,8 @@ use std::time::Instant;
 use whisker_sim::environment::Environment;
 use whisker_sim::environment::assets::{CATALOGUE, placed};
 use whisker_sim::environment::solids::Solids;
-use whisker_sim::environment::viewpoints;
 use whisker_sim::sensing::physics::{DT, PhysicsArray, SolverPath};
+use whisker_sim::sensing::viewpoints;
 use whisker_sim::whisker::array;
 use whisker_slam::sensor::Sample;
 
@@ -157,19 +157,23 @@ fn run_case(
     o: &Options,
     recording: Option<(&Recording, usize)>,
 ) -> CliResult<(serde_json::Value, bool)> {
-    let configs =
-        crate::bench::array_configs(array::modules().len(), o.bending.into(), None, o.substeps)
-            .into_iter()
-            .filter(|c| o.all_whiskers || touching.contains(&c.module.index))
-            .filter(|c| o.whiskers.is_empty() || o.whiskers.contains(&c.module.pixel()))
-            .map(|mut c| {
-                if let Some(path) = o.path {
-                    c.solver = path;
-                }
-                c.adaptive_steps = !o.fixed_steps;
-                c
-            })
-            .collect();
+    let configs = whisker_sim::sensing::physics::standard_array(
+        array::modules().len(),
+        o.bending.into(),
+        None,
+        o.substeps,
+    )
+    .into_iter()
+    .filter(|c| o.all_whiskers || touching.contains(&c.module.index))
+    .filter(|c| o.whiskers.is_empty() || o.whiskers.contains(&c.module.pixel()))
+    .map(|mut c| {
+        if let Some(path) = o.path {
+            c.solver = path;
+        }
+        c.adaptive_steps = !o.fixed_steps;
+        c
+    })
+    .collect();
     let mut array = PhysicsArray::new(configs, &environment.physics_pieces(), &pose, 0, DT);
     let mut record = match recording {
         Some((rec, k)) => Some(CaseRecording::new(rec, k, name, environment, &array)?),

@@ -24,7 +24,7 @@ use crate::maze_slam::path::Sample;
 use crate::maze_slam::physics::{self as maze_physics, ImageFrontEnd};
 use crate::maze_slam::{
     Geometry, Options, Sensed, Setup, UPDATE_HZ, kinematic_contacts, kinematic_whiskers,
-    noisy_steps, physics_sets, true_steps,
+    physics_sets,
 };
 use crate::scenario::Scenario;
 use crate::scenario::maze_slam::AngleEstimate;
@@ -38,6 +38,7 @@ use whisker_sim::sensing::physics::DT;
 use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_slam::ratslam::RatSlamParams;
 use whisker_slam::ratslam::experience_map::wrap;
+use whisker_slam::ratslam::odometry::{noisy_steps, true_steps};
 use whisker_slam::rng::substream_key;
 use whisker_slam::sensor::SAMPLE_RATE_HZ;
 
@@ -59,7 +60,7 @@ pub fn write(
     let environment = scenario.environment(file)?.environment;
     let (g, truth) = (&setup.geometry, &setup.truth);
     let config = &scenario.maze_slam;
-    let target = environment.sweep_target();
+    let target = whisker_sim::sensing::kinematic::SweepTarget::of(&environment);
     let clean_steps = true_steps(truth);
     let steps = if clean {
         clean_steps.clone()

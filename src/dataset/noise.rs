@@ -18,12 +18,12 @@ use super::manifest::{
 };
 use super::records;
 use crate::error::{CliError, CliResult};
-use crate::maze_slam::noisy_steps;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 use std::path::PathBuf;
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_slam::ratslam::odometry::OdometryNoise;
+use whisker_slam::ratslam::odometry::noisy_steps;
 use whisker_slam::rng::{gauss, substream};
 
 /// Options of `whisker dataset noise`.
@@ -125,7 +125,7 @@ pub fn run(o: &Options) -> CliResult {
                     Some(walk) => {
                         out.noise.odometry_6d = Some(Odometry6Noise::WALK);
                         let (clean, start) = super::object::read_log(&o.input, &m, walk)?;
-                        let noisy = crate::object_slam::noisy_odometry(
+                        let noisy = whisker_slam::whisker_ratslam::walk_odometry::noisy_odometry(
                             &clean,
                             o.seed,
                             &format!("object-slam/{walk}"),

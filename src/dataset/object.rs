@@ -152,7 +152,7 @@ pub fn write(o: &WriteOptions, s: &mut Staging) -> CliResult<Manifest> {
                 Role::Truth,
                 poses.as_bytes(),
             )?;
-            let clean = object_slam::clean_odometry(truth);
+            let clean = whisker_slam::whisker_ratslam::walk_odometry::clean_odometry(truth);
             s.put(
                 &format!("truth/{dir}/odometry.csv"),
                 Role::Truth,

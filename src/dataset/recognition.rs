@@ -116,7 +116,7 @@ pub fn write(
         ContactNoise::NONE,
         0,
     );
-    let target = environment.sweep_target();
+    let target = whisker_sim::sensing::kinematic::SweepTarget::of(&environment);
     let anticipated: Vec<_> = outcome
         .poses
         .iter()
@@ -251,7 +251,7 @@ pub fn replay(dir: &Path, m: &Manifest, o: &Replay) -> CliResult {
     let mut relocalisations = 0;
     for (k, (cycle, odo)) in cycles.iter().zip(&odometry).enumerate() {
         let points: Vec<Point3<f64>> = cycle.contacts.iter().map(|c| c.point).collect();
-        let features = crate::object_slam::whisk_features(cycle, &points);
+        let features = whisker_slam::features::whisk::whisk_features(cycle, &points);
         let before = slam.map.experiences.len();
         let step = slam.step(&features, odo);
         let onto = (step.relocalised && step.experience < before)

@@ -30,7 +30,6 @@
 
 mod log;
 mod map_accuracy;
-mod policy;
 mod record;
 mod report;
 pub mod robot;
@@ -46,7 +45,6 @@ use crate::scenario::explore::{ExploreConfig, Task};
 use crate::scenario::{Scenario, Sensing};
 use log::{Row, Summary};
 use nalgebra::{Isometry3, Point3, Translation3, Vector3};
-use policy::FaceTour;
 use rand::RngExt;
 use robot::{Motion, Robot};
 use std::collections::{BTreeMap, VecDeque};
@@ -57,6 +55,7 @@ use whisker_sim::sensing::kinematic::{KinematicArray, SweepTarget};
 use whisker_slam::contact::ContactCycle;
 use whisker_slam::exploration::goal_mesh::GoalMesh;
 use whisker_slam::exploration::placement::{self, Placement};
+use whisker_slam::exploration::tour::FaceTour;
 use whisker_slam::recognition::Recognition;
 use whisker_slam::rng::substream;
 use whisker_slam::sensor::Sample;
@@ -201,7 +200,7 @@ pub fn run_logged(
     let index = names.iter().position(|n| *n == truth).expect("validated");
     let piece = &environment.pieces[index];
     let world: Vec<Point3<f64>> = piece.mesh.vertices.iter().map(|v| piece.pose * v).collect();
-    let (centre, half) = policy::bounding_box(&world);
+    let (centre, half) = bounding_box(&world);
     let chain = crate::whiskers::array_chain(scenario, file, &plan)?;
     let robot = Robot::new(plan, chain, environment, scenario.seed)?;
     let start_pose = robot.array_pose();
@@ -291,7 +290,7 @@ pub fn run_logged(
         truth,
         robot,
         sensing,
-        target: environment.sweep_target(),
+        target: SweepTarget::of(environment),
         slam: WhiskerRatSlam::new(config.slam, map),
         recognition,
         tour,
@@ -391,7 +390,7 @@ impl Loop<'_> {
                 .odometry
                 .apply(&(previous.inverse() * pose), &mut odometry_rng);
             previous = pose;
-            let features = crate::object_slam::whisk_features(&cycle, &points);
+            let features = whisker_slam::features::whisk::whisk_features(&cycle, &points);
             let before = self.slam.map.experiences.len();
             let step = self.slam.step(&features, &odometry);
             if step.created {
@@ -578,4 +577,10 @@ impl Loop<'_> {
         }
         name
     }
+}
+
+/// The centre and half extents of a mesh's bounding box.
+fn bounding_box(points: &[Point3<f64>]) -> (Point3<f64>, Vector3<f64>) {
+    let (lo, hi) = whisker_sim::environment::mesh::bounds(points);
+    (nalgebra::center(&lo, &hi), (hi - lo) / 2.0)
 }

@@ -1,14 +1,15 @@
 //! The strategies' bookkeeping after each whisk (thesis §6.1.2, §6.1.3.2): the default
 //! trajectory while no object is likely or contact is lost; otherwise follow experience
 //! history (FEH) or the least similar region (LSR), re-planning on re-localisation, and
-//! each step to an experience cut into segments (`policy::segments`).
+//! each step to an experience cut into segments (`whisker_slam::exploration::tour::segments`).
 
-use super::{Loop, policy};
+use super::Loop;
 use crate::scenario::explore::Strategy;
 use nalgebra::Isometry3;
 use std::collections::VecDeque;
 use whisker_slam::exploration::feh::Follower;
 use whisker_slam::exploration::lsr;
+use whisker_slam::exploration::tour;
 use whisker_slam::features::similarity::Features;
 use whisker_slam::recognition::Recognition;
 
@@ -132,9 +133,9 @@ impl Loop<'_> {
         if let Some(target) = next
             && let Some(anchor) = self.anchor
             && let Some(goal) =
-                policy::step_goal(&self.slam.map, anchor, target, self.config.step_pose)
+                tour::step_goal(&self.slam.map, anchor, target, self.config.step_pose)
         {
-            self.segments = policy::segments(pose, &goal, self.config.segment_m);
+            self.segments = tour::segments(pose, &goal, self.config.segment_m);
             self.stepping_to = Some(target);
         }
     }

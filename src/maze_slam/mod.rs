@@ -50,7 +50,7 @@ mod sensing;
 
 pub use sensing::{
     Geometry, ImageSet, Sensed, Setup, UPDATE_HZ, image_set_names, kinematic_contacts,
-    kinematic_whiskers, noisy_steps, physics_sets, true_steps,
+    kinematic_whiskers, physics_sets,
 };
 
 /// Options of `whisker maze-slam`; every one but the scenario overrides the scenario.

@@ -226,7 +226,7 @@ mod tests {
             th: 0.0,
         };
         let path = vec![at; 4];
-        let configs = crate::bench::array_configs(
+        let configs = whisker_sim::sensing::physics::standard_array(
             18,
             whisker_sim::whisker::beam::Bending::SweepPlane,
             Some(8),
@@ -242,7 +242,7 @@ mod tests {
             0,
             &g,
         );
-        let target = environment.sweep_target();
+        let target = whisker_sim::sensing::kinematic::SweepTarget::of(&environment);
         let whiskers = super::super::kinematic_whiskers();
         let kinematic: Vec<TactileImage> =
             super::super::kinematic_contacts(&path, &target, ContactNoise::NONE, 0, &g)

@@ -21,10 +21,9 @@ use whisker_sim::sensing::physics::WhiskerConfig;
 use whisker_sim::whisker::array;
 use whisker_sim::whisker::control::{RcpThreshold, WhiskingPattern};
 use whisker_slam::contact::ContactCycle;
-use whisker_slam::ratslam::experience_map::wrap;
 use whisker_slam::ratslam::local_view::TactileImage;
-use whisker_slam::ratslam::odometry::OdometryNoise;
-use whisker_slam::rng::{substream, substream_key};
+use whisker_slam::ratslam::odometry::{noisy_steps, true_steps};
+use whisker_slam::rng::substream_key;
 
 /// Updates per second (§3.1.2).
 pub const UPDATE_HZ: f64 = 1.5;
@@ -101,29 +100,6 @@ pub fn kinematic_contacts(
         .iter()
         .enumerate()
         .map(|(k, p)| sensing.sense(target, k as u64, k as f64 / UPDATE_HZ, &g.pose(p)))
-        .collect()
-}
-
-/// The true distance and turn of every update (0 at the first): the noise-free odometry.
-pub fn true_steps(truth: &[Sample]) -> Vec<(f64, f64)> {
-    (0..truth.len())
-        .map(|k| match k {
-            0 => (0.0, 0.0),
-            _ => {
-                let (p, q) = (truth[k], truth[k - 1]);
-                ((p.x - q.x).hypot(p.y - q.y), wrap(p.th - q.th))
-            }
-        })
-        .collect()
-}
-
-/// `steps` with the odometry error model of §3.1.2 (sub-stream `maze-slam/odometry` of
-/// `seed`).
-pub fn noisy_steps(steps: &[(f64, f64)], noise: &OdometryNoise, seed: u64) -> Vec<(f64, f64)> {
-    let mut rng = substream(seed, "maze-slam/odometry");
-    steps
-        .iter()
-        .map(|&(d, t)| noise.apply(d, t, &mut rng))
         .collect()
 }
 
@@ -305,7 +281,7 @@ pub(super) fn sense(
             })
             .collect::<CliResult<_>>()?,
         (None, None) => {
-            let target = target.get_or_init(|| environment.sweep_target());
+            let target = target.get_or_init(|| SweepTarget::of(environment));
             let noise = scenario.kinematic.noise(file)?;
             let key = substream_key(seed, "maze-slam/sensing");
             let whiskers = kinematic_whiskers();

@@ -37,9 +37,8 @@ mod trajectory;
 pub use trajectory::{Placement, Trajectory, mean_step};
 
 use crate::error::{CliError, CliResult};
-use nalgebra::{Isometry3, Point3, Vector3};
+use nalgebra::{Isometry3, Point3};
 use physics::PhysicsSensing;
-use rand_distr::{Distribution, Normal};
 use rayon::prelude::*;
 use serde_json::json;
 use std::path::PathBuf;
@@ -49,20 +48,17 @@ use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::whisker::array::{self, Module};
 use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_slam::contact::ContactCycle;
-use whisker_slam::features::pfh::{PfhParams, histogram};
-use whisker_slam::features::sda::Sda;
 use whisker_slam::features::similarity::{FeatureSet, Features};
+use whisker_slam::features::whisk::whisk_features;
 use whisker_slam::radial::RadialEstimator;
 use whisker_slam::recognition::Identification;
-use whisker_slam::rng::substream;
-use whisker_slam::sensor::{Odometry, WHISKERS};
+use whisker_slam::sensor::Odometry;
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 use whisker_slam::whisker_ratslam::slam::{Params, WhiskerRatSlam};
+use whisker_slam::whisker_ratslam::walk_odometry::{clean_odometry, noisy_odometry};
 
 /// The object left out of the appended maps (§5.2.2.2).
 const UNMAPPED: &str = "skull";
-/// |slope| beyond which SDA entries are clipped.
-const SLOPE_CLIP: f64 = 10.0;
 /// Identification decay per whisk.
 const DECAY: f64 = 0.9;
 
@@ -294,44 +290,6 @@ pub fn walk(
     }
 }
 
-/// The exact odometry of a walk through `truth`, one whisk per second (the first: no
-/// motion).
-pub fn clean_odometry(truth: &[Isometry3<f64>]) -> Vec<Odometry> {
-    (0..truth.len())
-        .map(|k| match k {
-            0 => Odometry {
-                dt: 1.0,
-                ..Odometry::default()
-            },
-            _ => Odometry::between(&truth[k - 1], &truth[k], 1.0),
-        })
-        .collect()
-}
-
-/// The walk's odometry errors on `clean` odometry (all but the first, which is no
-/// motion): Gaussian, 5 % of the step per translation axis and 0.5° per rotation axis,
-/// from sub-stream `<stream>/odometry` of `seed`.
-pub fn noisy_odometry(clean: &[Odometry], seed: u64, stream: &str) -> Vec<Odometry> {
-    let mut rng = substream(seed, &format!("{stream}/odometry"));
-    let angle = Normal::new(0.0, 0.5f64.to_radians()).expect("valid sigma");
-    clean
-        .iter()
-        .enumerate()
-        .map(|(k, &o)| {
-            let mut o = o;
-            if k > 0 {
-                let step = Vector3::from(o.v).norm();
-                let s = Normal::new(0.0, 0.05 * step.max(1e-12)).expect("valid sigma");
-                for a in 0..3 {
-                    o.v[a] += s.sample(&mut rng);
-                    o.omega[a] += angle.sample(&mut rng);
-                }
-            }
-            o
-        })
-        .collect()
-}
-
 /// The noise-free anticipated contacts (the rigid sweep) of the kinematic array at each
 /// of `poses`.
 pub fn anticipated(target: &SweepTarget, poses: &[Isometry3<f64>]) -> Vec<ContactCycle> {
@@ -362,20 +320,6 @@ fn features(cycle: &ContactCycle, contact: ContactEstimate, modules: &[Module]) 
         })
         .collect();
     whisk_features(cycle, &points)
-}
-
-/// The features of one whisk (§5.1.1.1): the point feature histogram of the contact
-/// `points` (array frame) and the slope distribution array of the cycle's slopes, clipped
-/// to ±10 (Eq 6.14 is unbounded when the contacted normal lies in the sweep plane).
-pub fn whisk_features(cycle: &ContactCycle, points: &[Point3<f64>]) -> Features {
-    let mut sda = Sda::from_cycle(cycle, WHISKERS);
-    for s in sda.0.iter_mut().flatten() {
-        *s = s.clamp(-SLOPE_CLIP, SLOPE_CLIP);
-    }
-    Features {
-        pfh: histogram(points, &Point3::origin(), &PfhParams::default()),
-        sda,
-    }
 }
 
 /// Runs `walk` through `slam`; returns its re-localisations from sample `from` on, with

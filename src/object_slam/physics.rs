@@ -234,7 +234,7 @@ mod tests {
     use super::*;
     use nalgebra::Translation3;
     use whisker_sim::environment::assets::{CATALOGUE, placed};
-    use whisker_sim::environment::viewpoints;
+    use whisker_sim::sensing::viewpoints;
 
     /// Far from the object nothing is simulated and nothing is sensed; at the pose near the
     /// Box where the most whiskers touch (as in `crates/sim/tests/front_end.rs`), the front
@@ -247,7 +247,7 @@ mod tests {
         let (environment, shape) = placed(asset).unwrap();
         let (near, _) = viewpoints::busiest(&environment, &shape, asset.size).unwrap();
         let far = Isometry3::from_parts(Translation3::new(2.0, 0.0, 0.2), near.rotation);
-        let target = environment.sweep_target();
+        let target = SweepTarget::of(&environment);
         let model = crate::frontend::radial_model(None).unwrap();
         let sensing = PhysicsSensing::new(vec![(shape, Isometry3::identity())], model);
         let cycles = sensing.sense(&target, &[far, near], 0, "test");
@@ -281,7 +281,7 @@ mod tests {
         let asset = CATALOGUE.iter().find(|a| a.name == "box").unwrap();
         let (environment, shape) = placed(asset).unwrap();
         let (near, _) = viewpoints::busiest(&environment, &shape, asset.size).unwrap();
-        let target = environment.sweep_target();
+        let target = SweepTarget::of(&environment);
         let model = crate::frontend::radial_model(None).unwrap();
         let sensing = PhysicsSensing::new(vec![(shape, Isometry3::identity())], model);
         let live = sensing.whisk(&target, 3, &near, 7, "t/physics/3");

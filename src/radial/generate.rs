@@ -27,9 +27,10 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use whisker_sim::environment::assets::{CATALOGUE, placed};
-use whisker_sim::environment::{Environment, Piece, viewpoints};
+use whisker_sim::environment::{Environment, Piece};
 use whisker_sim::sensing::kinematic::{Intersect, RigidWhisker, SweepTarget};
 use whisker_sim::sensing::physics::{DEFAULT_SUBSTEPS, DT, PhysicsArray, WhiskerConfig};
+use whisker_sim::sensing::viewpoints;
 use whisker_sim::whisker::array::{self, Module};
 use whisker_sim::whisker::beam::BeamDesign;
 use whisker_sim::whisker::control::WhiskingPattern;
@@ -220,7 +221,7 @@ fn validation_jobs(o: &GenerateOptions) -> CliResult<Vec<Job>> {
         })
         .collect();
     let rigid: Vec<RigidWhisker> = configs.iter().map(WhiskerConfig::rigid).collect();
-    let target = environment.sweep_target();
+    let target = SweepTarget::of(&environment);
     let stream = format!("radial/validation/{}/waypoints", o.seed);
     let candidates = viewpoints::facing(&shape, asset.size, 512, &stream);
     // Score each pose by its whiskers touching at ≤ 0.7 L; skip poses where a whisker

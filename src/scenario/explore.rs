@@ -48,16 +48,7 @@ impl Strategy {
     }
 }
 
-/// Which relative pose a step between experiences uses (§6.1.2.1).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum StepPose {
-    /// The experiences' map poses (corrected by re-localisations).
-    #[default]
-    Map,
-    /// The odometry recorded on the link between them.
-    Odometry,
-}
+pub use whisker_slam::exploration::tour::StepPose;
 
 /// `[explore]`.
 #[derive(Debug, Clone, Deserialize)]

@@ -152,7 +152,7 @@ impl Arm {
     pub fn drive(&self, model: &RobotModel, world: &mut PhysicsWorld, q: &[f64]) {
         let poses = model.link_poses(q);
         for &(link, handle) in &self.bodies {
-            crate::world::set_next_kinematic_pose(
+            crate::kinematic_body::set_next_kinematic_pose(
                 &mut world.bodies[handle],
                 self.root_pose * poses[link],
             );

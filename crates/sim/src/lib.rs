@@ -7,6 +7,7 @@
 
 pub mod arm;
 pub mod environment;
+pub mod kinematic_body;
 pub mod kinematics;
 pub mod sensing;
 pub mod whisker;

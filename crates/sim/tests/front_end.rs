@@ -8,9 +8,9 @@
 //! the follicle reads.
 
 use whisker_sim::environment::assets::{CATALOGUE, placed};
-use whisker_sim::environment::viewpoints;
 use whisker_sim::sensing::kinematic::SweepTarget;
 use whisker_sim::sensing::physics::{DT, PhysicsArray, WhiskerConfig};
+use whisker_sim::sensing::viewpoints;
 use whisker_sim::whisker::array;
 use whisker_slam::frontend::contact::{FrontEndParams, detect};
 

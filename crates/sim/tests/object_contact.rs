@@ -6,9 +6,9 @@
 use nalgebra::{Isometry3, Vector3};
 use whisker_sim::environment::assets::{CATALOGUE, placed};
 use whisker_sim::environment::solids::Solids;
-use whisker_sim::environment::viewpoints;
 use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
 use whisker_sim::sensing::physics::{DT, PhysicsArray, WhiskerConfig};
+use whisker_sim::sensing::viewpoints;
 use whisker_sim::whisker::array;
 
 /// Whisks (1 Hz) the whiskers that reach the object (by the kinematic sweep, not already

@@ -9,10 +9,10 @@
 //! - [`shapes`] builds closed meshes from primitives (boxes, lathes, swept tubes, star
 //!   surfaces); [`assets`] uses it to generate the object catalogue of `assets/meshes`.
 //! - [`maze`] builds the re-configurable maze board.
-//! - [`viewpoints`] picks array poses near an object (benchmarks, soak runs, tests).
 //!
 //! An [`Environment`] is a list of fixed [`Piece`]s in the world frame: each has the
-//! collision shape the physics uses and a triangle mesh for the kinematic sweep.
+//! collision shape the physics uses and a triangle mesh for the kinematic sweep (which
+//! prepares its target from it: `SweepTarget::of`).
 
 pub mod assets;
 pub mod cracks;
@@ -25,14 +25,15 @@ pub mod mesh_io;
 pub mod shapes;
 pub mod solids;
 pub mod topology;
-pub mod viewpoints;
 pub mod voxel;
 
-use crate::sensing::kinematic::SweepTarget;
-use crate::sensing::physics::EnvironmentPiece;
 use nalgebra::Isometry3;
 use parry3d_f64::shape::SharedShape;
 pub use topology::Mesh;
+
+/// A fixed piece of the environment as the physics worlds hold it: a shape and its pose
+/// in the world.
+pub type EnvironmentPiece = (SharedShape, Isometry3<f64>);
 
 /// One fixed piece of the environment.
 #[derive(Clone)]
@@ -94,16 +95,6 @@ impl Environment {
             .iter()
             .map(|p| (p.shape.clone(), p.pose))
             .collect()
-    }
-
-    /// The pieces prepared for the kinematic sweep (soups' triangles two-sided).
-    pub fn sweep_target(&self) -> SweepTarget {
-        let two_sided = self
-            .pieces
-            .iter()
-            .flat_map(|p| std::iter::repeat_n(p.soup, p.mesh.triangles.len()))
-            .collect();
-        SweepTarget::with_two_sided(self.world_mesh(), two_sided)
     }
 
     /// An error naming the first piece that is a triangle soup, for what needs solids.

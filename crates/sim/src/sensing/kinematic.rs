@@ -19,7 +19,7 @@
 //! of its own for fast batch trials (§6.1.3.1.2).
 
 use super::noise::ContactNoise;
-use crate::environment::Mesh;
+use crate::environment::{Environment, Mesh};
 use crate::whisker::array::{Module, PROTRACTED, RETRACTED};
 use crate::whisker::control::WhiskingPattern;
 use nalgebra::{Isometry3, Point3, Vector2, Vector3};
@@ -130,6 +130,16 @@ fn pv(v: &Point3<f64>) -> PVector {
 }
 
 impl SweepTarget {
+    /// The pieces prepared for the kinematic sweep (soups' triangles two-sided).
+    pub fn of(environment: &Environment) -> Self {
+        let two_sided = environment
+            .pieces
+            .iter()
+            .flat_map(|p| std::iter::repeat_n(p.soup, p.mesh.triangles.len()))
+            .collect();
+        Self::with_two_sided(environment.world_mesh(), two_sided)
+    }
+
     /// Prepares a world-frame mesh of closed solids (degenerate triangles are skipped).
     pub fn new(mesh: Mesh) -> Self {
         let n = mesh.triangles.len();

@@ -3,8 +3,10 @@
 //! - [`physics`]: Rapier simulates every whisker's compliant beam, follicle and motor.
 //! - [`kinematic`]: rigid straight whiskers swept against the environment's meshes
 //!   (anticipated intersect, §4.1.2.3), with the contact noise of [`noise`].
+//! - [`viewpoints`] picks array poses near an object (benchmarks, soak runs, tests).
 
 pub mod adaptive_step;
 pub mod kinematic;
 pub mod noise;
 pub mod physics;
+pub mod viewpoints;

@@ -17,10 +17,12 @@ use super::adaptive_step;
 use crate::environment::solids::Solids;
 use crate::sensing::kinematic::RigidWhisker;
 use crate::whisker::array::Module;
+use crate::whisker::beam::Bending;
 use crate::whisker::body::Whisker;
 use crate::whisker::control::{Controller, RcpThreshold, WhiskingPattern};
 use crate::whisker::follicle::FollicleDesign;
 use crate::whisker::sensor::SensorModel;
+pub use crate::whisker::solver::SolverPath;
 use nalgebra::Isometry3;
 use rapier3d_f64::counters::{Counters, Timer};
 use rapier3d_f64::prelude::*;
@@ -31,8 +33,7 @@ use whisker_slam::sensor::{SAMPLE_RATE_HZ, Sample, WhiskCycle};
 /// Interaction group of whisker shafts.
 pub const WHISKER_GROUP: Group = Group::GROUP_3;
 
-/// A fixed piece of the environment: a shape and its pose in the world.
-pub type EnvironmentPiece = (SharedShape, Isometry3<f64>);
+pub use crate::environment::EnvironmentPiece;
 
 /// Everything that configures one whisker's simulation.
 #[derive(Debug, Clone)]
@@ -57,83 +58,30 @@ pub struct WhiskerConfig {
     pub adaptive_steps: bool,
 }
 
-/// Which of the vendored Rapier's multibody code paths steps a whisker (`vendor/PATCHES.md`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum SolverPath {
-    /// Rapier 0.36.1 as released: the dense mass matrix, assembled and factorised at every
-    /// substep. Kept for `whisker bench physics`' before/after comparison.
-    Released,
-    /// Patches 1–2: the mass matrix restricted to each link's ancestors, copied for
-    /// factorisation in one block. Bit-identical to `Released`, ~2× faster. The default
-    /// until speed-adaptive steps made the tunnelling statistics below moot.
-    Exact,
-    /// Patches 1, 2 and 5: the same matrices as `Exact` assembled the composite-rigid-body
-    /// way (each link's forces summed over its subtree, one dot product per entry): the
-    /// same model and the same factorisations, equal to `Exact` up to rounding (matrices
-    /// within 6e-15 of their scale, free whisking bodies within 1e-16 m,
-    /// `tests/solver_paths.rs`), ~1.5× faster than `Exact`. The default from speed-adaptive
-    /// steps until `OncePerStep` passed the suite and the soaks.
-    ///
-    /// In contact, rounding-level differences grow as any perturbation does (stick-slip
-    /// is chaotic), so single runs are coin flips: moving the array by nanometres, with one
-    /// world step per sample whisker D1 over the Mug's handle went deeper than 1 mm or
-    /// non-finite within 10 s in 59 of 140 runs with this path and 50 of 140 with `Exact`
-    /// (= Rapier as released), non-finite in 12 and 6 of them (Fisher's exact test,
-    /// one-sided p ≈ 0.16 and 0.11), which kept `Exact` the default. With speed-adaptive
-    /// steps ([`super::adaptive_step`]) neither tunnels: 0 of 20 runs each (`whisker soak
-    /// --objects mug --whiskers D1 --duration 10 --nudges 19 --path …`; deepest 0.0 mm
-    /// here, 0.61 mm with `Exact`).
-    Composite,
-    /// Patches 1–3 and 5: as `Composite`, the mass matrix assembled and factorised once
-    /// per step instead of at each of its substeps (~2.3× faster again). Against
-    /// `Released`, free whisking at 10 Hz agrees within 0.12 % RMS and contacts start at
-    /// the same samples with mean deflection within 0.1 % (`tests/solver_paths.rs`). With
-    /// one world step per sample, 3 of 20 nudged Mug runs as above went non-finite (7
-    /// failed in all; `Exact`: 6 of 140); with speed-adaptive steps 0 of 20 (deepest
-    /// 0.0 mm). **The default**: with it the whole workspace suite passes (245 tests) and so
-    /// do the 60-s soaks of the Box, Barrel and Mug (0.0 mm, finite; 1,513 CPU-s against
-    /// 2,673 with `Composite`, 1.77× less).
-    #[default]
-    OncePerStep,
-    /// Patches 1–5: as `OncePerStep`, the gyroscopic and Coriolis terms explicit, so one
-    /// mass matrix and one factorisation instead of two (~1.6× faster again). Not the
-    /// default: 5 of 12 nudged Mug runs went non-finite (`Exact`: 6 of 140) with one world
-    /// step per sample; with speed-adaptive steps 0 of 20.
-    ExplicitCoriolis,
-}
-
-impl SolverPath {
-    /// Every path, oldest first.
-    pub const ALL: [SolverPath; 5] = [
-        Self::Released,
-        Self::Exact,
-        Self::Composite,
-        Self::OncePerStep,
-        Self::ExplicitCoriolis,
-    ];
-
-    /// Sets the path's Rapier parameters.
-    pub fn apply(self, p: &mut IntegrationParameters) {
-        p.multibody_mass_matrix = match self {
-            Self::Released => MultibodyMassMatrix::Dense,
-            Self::Exact => MultibodyMassMatrix::Truncated,
-            _ => MultibodyMassMatrix::Composite,
-        };
-        p.multibody_mass_matrix_once_per_step =
-            matches!(self, Self::OncePerStep | Self::ExplicitCoriolis);
-        p.multibody_semi_implicit_coriolis = self != Self::ExplicitCoriolis;
-    }
-
-    /// Its name in benchmarks.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Released => "released",
-            Self::Exact => "exact",
-            Self::Composite => "composite",
-            Self::OncePerStep => "once-per-step",
-            Self::ExplicitCoriolis => "explicit-coriolis",
-        }
-    }
+/// The first `count` modules' configurations: default whiskers, follicle, 1 Hz open-loop
+/// whisking and sensors, with the given bending model, segments and substeps (the array
+/// of `whisker bench physics`, `whisker soak` and the tests).
+pub fn standard_array(
+    count: usize,
+    bending: Bending,
+    segments: Option<usize>,
+    substeps: usize,
+) -> Vec<WhiskerConfig> {
+    crate::whisker::array::modules()
+        .into_iter()
+        .take(count)
+        .map(|mut module| {
+            module.beam.bending = bending;
+            if let Some(n) = segments {
+                module.beam.segments = n;
+            }
+            module
+        })
+        .map(|module| WhiskerConfig {
+            substeps,
+            ..WhiskerConfig::with_defaults(module)
+        })
+        .collect()
 }
 
 impl WhiskerConfig {

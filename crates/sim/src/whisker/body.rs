@@ -300,6 +300,6 @@ impl Whisker {
 
     /// Poses the driver (and so the follicle) at `pose` for the next step.
     pub fn drive(&self, world: &mut PhysicsWorld, pose: Isometry3<f64>) {
-        crate::world::set_next_kinematic_pose(&mut world.bodies[self.driver], pose);
+        crate::kinematic_body::set_next_kinematic_pose(&mut world.bodies[self.driver], pose);
     }
 }

@@ -18,7 +18,7 @@
 use super::beam::BeamDesign;
 use super::body::Whisker;
 use super::follicle::FollicleDesign;
-use crate::sensing::physics::SolverPath;
+use super::solver::SolverPath;
 use nalgebra::{Isometry3, Vector3};
 use rapier3d_f64::prelude::*;
 use std::f64::consts::TAU;

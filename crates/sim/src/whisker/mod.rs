@@ -1,7 +1,8 @@
 //! The actively whisked whisker (thesis §2.2.2, §2.3): the shaft as a discretised beam
 //! ([`beam`]), the compliant follicle ([`follicle`]) and its sensors ([`sensor`]), the
 //! whisker built in Rapier ([`body`]), the array's geometry ([`array`]), whisking
-//! control with RCP ([`control`]), and characterisation of one design ([`characterize`]).
+//! control with RCP ([`control`]), characterisation of one design ([`characterize`]) and
+//! the Rapier code path that steps the chain ([`solver`]).
 
 pub mod array;
 pub mod beam;
@@ -10,6 +11,7 @@ pub mod characterize;
 pub mod control;
 pub mod follicle;
 pub mod sensor;
+pub mod solver;
 
 pub use beam::BeamDesign;
 pub use body::Whisker;

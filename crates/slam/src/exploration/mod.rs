@@ -7,6 +7,8 @@
 //!   trajectory (§6.1.3.2);
 //! - [`feh`]: follow experience history (§6.1.2.2);
 //! - [`lsr`]: least similar region (§6.1.2.3, Eq 6.1–6.3);
+//! - [`tour`]: the goal meshes' faces visited in turn, and the steps between experiences
+//!   cut into segments (§6.1.2.1–§6.1.3);
 //! - [`odometry_noise`]: the simulations' odometry noise (§6.1.3.1.1, Eq 6.4–6.11).
 //!
 //! Recognition (raw and integrated confidence, SRT, IM) is in [`crate::recognition`].
@@ -16,3 +18,4 @@ pub mod goal_mesh;
 pub mod lsr;
 pub mod odometry_noise;
 pub mod placement;
+pub mod tour;

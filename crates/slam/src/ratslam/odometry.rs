@@ -4,9 +4,11 @@
 //! error to be strictly positive, Lognormal(μ −4.3, σ 0.45) (m: median 13.6 mm), and the
 //! angular one Normal(8.39e-4, 0.3); the latter's unit is not stated — read as degrees
 //! here (in radians, 17° of error per update would make path integration meaningless,
-//! unlike the drift of Fig 3.3). Both are configurable.
+//! unlike the drift of Fig 3.3). Both are configurable. [`true_steps`] and [`noisy_steps`]
+//! turn a path into the odometry of every update, without and with the errors.
 
-use crate::rng::StreamRng;
+use super::experience_map::{Pose2, wrap};
+use crate::rng::{StreamRng, substream};
 use rand_distr::{Distribution, LogNormal, Normal};
 use serde::{Deserialize, Serialize};
 
@@ -66,10 +68,32 @@ impl OdometryNoise {
     }
 }
 
+/// The true distance and turn of every update (0 at the first): the noise-free odometry.
+pub fn true_steps(truth: &[Pose2]) -> Vec<(f64, f64)> {
+    (0..truth.len())
+        .map(|k| match k {
+            0 => (0.0, 0.0),
+            _ => {
+                let (p, q) = (truth[k], truth[k - 1]);
+                ((p.x - q.x).hypot(p.y - q.y), wrap(p.th - q.th))
+            }
+        })
+        .collect()
+}
+
+/// `steps` with the odometry error model of §3.1.2 (sub-stream `maze-slam/odometry` of
+/// `seed`).
+pub fn noisy_steps(steps: &[(f64, f64)], noise: &OdometryNoise, seed: u64) -> Vec<(f64, f64)> {
+    let mut rng = substream(seed, "maze-slam/odometry");
+    steps
+        .iter()
+        .map(|&(d, t)| noise.apply(d, t, &mut rng))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rng::substream;
 
     #[test]
     fn errors_follow_the_configured_distributions() {

@@ -2,12 +2,23 @@
 //! and the default trajectory), and steps between experiences for FEH and LSR, cut into
 //! short segments in the array's tangent plane (§6.1.2.1–§6.1.2.2).
 
-use crate::scenario::explore::StepPose;
+use super::goal_mesh::GoalMesh;
+use super::placement::{UP, maintain_yaw};
+use crate::whisker_ratslam::object_map::ObjectMap;
 use nalgebra::{Isometry3, Point3, Translation3, Vector3};
+use serde::Deserialize;
 use std::collections::VecDeque;
-use whisker_slam::exploration::goal_mesh::GoalMesh;
-use whisker_slam::exploration::placement::{UP, maintain_yaw};
-use whisker_slam::whisker_ratslam::object_map::ObjectMap;
+
+/// Which relative pose a step between experiences uses (§6.1.2.1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum StepPose {
+    /// The experiences' map poses (corrected by re-localisations).
+    #[default]
+    Map,
+    /// The odometry recorded on the link between them.
+    Odometry,
+}
 
 /// Faces of a goal mesh visited nearest-unvisited first, loop after loop.
 pub struct FaceTour {
@@ -90,12 +101,6 @@ impl FaceTour {
     }
 }
 
-/// The centre and half extents of a mesh's bounding box.
-pub fn bounding_box(points: &[Point3<f64>]) -> (Point3<f64>, Vector3<f64>) {
-    let (lo, hi) = whisker_sim::environment::mesh::bounds(points);
-    (nalgebra::center(&lo, &hi), (hi - lo) / 2.0)
-}
-
 /// A step towards an experience (§6.1.2.1): where the array should go, relative to the
 /// last experience it re-localised into (the anchor) and where it truly was then.
 pub fn step_goal(
@@ -149,8 +154,8 @@ pub fn segments(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::whisker_ratslam::object_map::Link;
     use nalgebra::UnitQuaternion;
-    use whisker_slam::whisker_ratslam::object_map::Link;
 
     fn level(at: [f64; 3], pointing: Vector3<f64>) -> Isometry3<f64> {
         maintain_yaw(Vector3::from(at), &pointing, &UP)

@@ -1,8 +1,8 @@
 //! Array poses near an object, for benchmarks, soak runs and tests: where to put the
 //! array so that its whiskers reach the object.
 
-use super::Environment;
-use crate::sensing::kinematic::RigidWhisker;
+use super::kinematic::{RigidWhisker, SweepTarget};
+use crate::environment::Environment;
 use crate::whisker::array;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use parry3d_f64::math::Vector as PVector;
@@ -56,7 +56,7 @@ pub fn most_touching(
     environment: &Environment,
     candidates: &[Isometry3<f64>],
 ) -> Option<(Isometry3<f64>, Vec<usize>)> {
-    let target = environment.sweep_target();
+    let target = SweepTarget::of(environment);
     let whiskers: Vec<RigidWhisker> = array::modules()
         .into_iter()
         .map(|m| RigidWhisker::new(m, 3.0e-3))
