@@ -5,7 +5,7 @@
 //! benchmark, never a test.
 
 use crate::error::CliResult;
-use crate::recording::RrdArgs;
+use crate::record::{Context, Target};
 use crate::scenario::Scenario;
 use crate::scenario::overrides::Override;
 use serde_json::json;
@@ -34,7 +34,7 @@ pub struct Options {
 }
 
 /// `whisker bench recording`.
-pub fn recording(o: &Options) -> CliResult {
+pub fn recording(o: &Options, ctx: Context) -> CliResult {
     let mut scenario = Scenario::load_with(&o.scenario, &o.set)?;
     scenario.output.recording = true;
     let (without_dir, with_dir) = (o.out.join("without"), o.out.join("with"));
@@ -45,12 +45,16 @@ pub fn recording(o: &Options) -> CliResult {
             .enumerate()
         {
             let _ = std::fs::remove_dir_all(dir);
-            let rrd = RrdArgs {
+            let rrd = Target {
                 no_rrd,
                 ..Default::default()
             };
             let start = Instant::now();
-            crate::run::execute(&o.scenario, &scenario, dir, &rrd, &mut std::io::sink())?;
+            let quiet = Context {
+                reporter: &crate::record::Silent,
+                ..ctx
+            };
+            crate::run::execute(&o.scenario, &scenario, dir, &rrd, quiet)?;
             best[k] = best[k].min(start.elapsed().as_secs_f64());
         }
     }

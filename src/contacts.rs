@@ -10,8 +10,8 @@
 use crate::error::CliResult;
 use crate::output;
 use crate::plan::Plan;
-use crate::recording::Recording;
-use crate::recording::world::{Contact, ContactKind};
+use crate::record::Recorder;
+use crate::record::{Contact, ContactKind};
 use crate::scenario::Scenario;
 use nalgebra::Isometry3;
 use std::fmt::Write as _;
@@ -177,7 +177,12 @@ impl ContactSensing {
     }
 
     /// Sweeps every whisk cycle that starts by time `t`.
-    pub fn advance_to(&mut self, plan: &Plan, t: f64, recording: Option<&Recording>) -> CliResult {
+    pub fn advance_to(
+        &mut self,
+        plan: &Plan,
+        t: f64,
+        recording: Option<&dyn Recorder>,
+    ) -> CliResult {
         while self.cycle_start(self.next_cycle) <= t + 1e-9 {
             let start = self.cycle_start(self.next_cycle);
             let pose = self.chain.fk(&plan.trajectory.sample(start.max(0.0)));

@@ -13,8 +13,8 @@
 use crate::contacts::HEADER;
 use crate::error::{CliError, CliResult};
 use crate::output;
-use crate::recording::Recording;
-use crate::recording::world::{Contact, ContactKind};
+use crate::record::Recorder;
+use crate::record::{Contact, ContactKind};
 use crate::scenario::Scenario;
 use nalgebra::Isometry3;
 use std::fmt::Write as _;
@@ -82,7 +82,7 @@ impl FrontEnd {
         t: f64,
         pose: &Isometry3<f64>,
         samples: &[Sample],
-        recording: Option<&Recording>,
+        recording: Option<&dyn Recorder>,
     ) -> CliResult {
         let k = self.pattern.cycle(t);
         if self.cycle != Some(k) {
@@ -101,7 +101,7 @@ impl FrontEnd {
         Ok(())
     }
 
-    fn process(&mut self, recording: Option<&Recording>) -> CliResult {
+    fn process(&mut self, recording: Option<&dyn Recorder>) -> CliResult {
         let index = self.cycle.unwrap_or(0);
         let rate = whisker_slam::sensor::SAMPLE_RATE_HZ;
         let mut world = Vec::new();

@@ -21,6 +21,7 @@ pub mod object_slam;
 pub mod output;
 pub mod plan;
 pub mod radial;
+pub mod record;
 pub mod recording;
 pub mod run;
 pub mod scenario;

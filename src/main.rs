@@ -9,6 +9,8 @@ use whisker::{
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use whisker::record::{Context, Reporter};
+use whisker::recording::Rerun;
 use whisker::scenario::overrides::Override;
 
 /// Tactile SLAM and object recognition testbed for an actively whisked artificial
@@ -37,7 +39,7 @@ enum Command {
         #[arg(long = "set", value_name = "PATH=VALUE", value_parser = Override::parse)]
         set: Vec<Override>,
         #[command(flatten)]
-        rrd: whisker::recording::RrdArgs,
+        rrd: whisker::record::Target,
     },
     /// Validate a scenario and print what would run; writes nothing.
     Check {
@@ -142,8 +144,24 @@ enum UrdfCommand {
     },
 }
 
+/// The console: an experiment's account on stdout, its notes on stderr.
+struct Console;
+
+impl Reporter for Console {
+    fn say(&self, line: &str) {
+        println!("{line}");
+    }
+    fn note(&self, line: &str) {
+        eprintln!("{line}");
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    let ctx = Context {
+        recordings: &Rerun,
+        reporter: &Console,
+    };
     let result = match cli.command {
         Command::Run {
             scenario,
@@ -151,7 +169,7 @@ fn main() -> ExitCode {
             seed,
             set,
             rrd,
-        } => run::run(&scenario, out, seed, &set, &rrd),
+        } => run::run(&scenario, out, seed, &set, &rrd, ctx),
         Command::Check { scenario, meshes } => run::check(&scenario, meshes.as_deref()),
         Command::Characterize(options) => characterize::run(&options),
         Command::Bench {
@@ -162,20 +180,20 @@ fn main() -> ExitCode {
         } => bench_sensing::sensing(&options),
         Command::Bench {
             command: BenchCommand::Recording(options),
-        } => whisker::bench_recording::recording(&options),
+        } => whisker::bench_recording::recording(&options, ctx),
         Command::Bench {
             command: BenchCommand::Slam(options),
         } => bench_slam::slam(&options),
         Command::Bench {
             command: BenchCommand::Trials(options),
-        } => whisker::trials::command::bench(&options),
-        Command::Trials(args) => whisker::trials::command::run(&args),
-        Command::Soak(options) => soak::soak(&options),
-        Command::ObjectSlam(options) => object_slam::run(&options),
-        Command::Radial { command } => radial::run(&command),
-        Command::MazeSlam(options) => maze_slam::run(&options),
+        } => whisker::trials::command::bench(&options, &Rerun),
+        Command::Trials(args) => whisker::trials::command::run(&args, &Rerun),
+        Command::Soak(options) => soak::soak(&options, ctx),
+        Command::ObjectSlam(options) => object_slam::run(&options, ctx),
+        Command::Radial { command } => radial::run(&command, ctx),
+        Command::MazeSlam(options) => maze_slam::run(&options, ctx),
         Command::Dataset(args) => whisker::dataset::run(&args),
-        Command::Slam(options) => whisker::dataset::slam(&options),
+        Command::Slam(options) => whisker::dataset::slam(&options, ctx),
         Command::Assets {
             command: AssetsCommand::Generate { out },
         } => assets_cmd::generate_all(&out),

@@ -16,14 +16,13 @@ use crate::contacts::ContactSensing;
 use crate::error::CliResult;
 use crate::output;
 use crate::plan::Plan;
-use crate::recording::{Recording, RrdArgs};
+use crate::record::{Context, Layout, Target};
 use crate::scenario::overrides::Override;
 use crate::scenario::{Scenario, Sensing};
 use crate::whiskers::ArraySimulation;
 use nalgebra::Isometry3;
 use serde_json::json;
 use std::fmt::Write as _;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::world::World;
@@ -33,7 +32,7 @@ use whisker_slam::pose;
 const CHECKPOINT_SAMPLES: usize = 100;
 
 /// `, NAME` of the recording a run writes into `dir` (for the `wrote` line), or nothing.
-pub fn recording_name(rrd: &RrdArgs, dir: &Path, scenario: &Scenario) -> String {
+pub fn recording_name(rrd: &Target, dir: &Path, scenario: &Scenario) -> String {
     match rrd.path(Some(dir), scenario.output.recording) {
         Some(p) if p.parent() == Some(dir) => {
             format!(", {}", p.file_name().unwrap_or_default().to_string_lossy())
@@ -187,49 +186,52 @@ pub fn run(
     out: Option<PathBuf>,
     seed: Option<u64>,
     overrides: &[Override],
-    rrd: &RrdArgs,
+    rrd: &Target,
+    ctx: Context,
 ) -> CliResult {
     let mut scenario = Scenario::load_with(file, overrides)?;
     if let Some(seed) = seed {
         scenario.seed = seed;
     }
     let dir = out.unwrap_or_else(|| scenario.output.dir.clone());
-    execute(file, &scenario, &dir, rrd, &mut std::io::stdout())
+    execute(file, &scenario, &dir, rrd, ctx)
 }
 
 /// Runs `scenario` (read from `file`) into `dir` (created), saying what it does to
-/// `say`: `whisker run` and each trial of `whisker trials`; the recording goes where
+/// `ctx`: `whisker run` and each trial of `whisker trials`; the recording goes where
 /// `rrd` and the scenario's `output.recording` say.
 pub fn execute(
     file: &Path,
     scenario: &Scenario,
     dir: &Path,
-    rrd: &RrdArgs,
-    say: &mut dyn Write,
+    rrd: &Target,
+    ctx: Context,
 ) -> CliResult {
     let plan = Plan::new(scenario, file)?;
-    let _ = write!(say, "{}", describe(file, scenario, &plan));
+    ctx.say(&describe(file, scenario, &plan));
     let loaded = scenario.environment(file)?;
     for line in &loaded.report {
-        let _ = writeln!(say, "{line}");
+        ctx.say(line);
     }
     let environment = loaded.environment;
     if let Some(e) = &scenario.explore {
         // Loads the object maps: a bad one stops the run before anything is written.
-        let _ = write!(say, "{}", crate::explore::describe(file, scenario, e)?);
+        ctx.say(&crate::explore::describe(file, scenario, e)?);
     }
     output::create_dir(dir)?;
 
     if scenario.explore.is_some() {
-        return crate::explore::write(file, scenario, plan, &environment, dir, rrd, say);
+        return crate::explore::write(file, scenario, plan, &environment, dir, rrd, ctx);
     }
     let dt = scenario.output.sample_period_s;
     let chain = &plan.chain;
     let model = &plan.model;
     let skeleton_links = plan.skeleton();
 
-    let layout = crate::recording::blueprint::run(scenario.sensing == Sensing::Physics);
-    let recording = Recording::for_scenario(file, scenario, dir, rrd, layout)?;
+    let layout = Layout::Run {
+        physics: scenario.sensing == Sensing::Physics,
+    };
+    let recording = ctx.scenario_recording(file, scenario, dir, rrd, layout)?;
     if let Some(rec) = &recording {
         let tips: Vec<Isometry3<f64>> = plan.waypoints.iter().map(|q| chain.fk(q)).collect();
         rec.waypoints(&tips)?;
@@ -246,7 +248,7 @@ pub fn execute(
             file,
             &plan,
             &environment,
-            recording.as_ref(),
+            recording.as_deref(),
         )?),
         _ => None,
     };
@@ -289,10 +291,10 @@ pub fn execute(
             world.step(&all);
         }
         if let Some(w) = &mut whiskers {
-            w.advance_to(&plan, t, recording.as_ref())?;
+            w.advance_to(&plan, t, recording.as_deref())?;
         }
         if let Some(c) = &mut contacts {
-            c.advance_to(&plan, t, recording.as_ref())?;
+            c.advance_to(&plan, t, recording.as_deref())?;
         }
         let tip = chain.fk(&q);
         let hits = world.arm_collisions();
@@ -382,7 +384,7 @@ pub fn execute(
     let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
     output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
     if let Some(w) = whiskers {
-        w.finish(dir, recording.as_ref())?;
+        w.finish(dir, recording.as_deref())?;
     }
     let contacts_file = contacts.as_ref().map(|c| c.counts());
     if let Some(c) = contacts {
@@ -392,8 +394,7 @@ pub fn execute(
         rec.tip_path(&tip_path)?;
         rec.finish()?;
     }
-    let _ = writeln!(
-        say,
+    ctx.say(&format!(
         "simulated  {} samples every {dt} s; tip travelled {length:.3} m; arm–environment collisions: {}",
         steps + 1,
         if collision_samples == 0 {
@@ -404,7 +405,7 @@ pub fn execute(
                 collided_links.join(", ")
             )
         }
-    );
+    ));
     let rrd = recording_name(rrd, dir, scenario);
     let csv = match (scenario.sensing, contacts_file.is_some()) {
         (Sensing::Physics, true) => ", whiskers.csv, frontend.csv, anticipated.csv",
@@ -413,18 +414,16 @@ pub fn execute(
         (Sensing::None, _) => "",
     };
     if let (Some((cycles, n)), Sensing::Kinematic) = (contacts_file, scenario.sensing) {
-        let _ = writeln!(say, "sensed     {n} contacts in {cycles} whisk cycles");
+        ctx.say(&format!("sensed     {n} contacts in {cycles} whisk cycles"));
     }
     if let Some(n) = frontend_contacts {
-        let _ = writeln!(
-            say,
+        ctx.say(&format!(
             "front end  {n} contacts detected in the whisker streams"
-        );
+        ));
     }
-    let _ = writeln!(
-        say,
+    ctx.say(&format!(
         "wrote      {}/{{path.csv, summary.json{csv}{rrd}}}",
         dir.display()
-    );
+    ));
     Ok(())
 }

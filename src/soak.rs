@@ -11,8 +11,8 @@
 //! than the shaft's base radius, 1 mm) or breaks.
 
 use crate::error::{CliError, CliResult};
-use crate::recording::Recording;
-use crate::recording::sensors::SensorColumns;
+use crate::record::SensorColumns;
+use crate::record::{Context, Layout, Recorder};
 use crate::scenario::Scenario;
 use nalgebra::{Isometry3, Vector3};
 use rayon::prelude::*;
@@ -87,7 +87,7 @@ const CASE_SPACING_M: f64 = 1.5;
 
 /// What a case puts in the recording: the frame and the streams of its whiskers.
 struct CaseRecording<'a> {
-    rec: &'a Recording,
+    rec: &'a dyn Recorder,
     frame: String,
     columns: SensorColumns,
     /// Whether the controllers run open loop (then the RCP state is known: off).
@@ -96,17 +96,14 @@ struct CaseRecording<'a> {
 
 impl<'a> CaseRecording<'a> {
     fn new(
-        rec: &'a Recording,
+        rec: &'a dyn Recorder,
         k: usize,
         name: &str,
         environment: &Environment,
         array: &PhysicsArray,
     ) -> CliResult<Self> {
-        let frame = format!("world/cases/{}", crate::recording::world::entity_name(name));
-        rec.log_static(
-            frame.as_str(),
-            &rerun::Transform3D::from_translation([0.0, (CASE_SPACING_M * k as f64) as f32, 0.0]),
-        )?;
+        let frame = format!("world/cases/{}", crate::record::entity_name(name));
+        rec.frame(&frame, [0.0, CASE_SPACING_M * k as f64, 0.0])?;
         rec.environment_in(&format!("{frame}/environment"), environment)?;
         let labels: Vec<String> = array
             .units
@@ -115,7 +112,7 @@ impl<'a> CaseRecording<'a> {
             .collect();
         let columns = SensorColumns::new(
             rec,
-            &format!("sensors/{}", crate::recording::world::entity_name(name)),
+            &format!("sensors/{}", crate::record::entity_name(name)),
             &labels,
         )?;
         let open_loop = array.units.iter().all(|u| u.config.rcp_threshold.is_none());
@@ -155,7 +152,7 @@ fn run_case(
     pose: Isometry3<f64>,
     touching: &[usize],
     o: &Options,
-    recording: Option<(&Recording, usize)>,
+    recording: Option<(&dyn Recorder, usize)>,
 ) -> CliResult<(serde_json::Value, bool)> {
     let configs = whisker_sim::sensing::physics::standard_array(
         array::modules().len(),
@@ -332,7 +329,7 @@ pub fn maze_case(file: &Path) -> Result<Case, CliError> {
 }
 
 /// `whisker soak`.
-pub fn soak(o: &Options) -> CliResult {
+pub fn soak(o: &Options, ctx: Context) -> CliResult {
     if !(o.duration.is_finite() && o.duration > 0.0) {
         return Err(CliError::Input(format!(
             "--duration {}: expected a positive number of seconds",
@@ -356,14 +353,11 @@ pub fn soak(o: &Options) -> CliResult {
         cases.push(("maze".into(), maze_case(file)?));
     }
     let recording = match &o.rrd {
-        Some(path) => {
-            let layout = crate::recording::blueprint::cases();
-            Some(Recording::create(
-                path,
-                &crate::recording::id("soak", 0),
-                layout,
-            )?)
-        }
+        Some(path) => Some(ctx.recordings.create(
+            path,
+            &crate::record::id("soak", 0),
+            Layout::Cases,
+        )?),
         None => None,
     };
     let mut records = Vec::new();
@@ -386,7 +380,7 @@ pub fn soak(o: &Options) -> CliResult {
                 pose,
                 &case.touching,
                 o,
-                recording.as_ref().filter(|_| nudge == 0).map(|r| (r, k)),
+                recording.as_deref().filter(|_| nudge == 0).map(|r| (r, k)),
             )?;
             r["nudge_m"] = json!(shift);
             records.push(r);

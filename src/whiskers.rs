@@ -5,8 +5,8 @@
 use crate::error::{CliError, CliResult};
 use crate::output;
 use crate::plan::Plan;
-use crate::recording::Recording;
-use crate::recording::sensors::SensorColumns;
+use crate::record::Recorder;
+use crate::record::SensorColumns;
 use crate::scenario::Scenario;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -101,7 +101,7 @@ impl ArraySimulation {
         file: &Path,
         plan: &Plan,
         environment: &Environment,
-        recording: Option<&Recording>,
+        recording: Option<&dyn Recorder>,
     ) -> CliResult<Self> {
         let mut configs = scenario.array.whisker_configs(file)?;
         let chain = array_chain(scenario, file, plan)?;
@@ -159,7 +159,12 @@ impl ArraySimulation {
     /// samples up to `t` in one task ([`PhysicsArray::run_with_rcp`]: the same samples as
     /// a step per sample, without a barrier per sample; issue #18, scheduling), and the
     /// samples are then written and passed to the front end in time order.
-    pub fn advance_to(&mut self, plan: &Plan, t: f64, recording: Option<&Recording>) -> CliResult {
+    pub fn advance_to(
+        &mut self,
+        plan: &Plan,
+        t: f64,
+        recording: Option<&dyn Recorder>,
+    ) -> CliResult {
         let mut end = self.steps;
         while (end + 1) as f64 * self.dt <= t + 1e-9 {
             end += 1;
@@ -206,7 +211,7 @@ impl ArraySimulation {
 
     /// Writes `whiskers.csv` and `frontend.csv` into `dir` and the last streams into the
     /// recording.
-    pub fn finish(mut self, dir: &Path, recording: Option<&Recording>) -> CliResult {
+    pub fn finish(mut self, dir: &Path, recording: Option<&dyn Recorder>) -> CliResult {
         if let (Some(cols), Some(rec)) = (&mut self.columns, recording) {
             cols.send(rec)?;
         }

@@ -294,14 +294,14 @@ pub struct SlamOptions {
 }
 
 /// `whisker slam DIR`.
-pub fn slam(o: &SlamOptions) -> CliResult {
+pub fn slam(o: &SlamOptions, ctx: crate::record::Context) -> CliResult {
     let manifest = Manifest::read(&o.dataset)?;
     match manifest.experiment {
         manifest::Experiment::MazeSlam => {
             let mut options = crate::maze_slam::Options::of(Path::new(""));
             options.out = o.out.clone();
             options.json = o.json;
-            crate::maze_slam::replay(&options, &o.dataset, &manifest)
+            crate::maze_slam::replay(&options, &o.dataset, &manifest, ctx)
         }
         manifest::Experiment::ObjectSlam => {
             let data = object::read(&o.dataset, &manifest)?;
@@ -317,7 +317,7 @@ pub fn slam(o: &SlamOptions) -> CliResult {
                 dataset: Some(o.dataset.clone()),
                 rrd: Default::default(),
             };
-            crate::object_slam::analyse(&options, &data)
+            crate::object_slam::analyse(&options, &data, ctx)
         }
         manifest::Experiment::ClosedLoop => {
             let replay = recognition::Replay {

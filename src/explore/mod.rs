@@ -38,9 +38,9 @@ mod strategy;
 use crate::error::{CliError, CliResult};
 use crate::object_slam::physics::PhysicsSensing;
 use crate::plan::Plan;
-use crate::recording::Recording;
-use crate::recording::sensors::SensorColumns;
-use crate::recording::slam::GraphSchedule;
+use crate::record::GraphSchedule;
+use crate::record::Recorder;
+use crate::record::SensorColumns;
 use crate::scenario::explore::{ExploreConfig, Task};
 use crate::scenario::{Scenario, Sensing};
 use log::{Row, Summary};
@@ -83,7 +83,7 @@ pub struct Outcome {
     /// The true array pose at every whisk, for the recording.
     pub poses: Vec<Isometry3<f64>>,
     /// Each whisk's contacts (world), for the recording.
-    pub contacts: Vec<Vec<crate::recording::world::Contact>>,
+    pub contacts: Vec<Vec<crate::record::Contact>>,
     /// `contacts.csv`'s text: every registered contact of every whisk.
     pub contacts_csv: String,
     /// Each whisk's time (s).
@@ -166,7 +166,7 @@ struct Loop<'a> {
     fallbacks: BTreeMap<&'static str, usize>,
     time: f64,
     /// The recording, its map schedule and its buffered physics streams.
-    recording: Option<&'a Recording>,
+    recording: Option<&'a dyn Recorder>,
     graph: GraphSchedule,
     columns: Option<SensorColumns>,
 }
@@ -189,7 +189,7 @@ pub fn run_logged(
     plan: Plan,
     environment: &Environment,
     log: Option<crate::object_slam::physics::WhiskLog>,
-    recording: Option<&Recording>,
+    recording: Option<&dyn Recorder>,
 ) -> CliResult<Outcome> {
     let config = scenario
         .explore
@@ -309,7 +309,7 @@ pub fn run_logged(
             (Some(rec), Sensing::Physics) => Some(SensorColumns::new(
                 rec,
                 "sensors",
-                &crate::recording::world::labels(),
+                &whisker_sim::whisker::array::labels(),
             )?),
             _ => None,
         },

@@ -6,9 +6,8 @@
 
 use super::{Loop, Sensor};
 use crate::error::CliResult;
-use crate::recording::Recording;
-use crate::recording::slam::tiles6;
-use crate::recording::world::{Contact, ContactKind};
+use crate::record::Recorder;
+use crate::record::{Contact, ContactKind};
 use nalgebra::Isometry3;
 use whisker_slam::sensor::Sample;
 use whisker_slam::whisker_ratslam::slam::Step;
@@ -34,7 +33,11 @@ pub(super) struct Whisk<'a> {
 
 impl Loop<'_> {
     /// Logs the final map and the outcome (a line of the event log) at the end of the run.
-    pub(super) fn record_end(&mut self, rec: &Recording, summary: &serde_json::Value) -> CliResult {
+    pub(super) fn record_end(
+        &mut self,
+        rec: &dyn Recorder,
+        summary: &serde_json::Value,
+    ) -> CliResult {
         rec.at(self.time);
         // On the `whisk` timeline too: the state after the last whisk.
         let whisks = summary["iterations"].as_u64().unwrap_or(0);
@@ -60,7 +63,7 @@ impl Loop<'_> {
     }
 
     /// Logs whisk `w` to `rec`.
-    pub(super) fn record(&mut self, rec: &Recording, w: &Whisk) -> CliResult {
+    pub(super) fn record(&mut self, rec: &dyn Recorder, w: &Whisk) -> CliResult {
         let t = w.start;
         let k = w.iteration as u64;
         rec.at(t);
@@ -68,7 +71,7 @@ impl Loop<'_> {
         if let Some((goal, kind)) = w.goal {
             rec.goal(goal, kind)?;
         }
-        rec.log("world/array", &crate::recording::world::transform(w.pose))?;
+        rec.pose("world/array", w.pose)?;
         let (truth, shafts) = match &self.sensing {
             Sensor::Kinematic(a) => (crate::contacts::intersects(a), Some(a)),
             Sensor::Physics(p) => (
@@ -93,7 +96,7 @@ impl Loop<'_> {
         let te = t + w.period;
         rec.at(te);
         rec.at_step("whisk", k);
-        rec.pose_cells("slam/pose_cells", tiles6(&self.slam.cells.grid))?;
+        rec.pose_cells("slam/pose_cells", &self.slam.cells.grid)?;
         if self.graph.due(self.slam.map.experiences.len(), false) {
             rec.object_map(
                 "slam/map",

@@ -3,6 +3,7 @@
 use super::{CSV_NAME, SUMMARY_NAME, run_logged};
 use crate::error::{CliError, CliResult};
 use crate::plan::Plan;
+use crate::record::Context;
 use crate::scenario::Scenario;
 use crate::scenario::explore::{ExploreConfig, Task};
 use std::path::Path;
@@ -52,18 +53,25 @@ pub fn write(
     plan: Plan,
     environment: &Environment,
     dir: &Path,
-    rrd: &crate::recording::RrdArgs,
-    say: &mut dyn std::io::Write,
+    rrd: &crate::record::Target,
+    ctx: Context,
 ) -> CliResult {
-    let layout = crate::recording::blueprint::closed_loop();
-    let recording = crate::recording::Recording::for_scenario(file, scenario, dir, rrd, layout)?;
+    let recording =
+        ctx.scenario_recording(file, scenario, dir, rrd, crate::record::Layout::ClosedLoop)?;
     if let Some(rec) = &recording {
         rec.environment(environment)?;
     }
     let skeleton = plan.skeleton();
     let frames = plan.clone();
     let started = std::time::Instant::now();
-    let out = run_logged(scenario, file, plan, environment, None, recording.as_ref())?;
+    let out = run_logged(
+        scenario,
+        file,
+        plan,
+        environment,
+        None,
+        recording.as_deref(),
+    )?;
     let wall = started.elapsed().as_secs_f64();
     crate::output::write_atomic(&dir.join(CSV_NAME), out.csv.as_bytes())?;
     crate::output::write_atomic(&dir.join("contacts.csv"), out.contacts_csv.as_bytes())?;
@@ -82,27 +90,23 @@ pub fn write(
         rec.finish()?;
     }
     let s = &out.summary;
-    let _ = writeln!(
-        say,
-        "explored   {} whisks ({:.0} s simulated, {wall:.1} s wall): {} experiences, {} re-localisations into the loaded maps",
+    ctx.say(&format!("explored   {} whisks ({:.0} s simulated, {wall:.1} s wall): {} experiences, {} re-localisations into the loaded maps",
         s["iterations"],
         s["simulated_time_s"].as_f64().unwrap_or(0.0),
         s["experiences"],
         s["relocalisations"]
-    );
-    let _ = writeln!(say, "fallbacks  {}", s["fallbacks"]);
+    ));
+    ctx.say(&format!("fallbacks  {}", s["fallbacks"]));
     if let Some(r) = s["recognition"].as_object() {
-        let _ = writeln!(
-            say,
+        ctx.say(&format!(
             "recognised {} (true object {}): outcome {}, SRT {}, IM {}",
             r["identified"], s["object"], r["outcome"], r["srt"], r["im"]
-        );
+        ));
     }
     if let Some(m) = s["map_accuracy"].as_object() {
         let f = |v: &serde_json::Value| v.as_f64().unwrap_or(f64::NAN);
         let (a, r) = (&m["aligned"], &m["revisits"]);
-        let _ = writeln!(
-            say,
+        ctx.say(&format!(
             "map        {} experiences checked: max error {:.4} m, median {:.4} m, {} over 2 cm \
              (from the first); after a rigid fit {:.4} / {:.4} m, {} over 2 cm",
             m["experiences_checked"],
@@ -112,7 +116,7 @@ pub fn write(
             f(&a["max_error_m"]),
             f(&a["median_error_m"]),
             a["over_2cm"]
-        );
+        ));
         // Without revisits the medians are null: say so instead of printing NaN.
         let gap = match (
             r["median_distance_m"].as_f64(),
@@ -121,19 +125,17 @@ pub fn write(
             (Some(d), Some(a)) => format!("median gap {d:.3} m, {a:.0}°"),
             _ => "no gap to measure".to_owned(),
         };
-        let _ = writeln!(
-            say,
+        ctx.say(&format!(
             "revisits   {} re-localisations into this run's experiences, {} true (within 2 cm and \
              10° of where it was made); {gap}",
             r["count"], r["true"]
-        );
+        ));
     }
     let map = if out.map.is_some() { ", map.json" } else { "" };
     let rrd = crate::run::recording_name(rrd, dir, scenario);
-    let _ = writeln!(
-        say,
+    ctx.say(&format!(
         "wrote      {}/{{{CSV_NAME}, {SUMMARY_NAME}, contacts.csv{map}{rrd}}}",
         dir.display()
-    );
+    ));
     Ok(())
 }

@@ -28,7 +28,7 @@
 use crate::characterize::BendingArg;
 use crate::error::{CliError, CliResult};
 use crate::object_slam::SensingArg;
-use crate::recording::{Recording, RrdArgs};
+use crate::record::{Context, Layout, Recorder, Target};
 use crate::scenario::Scenario;
 use crate::scenario::overrides::Override;
 use path::Sample;
@@ -112,7 +112,7 @@ pub struct Options {
     #[arg(long, conflicts_with_all = ["seeds", "images", "sensing", "rcp", "bending", "segments", "substeps", "set"])]
     pub dataset: Option<PathBuf>,
     #[command(flatten)]
-    pub rrd: RrdArgs,
+    pub rrd: Target,
 }
 
 impl Options {
@@ -134,7 +134,7 @@ impl Options {
             substeps: None,
             set: Vec::new(),
             dataset: None,
-            rrd: RrdArgs::default(),
+            rrd: Target::default(),
         }
     }
 }
@@ -256,20 +256,25 @@ fn without<T: Copy>(v: &[T], cut: &std::ops::Range<usize>) -> Vec<T> {
 }
 
 /// `whisker maze-slam`.
-pub fn run(o: &Options) -> CliResult {
+pub fn run(o: &Options, ctx: Context) -> CliResult {
     if let Some(dir) = &o.dataset {
         let manifest = crate::dataset::manifest::Manifest::read(dir)?;
-        return replay(o, dir, &manifest);
+        return replay(o, dir, &manifest, ctx);
     }
     let scenario = Scenario::load_with(&o.scenario, &o.set)?;
-    let results = evaluate(o, &scenario)?;
+    let results = evaluate(o, &scenario, ctx)?;
     report(&results, o.json);
     Ok(())
 }
 
 /// `whisker maze-slam --dataset DIR` (and `whisker slam DIR`): RatSLAM from the dataset
 /// in `dir`, whose manifest is `manifest`; the tunings and `--kidnap` of `o` apply.
-pub fn replay(o: &Options, dir: &Path, manifest: &crate::dataset::manifest::Manifest) -> CliResult {
+pub fn replay(
+    o: &Options,
+    dir: &Path,
+    manifest: &crate::dataset::manifest::Manifest,
+    ctx: Context,
+) -> CliResult {
     if manifest.experiment != crate::dataset::manifest::Experiment::MazeSlam {
         return Err(CliError::Input(format!(
             "{}: not a maze-slam dataset",
@@ -288,10 +293,11 @@ pub fn replay(o: &Options, dir: &Path, manifest: &crate::dataset::manifest::Mani
     let kidnap = kidnap || o.kidnap;
     let sets: Vec<String> = sensed.image_sets.iter().map(|(n, _)| n.clone()).collect();
     let stem = dir.file_name().unwrap_or_default().to_string_lossy();
-    let recording = open_recording(o, true, &stem, &[sensed.seed], &sets, &tunings, kidnap)?;
+    let runs = run_names(&[sensed.seed], &sets, &tunings, kidnap);
+    let recording = open_recording(o, ctx, true, &stem, &[sensed.seed], runs)?;
     let plane = Plane {
         z: 0.0,
-        recording: recording.as_ref(),
+        recording: recording.as_deref(),
     };
     let results = run_sensed(&sensed, &tunings, kidnap, o.out.as_deref(), &plane)?;
     if let Some(rec) = recording {
@@ -305,7 +311,7 @@ pub fn replay(o: &Options, dir: &Path, manifest: &crate::dataset::manifest::Mani
 pub struct Plane<'a> {
     /// Height of the array's plane (m; 0 from a dataset).
     pub z: f64,
-    pub recording: Option<&'a Recording>,
+    pub recording: Option<&'a dyn Recorder>,
 }
 
 /// The names of the runs of `seeds` × variants × image `sets` × `tunings`, as
@@ -352,25 +358,27 @@ fn tuning_tag(params: &RatSlamParams, sweep: bool) -> String {
 /// The recording of a maze-slam (`--rrd`, else `run.rrd` in `--out` when `default_on`).
 fn open_recording(
     o: &Options,
+    ctx: Context,
     default_on: bool,
     stem: &str,
     seeds: &[u64],
-    sets: &[String],
-    tunings: &[RatSlamParams],
-    kidnap: bool,
-) -> CliResult<Option<Recording>> {
+    runs: Vec<String>,
+) -> CliResult<Option<Box<dyn Recorder>>> {
     let Some(path) = o.rrd.path(o.out.as_deref(), default_on) else {
         return Ok(None);
     };
-    let runs = run_names(seeds, sets, tunings, kidnap);
-    let layout = crate::recording::blueprint::slam_runs(&runs, true, "update");
+    let layout = Layout::SlamRuns {
+        runs,
+        images: true,
+        timeline: "update",
+    };
     let seeds: Vec<String> = seeds.iter().map(u64::to_string).collect();
     let id = o
         .rrd
         .id
         .clone()
         .unwrap_or_else(|| format!("{stem}-seed{}", seeds.join(",")));
-    Recording::create(&path, &id, layout).map(Some)
+    ctx.recordings.create(&path, &id, layout).map(Some)
 }
 
 /// One trial of a batch (`trials.experiment = "maze-slam"`): `whisker maze-slam` of the
@@ -380,15 +388,15 @@ pub fn trial(
     file: &Path,
     scenario: &Scenario,
     dir: &Path,
-    rrd: &RrdArgs,
-    say: &mut dyn std::io::Write,
+    rrd: &Target,
+    ctx: Context,
 ) -> CliResult {
     let mut o = Options::of(file);
     o.rrd = rrd.clone();
     o.seeds = Some(vec![scenario.seed]);
     o.out = Some(dir.to_path_buf());
     o.json = true;
-    let results = evaluate(&o, scenario)?;
+    let results = evaluate(&o, scenario, ctx)?;
     let mut summary = serde_json::Map::new();
     summary.insert("seed".into(), json!(scenario.seed));
     for r in &results {
@@ -405,34 +413,31 @@ pub fn trial(
     }
     let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
     crate::output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
-    let _ = writeln!(say, "{}", json!({ "runs": results }));
+    ctx.say(&json!({ "runs": results }).to_string());
     Ok(())
 }
 
 /// The runs of `whisker maze-slam` with options `o` on `scenario` (read from `o.scenario`):
 /// one JSON object per seed, variant, image set and tuning.
-pub fn evaluate(o: &Options, scenario: &Scenario) -> CliResult<Vec<serde_json::Value>> {
+pub fn evaluate(
+    o: &Options,
+    scenario: &Scenario,
+    ctx: Context,
+) -> CliResult<Vec<serde_json::Value>> {
     let setup = Setup::new(o, scenario)?;
     let environment = scenario.environment(&o.scenario)?.environment;
     let tunings = tunings(scenario.maze_slam.ratslam, o)?;
     let kidnap = o.kidnap || scenario.maze_slam.kidnap;
     let seeds = o.seeds.clone().unwrap_or(vec![scenario.seed]);
     let stem = o.scenario.file_stem().unwrap_or_default().to_string_lossy();
-    let recording = open_recording(
-        o,
-        scenario.output.recording,
-        &stem,
-        &seeds,
-        &setup.set_names,
-        &tunings,
-        kidnap,
-    )?;
+    let runs = run_names(&seeds, &setup.set_names, &tunings, kidnap);
+    let recording = open_recording(o, ctx, scenario.output.recording, &stem, &seeds, runs)?;
     if let Some(rec) = &recording {
         rec.environment(&environment)?;
     }
     let plane = Plane {
         z: setup.geometry.plane_z,
-        recording: recording.as_ref(),
+        recording: recording.as_deref(),
     };
     // The kinematic sweep's target (a BVH of the world mesh), built once for all seeds.
     let target = std::cell::OnceCell::new();

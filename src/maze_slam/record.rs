@@ -7,8 +7,7 @@
 use super::UPDATE_HZ;
 use super::path::Sample;
 use crate::error::CliResult;
-use crate::recording::Recording;
-use crate::recording::slam::{Graph, GraphSchedule, max_projection};
+use crate::record::{Graph, GraphSchedule, Recorder};
 use nalgebra::{Isometry3, Translation3};
 use whisker_slam::ratslam::experience_map::{MapEvent, Pose2};
 use whisker_slam::ratslam::local_view::TactileImage;
@@ -16,7 +15,7 @@ use whisker_slam::ratslam::{RatSlam, Step};
 
 /// The recording of one run.
 pub struct RunRecording<'a> {
-    pub rec: &'a Recording,
+    pub rec: &'a dyn Recorder,
     /// The run's name (`<images>-<variant>[-t<threshold>-e<energy>]-s<seed>`).
     pub name: String,
     /// Height at which paths are drawn (the array's plane, m).
@@ -26,7 +25,7 @@ pub struct RunRecording<'a> {
 
 /// A run's name as an entity path segment.
 pub fn run_name(images: &str, variant: &str, tuning: &str, seed: u64) -> String {
-    crate::recording::world::entity_name(&format!("{images}-{variant}{tuning}-s{seed}"))
+    crate::record::entity_name(&format!("{images}-{variant}{tuning}-s{seed}"))
 }
 
 impl RunRecording<'_> {
@@ -52,10 +51,7 @@ impl RunRecording<'_> {
         let (rec, run) = (self.rec, self.name.as_str());
         self.at(k);
         rec.tactile_image(&format!("slam/{run}/tactile_image"), image)?;
-        rec.pose_cells(
-            &format!("slam/{run}/pose_cells"),
-            max_projection(&slam.cells.grid, 0, 1),
-        )?;
+        rec.pose_cells(&format!("slam/{run}/pose_cells"), &slam.cells.grid)?;
         if self.graph.due(slam.map.experiences.len(), last) {
             rec.graph(
                 &format!("slam/{run}/map"),
@@ -75,10 +71,7 @@ impl RunRecording<'_> {
         }
         if let Some(t) = truth {
             let p = self.point(t);
-            rec.log(
-                format!("world/runs/{run}/array"),
-                &rerun::Points3D::new([p.map(|v| v as f32)]).with_radii([0.006]),
-            )?;
+            rec.marker(&format!("world/runs/{run}/array"), p, 0.006, None)?;
             if step.event == MapEvent::Relocalised {
                 let at =
                     Isometry3::from_parts(Translation3::new(p[0], p[1], p[2]), Default::default());

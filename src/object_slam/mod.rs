@@ -37,6 +37,7 @@ mod trajectory;
 pub use trajectory::{Placement, Trajectory, mean_step};
 
 use crate::error::{CliError, CliResult};
+use crate::record::Context;
 use nalgebra::{Isometry3, Point3};
 use physics::PhysicsSensing;
 use rayon::prelude::*;
@@ -100,7 +101,7 @@ pub struct Options {
     #[arg(long, conflicts_with_all = ["objects", "seed", "sensing", "radial_model", "placement"])]
     pub dataset: Option<PathBuf>,
     #[command(flatten)]
-    pub rrd: crate::recording::RrdArgs,
+    pub rrd: crate::record::Target,
 }
 
 /// `--slam`.
@@ -373,16 +374,16 @@ fn params(combo: Combo, slam: SlamArg) -> Params {
 }
 
 /// `whisker object-slam`.
-pub fn run(o: &Options) -> CliResult {
+pub fn run(o: &Options, ctx: Context) -> CliResult {
     if let Some(dir) = &o.dataset {
         let manifest = crate::dataset::manifest::Manifest::read(dir)?;
         let data = crate::dataset::object::read(dir, &manifest)?;
         let mut o = o.clone();
         o.seed = manifest.seed;
-        return analyse(&o, &data);
+        return analyse(&o, &data, ctx);
     }
     let data = sense(o, true, None)?;
-    analyse(o, &data)
+    analyse(o, &data, ctx)
 }
 
 /// The catalogue objects named by `--objects` (all eight when none).
@@ -451,7 +452,7 @@ pub fn sense(
 }
 
 /// Localisation and identification on sensed walks (§5.2.2): reports and `--out` files.
-pub fn analyse(o: &Options, data: &[Sensed]) -> CliResult {
+pub fn analyse(o: &Options, data: &[Sensed], ctx: Context) -> CliResult {
     if let Some(dir) = &o.out {
         crate::output::create_dir(dir)?;
     }
@@ -523,7 +524,7 @@ pub fn analyse(o: &Options, data: &[Sensed]) -> CliResult {
         })
         .collect();
     let identification = report::identification(o, data, &mapped, &id_results)?;
-    record::write(o, data, &id_results)?;
+    record::write(o, data, &id_results, ctx)?;
     if o.json {
         println!(
             "{}",

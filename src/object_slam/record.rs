@@ -13,9 +13,7 @@
 
 use super::{Combo, IdentificationRun, Options, Sensed, Walk, anticipated, features, params};
 use crate::error::CliResult;
-use crate::recording::slam::{GraphSchedule, tiles6};
-use crate::recording::world::{Contact, ContactKind};
-use crate::recording::{self, Recording, f32x3};
+use crate::record::{Contact, ContactKind, Context, GraphSchedule, Layout, Recorder};
 use nalgebra::Isometry3;
 use whisker_sim::environment::assets::generate;
 use whisker_sim::sensing::kinematic::SweepTarget;
@@ -31,6 +29,7 @@ pub(super) fn write(
     o: &Options,
     data: &[Sensed],
     identification: &[IdentificationRun],
+    ctx: Context,
 ) -> CliResult {
     let Some(path) = o.rrd.path(o.out.as_deref(), true) else {
         return Ok(());
@@ -39,26 +38,23 @@ pub(super) fn write(
         .iter()
         .flat_map(|(a, ..)| [format!("{}-A", a.name), format!("{}-B", a.name)])
         .collect();
-    let layout = recording::blueprint::slam_runs(&runs, false, "whisk");
-    let rec = Recording::create(&path, &recording::id("object-slam", o.seed), layout)?;
+    let layout = Layout::SlamRuns {
+        runs,
+        images: false,
+        timeline: "whisk",
+    };
+    let rec = ctx
+        .recordings
+        .create(&path, &crate::record::id("object-slam", o.seed), layout)?;
     let modules = array::modules();
     for (k, (asset, a, b, _)) in data.iter().enumerate() {
         let frame = format!("world/objects/{}", asset.name);
-        rec.log_static(
-            frame.as_str(),
-            &rerun::Transform3D::from_translation([0.0, (SPACING_M * k as f64) as f32, 0.0]),
-        )?;
+        rec.frame(&frame, [0.0, SPACING_M * k as f64, 0.0])?;
         let mesh = generate(asset);
-        let positions: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| f32x3(&v.coords)).collect();
-        rec.log_static(
-            format!("{frame}/mesh"),
-            &rerun::Mesh3D::new(positions)
-                .with_triangle_indices(mesh.triangles.iter().copied())
-                .with_albedo_factor(rerun::Rgba32::from_unmultiplied_rgba(150, 150, 170, 255)),
-        )?;
+        rec.mesh(&format!("{frame}/mesh"), &mesh, [150, 150, 170])?;
         let target = SweepTarget::new(mesh);
         let walk = Walked {
-            rec: &rec,
+            rec: rec.as_ref(),
             frame: &frame,
             target: &target,
             modules: &modules,
@@ -84,7 +80,7 @@ pub(super) fn write(
 
 /// The recording of one object's walks.
 struct Walked<'a> {
-    rec: &'a Recording,
+    rec: &'a dyn Recorder,
     frame: &'a str,
     target: &'a SweepTarget,
     modules: &'a [Module],
@@ -103,7 +99,7 @@ impl Walked<'_> {
         for (k, (cycle, odo)) in walk.cycles.iter().zip(&walk.odometry).enumerate() {
             let step = slam.step(&features(cycle, Combo::BEST.contact, self.modules), odo);
             rec.at_step("whisk", k as u64);
-            rec.pose_cells(&format!("slam/{run}/pose_cells"), tiles6(&slam.cells.grid))?;
+            rec.pose_cells(&format!("slam/{run}/pose_cells"), &slam.cells.grid)?;
             if graph.due(slam.map.experiences.len(), k + 1 == n) {
                 rec.object_map(
                     &format!("slam/{run}/map"),
@@ -115,19 +111,16 @@ impl Walked<'_> {
             if let Some(origin) = &self.origin {
                 // The estimate: the current experience's map pose relative to the first.
                 let estimate = origin * slam.map.pose(0).inverse() * slam.map.pose(step.experience);
-                rec.log(
-                    format!("{frame}/{which}/estimated"),
-                    &rerun::Points3D::new([f32x3(&estimate.translation.vector)])
-                        .with_radii([0.004])
-                        .with_colors([rerun::Color::from_rgb(255, 140, 0)]),
+                rec.marker(
+                    &format!("{frame}/{which}/estimated"),
+                    estimate.translation.vector.into(),
+                    0.004,
+                    Some([255, 140, 0]),
                 )?;
             }
             if let (Some(truth), Some(anticipated)) = (&walk.truth, &truth_cycles) {
                 let pose = &truth[k];
-                rec.log(
-                    format!("{frame}/{which}/array"),
-                    &crate::recording::world::transform(pose),
-                )?;
+                rec.pose(&format!("{frame}/{which}/array"), pose)?;
                 let world = |c: &whisker_slam::contact::ContactCycle| -> Vec<Contact> {
                     c.contacts
                         .iter()

@@ -20,6 +20,7 @@
 
 use crate::error::{CliError, CliResult};
 use crate::output::write_atomic;
+use crate::record::Context;
 use nalgebra::{Isometry3, Point3, Vector3};
 use rand::RngExt;
 use rayon::prelude::*;
@@ -87,7 +88,7 @@ pub struct GenerateOptions {
     #[arg(long, default_value_t = DEFAULT_SUBSTEPS)]
     pub substeps: usize,
     #[command(flatten)]
-    pub rrd: crate::recording::RrdArgs,
+    pub rrd: crate::record::Target,
 }
 
 /// A candidate pose: whiskers touching at ≤ 0.7 L, the pose, (whisker, intersect) of all touching.
@@ -315,7 +316,7 @@ fn run_job(job: &Job, seed: u64, params: &FrontEndParams, keep: bool) -> Outcome
 }
 
 /// Runs `whisker radial generate`.
-pub fn run(o: &GenerateOptions) -> CliResult {
+pub fn run(o: &GenerateOptions, ctx: Context) -> CliResult {
     let jobs = match o.set {
         Set::Training => training_jobs(o)?,
         Set::Validation => validation_jobs(o)?,
@@ -355,7 +356,7 @@ pub fn run(o: &GenerateOptions) -> CliResult {
         })
         .collect();
     if let Some(path) = &recording {
-        record(path, o, &jobs, &outcomes)?;
+        record(path, o, &jobs, &outcomes, ctx)?;
     }
     let missed: usize = outcomes.iter().map(|o| o.missed).sum();
     let samples: Vec<RadialSample> = outcomes.into_iter().flat_map(|o| o.samples).collect();
@@ -388,24 +389,22 @@ fn record(
     o: &GenerateOptions,
     jobs: &[Job],
     outcomes: &[Outcome],
+    ctx: Context,
 ) -> CliResult {
-    use crate::recording::{self, Recording, sensors::SensorColumns, world};
-    let rec = Recording::create(
+    use crate::record::{Contact, ContactKind, Layout, SensorColumns, entity_name, id};
+    let rec = ctx.recordings.create(
         path,
-        &recording::id(&format!("radial-{:?}", o.set).to_lowercase(), o.seed),
-        recording::blueprint::cases(),
+        &id(&format!("radial-{:?}", o.set).to_lowercase(), o.seed),
+        Layout::Cases,
     )?;
     for (k, (job, out)) in jobs.iter().zip(outcomes).enumerate() {
-        let case = world::entity_name(&job.case);
+        let case = entity_name(&job.case);
         let frame = format!("world/cases/{case}");
         let (x, y) = (
             (k % 20) as f64 * JOB_SPACING_M,
             (k / 20) as f64 * JOB_SPACING_M,
         );
-        rec.log_static(
-            frame.as_str(),
-            &rerun::Transform3D::from_translation([x as f32, y as f32, 0.0]),
-        )?;
+        rec.frame(&frame, [x, y, 0.0])?;
         rec.environment_in(
             &format!("{frame}/environment"),
             &Environment {
@@ -416,22 +415,28 @@ fn record(
         rec.at(0.0);
         rec.contacts_in(
             &format!("{frame}/contacts"),
-            world::ContactKind::True,
+            ContactKind::True,
             k as u64,
-            &[world::Contact {
+            &[Contact {
                 whisker: job.config.module.index,
                 point: [p.x, p.y, p.z],
             }],
         )?;
         let label = job.config.module.pixel();
         let mut columns = SensorColumns::new(
-            &rec,
+            rec.as_ref(),
             &format!("sensors/{case}"),
             std::slice::from_ref(&label),
         )?;
         // RCP state is not kept by a whisk cycle.
-        columns.push_streams(&rec, 0.0, 0, std::slice::from_ref(&out.streams), None)?;
-        columns.send(&rec)?;
+        columns.push_streams(
+            rec.as_ref(),
+            0.0,
+            0,
+            std::slice::from_ref(&out.streams),
+            None,
+        )?;
+        columns.send(rec.as_ref())?;
         rec.checkpoint()?;
     }
     rec.finish()

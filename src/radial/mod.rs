@@ -24,9 +24,9 @@ pub enum RadialCommand {
 }
 
 /// Runs a `whisker radial` subcommand.
-pub fn run(command: &RadialCommand) -> CliResult {
+pub fn run(command: &RadialCommand, ctx: crate::record::Context) -> CliResult {
     match command {
-        RadialCommand::Generate(o) => generate::run(o),
+        RadialCommand::Generate(o) => generate::run(o, ctx),
         RadialCommand::Train(o) => train::run(o),
         RadialCommand::Eval(o) => eval::run(o),
     }

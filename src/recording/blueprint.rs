@@ -2,6 +2,7 @@
 //! and made active, so that `rerun FILE.rrd` shows them): the 3-D scene on the left, the
 //! command's own panels on the right.
 
+use crate::record::Layout;
 use rerun::blueprint::{
     Blueprint, ContainerLike, Horizontal, Spatial2DView, Spatial3DView, Tabs, TextLogView,
     TimePanel, TimeSeriesView, Vertical,
@@ -31,11 +32,25 @@ fn sensor_tabs(labels: &[String]) -> ContainerLike {
     .into()
 }
 
+/// The blueprint of `layout`.
+pub fn of(layout: &Layout) -> Blueprint {
+    match layout {
+        Layout::Run { physics } => run(*physics),
+        Layout::Cases => cases(),
+        Layout::ClosedLoop => closed_loop(),
+        Layout::SlamRuns {
+            runs,
+            images,
+            timeline,
+        } => slam_runs(runs, *images, timeline),
+    }
+}
+
 /// `whisker run` without a closed loop: the scene, and with physics whiskers their
 /// streams (a tab per whisker). (Such runs log no events.)
-pub fn run(physics: bool) -> Blueprint {
+fn run(physics: bool) -> Blueprint {
     let panels = if physics {
-        vec![sensor_tabs(&super::world::labels())]
+        vec![sensor_tabs(&whisker_sim::whisker::array::labels())]
     } else {
         Vec::new()
     };
@@ -44,7 +59,7 @@ pub fn run(physics: bool) -> Blueprint {
 
 /// `whisker soak` and `radial generate`: the scene (cases side by side) and every case's
 /// streams in one time-series view (`sensors/<case>/<label>`).
-pub fn cases() -> Blueprint {
+fn cases() -> Blueprint {
     layout(
         vec![
             TimeSeriesView::new("Whisker streams")
@@ -57,7 +72,7 @@ pub fn cases() -> Blueprint {
 
 /// A closed loop (Ch 6): the scene; confidence over time; the object map and the pose
 /// cells; the event log.
-pub fn closed_loop() -> Blueprint {
+fn closed_loop() -> Blueprint {
     layout(
         vec![
             TimeSeriesView::new("Confidence")
@@ -80,7 +95,7 @@ pub fn closed_loop() -> Blueprint {
 
 /// A SLAM command over several runs (`maze-slam`, `object-slam`): per run (`slam/<run>`)
 /// a tab with its sensory input image (when `images`), pose cells and map.
-pub fn slam_runs(runs: &[String], images: bool, timeline: &str) -> Blueprint {
+fn slam_runs(runs: &[String], images: bool, timeline: &str) -> Blueprint {
     let tabs = Tabs::new(runs.iter().map(|r| {
         let mut row: Vec<ContainerLike> = Vec::new();
         if images {

@@ -1,5 +1,6 @@
 //! The Rerun recordings (`.rrd`) of every command that simulates or runs SLAM, for
-//! headless inspection: open one later with `rerun FILE.rrd`. The entity tree, one row per
+//! headless inspection: open one later with `rerun FILE.rrd`. [`Rerun`] makes them: it
+//! implements the experiments' recording interface (`crate::record`). The entity tree, one row per
 //! entity (path, archetype, timeline, rate), is documented in `docs/recording.md`; its
 //! entities are written by [`world`] (the scene), [`sensors`] (the 2 kHz streams),
 //! [`slam`] (the SLAM state and the closed loop's decisions) and read back by [`decode`].
@@ -24,39 +25,23 @@ use crate::error::{CliError, CliResult};
 use crate::output;
 use std::path::{Path, PathBuf};
 
-/// Steps (SLAM updates, whisks) between checkpoints.
-pub const STEPS_PER_CHECKPOINT: usize = 50;
+pub use crate::record::SIM_TIME;
+use crate::record::{Contact, ContactKind, Graph, Layout, Recorder, Recordings};
+use nalgebra::Isometry3;
+use whisker_sim::environment::{Environment, Mesh};
+use whisker_slam::pose_grid::PoseGrid;
+use whisker_slam::ratslam::local_view::TactileImage;
 
-/// The simulated-time timeline (seconds, stored as a duration).
-pub const SIM_TIME: &str = "sim_time";
+/// Makes Rerun recordings.
+pub struct Rerun;
 
-/// `--rrd FILE` / `--no-rrd`: where a command writes its recording.
-#[derive(clap::Args, Debug, Clone, Default)]
-pub struct RrdArgs {
-    /// Write the Rerun recording to FILE [default: run.rrd in the output directory].
-    #[arg(long, value_name = "FILE")]
-    pub rrd: Option<PathBuf>,
-    /// Write no Rerun recording.
-    #[arg(long, conflicts_with = "rrd")]
-    pub no_rrd: bool,
-    /// The recording id, when not the default `<scenario>-seed<seed>` (a batch trial's
-    /// names its trial).
-    #[arg(skip)]
-    pub id: Option<String>,
-}
-
-impl RrdArgs {
-    /// The recording's path: `--rrd`, else `run.rrd` in `dir` (the command's output
-    /// directory, when it has one and `default_on`), else none.
-    pub fn path(&self, dir: Option<&Path>, default_on: bool) -> Option<PathBuf> {
-        if self.no_rrd {
-            return None;
-        }
-        match (&self.rrd, dir) {
-            (Some(p), _) => Some(p.clone()),
-            (None, Some(d)) if default_on => Some(d.join("run.rrd")),
-            _ => None,
-        }
+impl Recordings for Rerun {
+    fn create(&self, path: &Path, id: &str, layout: Layout) -> CliResult<Box<dyn Recorder>> {
+        Ok(Box::new(Recording::create(
+            path,
+            id,
+            blueprint::of(&layout),
+        )?))
     }
 }
 
@@ -74,11 +59,6 @@ pub struct Recording {
 
 pub(crate) fn fail(path: &Path, e: impl std::fmt::Display) -> CliError {
     CliError::Failure(format!("cannot write recording {}: {e}", path.display()))
-}
-
-/// The recording id of `name` (a scenario's file stem, or a command) with `seed`.
-pub fn id(name: &str, seed: u64) -> String {
-    format!("{name}-seed{seed}")
 }
 
 impl Recording {
@@ -110,23 +90,6 @@ impl Recording {
         };
         rec.log_static("world", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
         Ok(rec)
-    }
-
-    /// The recording `run.rrd` of a scenario run into `dir` (named after the file and the
-    /// seed) unless `rrd` or the scenario switch it off; `--rrd` chooses another file.
-    pub fn for_scenario(
-        file: &Path,
-        scenario: &crate::scenario::Scenario,
-        dir: &Path,
-        rrd: &RrdArgs,
-        layout: rerun::blueprint::Blueprint,
-    ) -> CliResult<Option<Self>> {
-        let Some(path) = rrd.path(Some(dir), scenario.output.recording) else {
-            return Ok(None);
-        };
-        let stem = file.file_stem().unwrap_or_default().to_string_lossy();
-        let name = rrd.id.clone().unwrap_or_else(|| id(&stem, scenario.seed));
-        Self::create(&path, &name, layout).map(Some)
     }
 
     /// Where the recording will be.
@@ -204,16 +167,6 @@ impl Recording {
         )
     }
 
-    /// Marks the end of step `k` (a SLAM update, a whisk) of a command: every
-    /// [`STEPS_PER_CHECKPOINT`]-th is a checkpoint. (A chunk per entity per step would
-    /// cost more in chunk headers than in data.)
-    pub fn step_done(&self, k: usize) -> CliResult {
-        if (k + 1).is_multiple_of(STEPS_PER_CHECKPOINT) {
-            self.checkpoint()?;
-        }
-        Ok(())
-    }
-
     /// Writes what has been logged so far (a fixed point of the simulation).
     pub fn checkpoint(&self) -> CliResult {
         self.stream
@@ -222,7 +175,7 @@ impl Recording {
     }
 
     /// Completes the file and moves it into place.
-    pub fn finish(mut self) -> CliResult {
+    pub fn finish_file(mut self) -> CliResult {
         self.checkpoint()?;
         self.stream.disconnect();
         self.finished = true;
@@ -242,4 +195,110 @@ impl Drop for Recording {
 /// An `[f32; 3]` of a point or vector in metres.
 pub(crate) fn f32x3(v: &nalgebra::Vector3<f64>) -> [f32; 3] {
     [v.x as f32, v.y as f32, v.z as f32]
+}
+
+/// The experiments' recording interface on Rerun: each method logs the archetypes
+/// `docs/recording.md` lists for its entities.
+impl Recorder for Recording {
+    fn at(&self, t: f64) {
+        Recording::at(self, t)
+    }
+    fn at_step(&self, timeline: &'static str, k: u64) {
+        Recording::at_step(self, timeline, k)
+    }
+    fn checkpoint(&self) -> CliResult {
+        Recording::checkpoint(self)
+    }
+    fn finish(self: Box<Self>) -> CliResult {
+        self.finish_file()
+    }
+    fn event(&self, text: &str) -> CliResult {
+        Recording::event(self, text)
+    }
+    fn frame(&self, entity: &str, translation: [f64; 3]) -> CliResult {
+        self.log_static(
+            entity,
+            &rerun::Transform3D::from_translation(translation.map(|v| v as f32)),
+        )
+    }
+    fn mesh(&self, entity: &str, mesh: &Mesh, colour: [u8; 3]) -> CliResult {
+        let positions: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| f32x3(&v.coords)).collect();
+        let [r, g, b] = colour;
+        self.log_static(
+            entity,
+            &rerun::Mesh3D::new(positions)
+                .with_triangle_indices(mesh.triangles.iter().copied())
+                .with_albedo_factor(rerun::Rgba32::from_unmultiplied_rgba(r, g, b, 255)),
+        )
+    }
+    fn environment_in(&self, prefix: &str, environment: &Environment) -> CliResult {
+        Recording::environment_in(self, prefix, environment)
+    }
+    fn waypoints(&self, tips: &[Isometry3<f64>]) -> CliResult {
+        Recording::waypoints(self, tips)
+    }
+    fn arm(&self, t: f64, links: &[Isometry3<f64>], tip: &Isometry3<f64>) -> CliResult {
+        Recording::arm(self, t, links, tip)
+    }
+    fn pose(&self, entity: &str, pose: &Isometry3<f64>) -> CliResult {
+        self.log(entity, &world::transform(pose))
+    }
+    fn tip_path(&self, path: &[Isometry3<f64>]) -> CliResult {
+        Recording::tip_path(self, path)
+    }
+    fn shafts_at(&self, entity: &str, t: f64, shafts: &[Vec<[f64; 3]>]) -> CliResult {
+        Recording::shafts_at(self, entity, t, shafts)
+    }
+    fn contacts_in(
+        &self,
+        prefix: &str,
+        kind: ContactKind,
+        cycle: u64,
+        contacts: &[Contact],
+    ) -> CliResult {
+        Recording::contacts_in(self, prefix, kind, cycle, contacts)
+    }
+    fn marker(
+        &self,
+        entity: &str,
+        point: [f64; 3],
+        radius: f64,
+        colour: Option<[u8; 3]>,
+    ) -> CliResult {
+        let points = rerun::Points3D::new([point.map(|v| v as f32)]).with_radii([radius as f32]);
+        match colour {
+            Some([r, g, b]) => self.log(
+                entity,
+                &points.with_colors([rerun::Color::from_rgb(r, g, b)]),
+            ),
+            None => self.log(entity, &points),
+        }
+    }
+    fn trajectory(&self, entity: &str, points: &[[f64; 3]], colour: [u8; 3]) -> CliResult {
+        Recording::trajectory(self, entity, points, colour)
+    }
+    fn relocalisation(&self, entity: &str, at: &Isometry3<f64>, text: &str) -> CliResult {
+        Recording::relocalisation(self, entity, at, text)
+    }
+    fn goal(&self, pose: &Isometry3<f64>, kind: &str) -> CliResult {
+        Recording::goal(self, pose, kind)
+    }
+    fn tactile_image(&self, entity: &str, image: &TactileImage) -> CliResult {
+        Recording::tactile_image(self, entity, image)
+    }
+    fn pose_cells(&self, entity: &str, grid: &PoseGrid) -> CliResult {
+        Recording::pose_cells(self, entity, grid)
+    }
+    fn graph(&self, entity: &str, graph: &Graph) -> CliResult {
+        Recording::graph(self, entity, graph)
+    }
+    fn scalar(&self, entity: &str, value: f64) -> CliResult {
+        Recording::scalar(self, entity, value)
+    }
+    fn sensor_series(&self, entity: &str) -> CliResult {
+        Recording::sensor_series(self, entity)
+    }
+    fn sensor_columns(&self, entity: &str, times: &[f64], values: Vec<f64>) -> CliResult {
+        Recording::sensor_columns(self, entity, times, values)
+    }
 }

@@ -10,14 +10,10 @@
 
 use super::Recording;
 use crate::error::CliResult;
+use crate::record::Graph;
 use nalgebra::Isometry3;
 use whisker_slam::pose_grid::PoseGrid;
 use whisker_slam::ratslam::local_view::{COLUMNS, ROWS, TactileImage};
-use whisker_slam::whisker_ratslam::object_map::ObjectMap;
-
-/// Experiences of a map logged in full at most about this often: every update while the
-/// map is small, then every k-th with k growing with the map (bounding the file).
-const GRAPH_BUDGET: usize = 100;
 
 /// The maxima of `grid` over every axis but each pair (a, b) of `pairs`: per pair a
 /// `dims[a]` × `dims[b]` image (a across, b down, row-major), scaled to its own maximum
@@ -78,64 +74,6 @@ pub fn tiles6(grid: &PoseGrid) -> (usize, usize, Vec<f32>) {
     (w, h, out)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The one-pass projection equals the definition: the maximum over every cell whose
-    /// coordinates (by the grid's own `coords`) on the two axes are the pixel's.
-    #[test]
-    fn projections_are_the_maxima_over_the_other_axes() {
-        let mut grid = PoseGrid::new(&[3, 4, 2, 5]);
-        for (k, v) in grid.cells.iter_mut().enumerate() {
-            *v = ((k * 7919) % 97) as f64;
-        }
-        for (a, b) in [(0, 1), (1, 0), (2, 3), (0, 3)] {
-            let (w, h, got) = max_projection(&grid, a, b);
-            let mut want = vec![0.0f64; w * h];
-            for (k, &v) in grid.cells.iter().enumerate() {
-                let c = grid.coords(k);
-                want[c[b] * w + c[a]] = want[c[b] * w + c[a]].max(v);
-            }
-            let max = want.iter().cloned().fold(0.0, f64::max);
-            for (g, x) in got.iter().zip(&want) {
-                assert!((*g as f64 - x / max).abs() < 1e-6, "axes {a},{b}");
-            }
-        }
-    }
-}
-
-/// One experience graph: positions (map frame, m) and links.
-pub struct Graph<'a> {
-    /// Each experience's position (x, y) in the map, m.
-    pub positions: Vec<[f64; 2]>,
-    /// Each link (from, to).
-    pub links: Vec<(usize, usize)>,
-    /// The current experience.
-    pub current: Option<usize>,
-    /// The experience the strategy is heading for.
-    pub target: Option<usize>,
-    /// Each experience's object (appended maps), for the label.
-    pub objects: Option<&'a [Option<String>]>,
-}
-
-/// Decides which updates log the whole map ([`GRAPH_BUDGET`]): the first, then every
-/// (1 + n / budget)-th for a map of n experiences, and the last.
-#[derive(Debug, Default)]
-pub struct GraphSchedule {
-    updates: usize,
-}
-
-impl GraphSchedule {
-    /// Whether to log the map of `experiences` at this update (always when `last`).
-    pub fn due(&mut self, experiences: usize, last: bool) -> bool {
-        let every = 1 + experiences / GRAPH_BUDGET;
-        let due = last || self.updates.is_multiple_of(every);
-        self.updates += 1;
-        due
-    }
-}
-
 impl Recording {
     /// Logs a tactile image (6 × 3, intensities 0–255) at `entity`.
     pub fn tactile_image(&self, entity: &str, image: &TactileImage) -> CliResult {
@@ -149,8 +87,13 @@ impl Recording {
         )
     }
 
-    /// Logs a pose-cell projection (`w` × `h`, 0–1) at `entity`.
-    pub fn pose_cells(&self, entity: &str, (w, h, v): (usize, usize, Vec<f32>)) -> CliResult {
+    /// Logs the pose cells of `grid` at `entity` as an image: planar (3-D) grids the
+    /// maximum over θ, 6-D grids the six projections onto pairs of axes ([`tiles6`]).
+    pub fn pose_cells(&self, entity: &str, grid: &PoseGrid) -> CliResult {
+        let (w, h, v) = match grid.dims().len() {
+            6 => tiles6(grid),
+            _ => max_projection(grid, 0, 1),
+        };
         self.log(
             entity,
             &rerun::Image::from_elements(&v, [w as u32, h as u32], rerun::ColorModel::L),
@@ -204,34 +147,6 @@ impl Recording {
         )
     }
 
-    /// Logs a WhiskerRatSLAM object map under `entity` ([`Self::graph`]), `current`
-    /// highlighted red and the strategy's `target` blue; appended maps' experiences are
-    /// labelled with their object.
-    pub fn object_map(
-        &self,
-        entity: &str,
-        map: &ObjectMap,
-        current: Option<usize>,
-        target: Option<usize>,
-    ) -> CliResult {
-        let objects: Vec<Option<String>> =
-            map.experiences.iter().map(|e| e.object.clone()).collect();
-        self.graph(
-            entity,
-            &Graph {
-                positions: map
-                    .experiences
-                    .iter()
-                    .map(|e| [e.position_m[0], e.position_m[1]])
-                    .collect(),
-                links: map.links.iter().map(|l| (l.from, l.to)).collect(),
-                current,
-                target,
-                objects: Some(&objects),
-            },
-        )
-    }
-
     /// Logs a whole path (world) as a static line strip at `entity`.
     pub fn trajectory(&self, entity: &str, points: &[[f64; 3]], colour: [u8; 3]) -> CliResult {
         let strip: Vec<[f32; 3]> = points.iter().map(|p| p.map(|v| v as f32)).collect();
@@ -279,5 +194,32 @@ impl Recording {
                 .with_colors([colour])
                 .with_labels([kind]),
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The one-pass projection equals the definition: the maximum over every cell whose
+    /// coordinates (by the grid's own `coords`) on the two axes are the pixel's.
+    #[test]
+    fn projections_are_the_maxima_over_the_other_axes() {
+        let mut grid = PoseGrid::new(&[3, 4, 2, 5]);
+        for (k, v) in grid.cells.iter_mut().enumerate() {
+            *v = ((k * 7919) % 97) as f64;
+        }
+        for (a, b) in [(0, 1), (1, 0), (2, 3), (0, 3)] {
+            let (w, h, got) = max_projection(&grid, a, b);
+            let mut want = vec![0.0f64; w * h];
+            for (k, &v) in grid.cells.iter().enumerate() {
+                let c = grid.coords(k);
+                want[c[b] * w + c[a]] = want[c[b] * w + c[a]].max(v);
+            }
+            let max = want.iter().cloned().fold(0.0, f64::max);
+            for (g, x) in got.iter().zip(&want) {
+                assert!((*g as f64 - x / max).abs() < 1e-6, "axes {a},{b}");
+            }
+        }
     }
 }

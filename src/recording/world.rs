@@ -6,6 +6,7 @@
 
 use super::{Recording, f32x3};
 use crate::error::CliResult;
+use crate::record::{Contact, ContactKind};
 use nalgebra::Isometry3;
 use std::collections::BTreeMap;
 use whisker_sim::environment::Environment;
@@ -21,23 +22,6 @@ const PIECE_COLOURS: [[u8; 3]; 4] = [
     [120, 160, 190],
     [190, 170, 120],
 ];
-
-/// One contact: the whisker (module index 0–17) and the point (world, m).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Contact {
-    pub whisker: usize,
-    pub point: [f64; 3],
-}
-
-/// Which contacts: the ground truth or the estimate.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-pub enum ContactKind {
-    /// `world/contacts/true`: the anticipated intersect of the rigid sweep, no noise.
-    True,
-    /// `world/contacts/estimated`: what the sensing reported (front end + radial model, or
-    /// the kinematic contact with its noise).
-    Estimated,
-}
 
 /// The contacts of the cycles whose other half has not been logged yet, for the error
 /// arrows: (prefix, cycle) → (time of the first half, truth, estimate).
@@ -58,20 +42,7 @@ pub fn transform(p: &Isometry3<f64>) -> rerun::Transform3D {
     rerun::Transform3D::from_translation_rotation(point(p), quaternion(p))
 }
 
-/// The labels of the 18 whiskers (A1 … F3), by module index.
-pub fn labels() -> Vec<String> {
-    whisker_sim::whisker::array::modules()
-        .iter()
-        .map(|m| m.pixel())
-        .collect()
-}
-
 impl Recording {
-    /// Logs the environment's pieces as static meshes (`world/environment/<piece>`).
-    pub fn environment(&self, environment: &Environment) -> CliResult {
-        self.environment_in("world/environment", environment)
-    }
-
     /// Logs the environment's pieces as static meshes at `<prefix>/<piece>`.
     pub fn environment_in(&self, prefix: &str, environment: &Environment) -> CliResult {
         for (k, piece) in environment.pieces.iter().enumerate() {
@@ -85,7 +56,10 @@ impl Recording {
             let mesh = rerun::Mesh3D::new(positions)
                 .with_triangle_indices(piece.mesh.triangles.iter().copied())
                 .with_albedo_factor(rerun::Rgba32::from_unmultiplied_rgba(r, g, b, 255));
-            self.log_static(format!("{prefix}/{}", entity_name(&piece.name)), &mesh)?;
+            self.log_static(
+                format!("{prefix}/{}", crate::record::entity_name(&piece.name)),
+                &mesh,
+            )?;
         }
         Ok(())
     }
@@ -116,12 +90,6 @@ impl Recording {
         self.log("world/arm/tip", &transform(tip))
     }
 
-    /// Logs the array frame at time `t` (`world/array`, with axes).
-    pub fn array(&self, t: f64, pose: &Isometry3<f64>) -> CliResult {
-        self.at(t);
-        self.log("world/array", &transform(pose))
-    }
-
     /// Logs the whole tip path (`world/arm/tip_path`, static) and the axes of the tip and
     /// array frames (static: their length does not change).
     pub fn tip_path(&self, path: &[Isometry3<f64>]) -> CliResult {
@@ -138,12 +106,6 @@ impl Recording {
             )?;
         }
         self.log_static("world/array", &rerun::TransformAxes3D::new(0.03))
-    }
-
-    /// Logs the 18 whisker shafts at time `t` (`world/whiskers`), each a line strip from
-    /// base to tip (world).
-    pub fn shafts(&self, t: f64, shafts: &[Vec<[f64; 3]>]) -> CliResult {
-        self.shafts_at("world/whiskers", t, shafts)
     }
 
     /// Logs whisker shafts at `entity` at time `t`.
@@ -165,19 +127,6 @@ impl Recording {
         )
     }
 
-    /// Logs the contacts of whisk cycle `cycle` (starting at `t`) of one kind at
-    /// `world/contacts/…` ([`Self::contacts_in`]).
-    pub fn contacts(
-        &self,
-        kind: ContactKind,
-        cycle: u64,
-        t: f64,
-        contacts: &[Contact],
-    ) -> CliResult {
-        self.at(t);
-        self.contacts_in("world/contacts", kind, cycle, contacts)
-    }
-
     /// Logs the contacts of whisk cycle `cycle` of one kind at the current time, labelled
     /// by whisker, at `<prefix>/true` or `<prefix>/estimated`; once both kinds of a cycle
     /// are in, the error from each true contact to its whisker's estimate
@@ -189,7 +138,7 @@ impl Recording {
         cycle: u64,
         contacts: &[Contact],
     ) -> CliResult {
-        let labels = labels();
+        let labels = whisker_sim::whisker::array::labels();
         let (name, [r, g, b]) = match kind {
             ContactKind::True => ("true", TRUE_COLOUR),
             ContactKind::Estimated => ("estimated", ESTIMATED_COLOUR),
@@ -240,11 +189,4 @@ impl Recording {
         }
         Ok(())
     }
-}
-
-/// An entity path segment from a name: letters and digits kept, the rest `_`.
-pub fn entity_name(name: &str) -> String {
-    name.chars()
-        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
-        .collect()
 }

@@ -12,6 +12,7 @@
 use super::journal::{self, CSV, Entry, Journal, Meta, RUNS, Status};
 use super::{Batch, Shard, Trial};
 use crate::error::{CliError, CliResult};
+use crate::record::{Context, Recordings, Reporter};
 use crate::scenario::trials::{Experiment, HEAVY, Outputs};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -59,7 +60,7 @@ pub struct Outcome {
 }
 
 /// Runs (or resumes) `batch` into `o.out`.
-pub fn run(batch: &Batch, o: &Options) -> CliResult<Outcome> {
+pub fn run(batch: &Batch, o: &Options, recordings: &dyn Recordings) -> CliResult<Outcome> {
     let dir = &o.out;
     crate::output::create_dir(dir)?;
     let meta = Meta::of(batch, o.shard);
@@ -114,7 +115,7 @@ pub fn run(batch: &Batch, o: &Options) -> CliResult<Outcome> {
                 loop {
                     let i = next.fetch_add(1, Ordering::SeqCst);
                     let Some(&trial) = todo.get(i) else { break };
-                    if let Err(e) = one(batch, dir, trial, &meta, &shared, &progress) {
+                    if let Err(e) = one(batch, dir, trial, &meta, &shared, &progress, recordings) {
                         // The batch's own files cannot be written: stop taking trials.
                         first_error
                             .lock()
@@ -194,6 +195,7 @@ fn one(
     meta: &Meta,
     shared: &Mutex<(Journal, Vec<Entry>)>,
     progress: &Progress,
+    recordings: &dyn Recordings,
 ) -> CliResult {
     shared
         .lock()
@@ -201,7 +203,7 @@ fn one(
         .0
         .log("start", &trial.key)?;
     let started = Instant::now();
-    let result = run_trial(batch, trial, &dir.join(RUNS).join(&trial.key));
+    let result = run_trial(batch, trial, &dir.join(RUNS).join(&trial.key), recordings);
     let entry = Entry::new(batch, trial, result, started.elapsed().as_secs_f64());
     let mut guard = shared.lock().expect("no panic holds it");
     let (journal, entries) = &mut *guard;
@@ -216,30 +218,38 @@ fn one(
 }
 
 /// Runs `trial` into `dir` on one thread; its summary, or the error (a panic included).
-pub fn run_trial(batch: &Batch, trial: &Trial, dir: &Path) -> Result<serde_json::Value, String> {
+pub fn run_trial(
+    batch: &Batch,
+    trial: &Trial,
+    dir: &Path,
+    recordings: &dyn Recordings,
+) -> Result<serde_json::Value, String> {
     let work = || -> CliResult<serde_json::Value> {
         let scenario = batch.scenario(trial)?;
         crate::output::create_dir(dir)?;
         let path = dir.join("stdout.txt");
-        let mut say = std::fs::File::create(&path)
+        let mut file = std::fs::File::create(&path)
             .map_err(|e| CliError::Failure(format!("{}: {e}", path.display())))?;
         use std::io::Write;
-        let _ = writeln!(say, "# trial {}: {}", trial.key, batch.command(trial));
+        let _ = writeln!(file, "# trial {}: {}", trial.key, batch.command(trial));
+        let say = ToFile(Mutex::new(file));
+        let ctx = Context {
+            recordings,
+            reporter: &say,
+        };
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(1)
             .build()
             .map_err(|e| CliError::Failure(format!("thread pool: {e}")))?;
         // A trial's recording (outputs = "all") is named after the trial.
         let stem = batch.file.file_stem().unwrap_or_default().to_string_lossy();
-        let rrd = crate::recording::RrdArgs {
+        let rrd = crate::record::Target {
             id: Some(format!("{stem}-{}", trial.key)),
             ..Default::default()
         };
         pool.install(|| match batch.config.experiment {
-            Experiment::Run => crate::run::execute(&batch.file, &scenario, dir, &rrd, &mut say),
-            Experiment::MazeSlam => {
-                crate::maze_slam::trial(&batch.file, &scenario, dir, &rrd, &mut say)
-            }
+            Experiment::Run => crate::run::execute(&batch.file, &scenario, dir, &rrd, ctx),
+            Experiment::MazeSlam => crate::maze_slam::trial(&batch.file, &scenario, dir, &rrd, ctx),
         })?;
         if batch.config.outputs == Outputs::Light {
             drop_heavy(dir)?;
@@ -260,6 +270,20 @@ pub fn run_trial(batch: &Batch, trial: &Trial, dir: &Path) -> Result<serde_json:
                 .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
                 .unwrap_or_default()
         )),
+    }
+}
+
+/// A trial's account, written to its `stdout.txt`; its notes go to the batch's stderr.
+struct ToFile(Mutex<std::fs::File>);
+
+impl Reporter for ToFile {
+    fn say(&self, line: &str) {
+        use std::io::Write;
+        let _ = writeln!(self.0.lock().expect("no panic holds it"), "{line}");
+    }
+
+    fn note(&self, line: &str) {
+        eprintln!("{line}");
     }
 }
 

@@ -34,7 +34,7 @@ pub enum Command {
 }
 
 /// Runs `whisker trials …`.
-pub fn run(args: &Args) -> CliResult {
+pub fn run(args: &Args, recordings: &dyn crate::record::Recordings) -> CliResult {
     match (&args.command, &args.scenario, &args.run) {
         (Some(Command::Merge(o)), _, _) => {
             let n = merge::merge(o)?;
@@ -60,7 +60,7 @@ pub fn run(args: &Args) -> CliResult {
         }
         (None, Some(scenario), Some(o)) => {
             let batch = Batch::load(scenario)?;
-            let outcome = batch::run(&batch, o)?;
+            let outcome = batch::run(&batch, o, recordings)?;
             println!(
                 "trials     {} run now, {} finished before; rows in {}",
                 outcome.ran,
@@ -98,7 +98,7 @@ pub struct BenchOptions {
 
 /// Runs the first `trials` trials on 1 and then on 2 workers, side by side in one process,
 /// checks that both give the same `trials.csv` and prints the speed-up.
-pub fn bench(o: &BenchOptions) -> CliResult {
+pub fn bench(o: &BenchOptions, recordings: &dyn crate::record::Recordings) -> CliResult {
     let mut batch = Batch::load(&o.scenario)?;
     batch.trials.truncate(o.trials.max(1));
     let scratch = match &o.out {
@@ -123,7 +123,7 @@ pub fn bench(o: &BenchOptions) -> CliResult {
             no_report: true,
         };
         let started = Instant::now();
-        let outcome = batch::run(&batch, &options)?;
+        let outcome = batch::run(&batch, &options, recordings)?;
         seconds.push(started.elapsed().as_secs_f64());
         tables.push(std::fs::read(dir.join(super::journal::CSV)).unwrap_or_default());
         if outcome.failed > 0 {

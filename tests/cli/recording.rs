@@ -144,7 +144,7 @@ fn a_physics_run_records_every_sample_and_contact_reproducibly() {
         samples
     );
     let csv = rows(&out.join("whiskers.csv"));
-    let labels = whisker::recording::world::labels();
+    let labels = whisker_sim::whisker::array::labels();
     for (w, label) in labels.iter().enumerate() {
         let series = decode::scalars(&chunks, &format!("/sensors/{label}"));
         assert_eq!(series.len(), samples, "{label}");

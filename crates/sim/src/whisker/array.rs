@@ -73,6 +73,11 @@ impl Module {
     }
 }
 
+/// The 18 whiskers' tactile-image labels (A1 … F3), by module index.
+pub fn labels() -> Vec<String> {
+    modules().iter().map(Module::pixel).collect()
+}
+
 /// The array's 18 modules with the default whisker designs.
 pub fn modules() -> Vec<Module> {
     let mut out = Vec::with_capacity(RINGS.len() * PER_RING);
