@@ -5,12 +5,10 @@
 //! radial-distance experiments, recording to Rerun, and benchmarks. The `whisker` binary
 //! is a thin command line over it; tests and batch runs call it directly.
 
-pub mod assets_cmd;
+pub mod assets;
 pub mod bench;
-pub mod bench_recording;
-pub mod bench_sensing;
-pub mod bench_slam;
 pub mod characterize;
+pub mod choice;
 pub mod contacts;
 pub mod dataset;
 pub mod error;
@@ -27,5 +25,5 @@ pub mod run;
 pub mod scenario;
 pub mod soak;
 pub mod trials;
-pub mod urdf_cmd;
+pub mod urdf;
 pub mod whiskers;

@@ -260,6 +260,8 @@ pub trait Reporter: Sync {
     fn say(&self, line: &str);
     /// A line of progress or a warning.
     fn note(&self, line: &str);
+    /// A passing status, replaced by the next one (an empty one clears it).
+    fn status(&self, _text: &str) {}
 }
 
 /// Hears nothing.
@@ -321,17 +323,14 @@ impl Context<'static> {
 }
 
 /// Where a command writes its recording (`--rrd FILE` / `--no-rrd`).
-#[derive(clap::Args, Debug, Clone, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct Target {
-    /// Write the Rerun recording to FILE [default: run.rrd in the output directory].
-    #[arg(long, value_name = "FILE")]
+    /// The recording's file [default: run.rrd in the output directory].
     pub rrd: Option<PathBuf>,
-    /// Write no Rerun recording.
-    #[arg(long, conflicts_with = "rrd")]
+    /// No recording.
     pub no_rrd: bool,
     /// The recording id, when not the default `<scenario>-seed<seed>` (a batch trial's
     /// names its trial).
-    #[arg(skip)]
     pub id: Option<String>,
 }
 

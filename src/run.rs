@@ -91,24 +91,23 @@ fn describe(file: &Path, scenario: &Scenario, plan: &Plan) -> String {
 /// `whisker check`: validate and print what would run.
 /// `whisker check`: validates and describes; with `meshes`, writes each object's mesh as
 /// loaded to `meshes/NAME.obj`.
-pub fn check(file: &Path, meshes: Option<&Path>) -> CliResult {
+pub fn check(file: &Path, meshes: Option<&Path>, ctx: Context) -> CliResult {
     let scenario = Scenario::load(file)?;
     let plan = Plan::new(&scenario, file)?;
-    print!("{}", describe(file, &scenario, &plan));
+    ctx.say(&describe(file, &scenario, &plan));
     if scenario.sensing != Sensing::None {
-        print!("{}", crate::whiskers::describe(&scenario, file)?);
+        ctx.say(&crate::whiskers::describe(&scenario, file)?);
         crate::whiskers::array_chain(&scenario, file, &plan)?;
     }
     if scenario.sensing == Sensing::Kinematic {
         let n = scenario.kinematic.noise(file)?;
-        println!(
-            "kinematic  1° sweeps once per whisk cycle; noise: point σ {} × length, slope σ {}, detection {}",
+        ctx.say(&format!("kinematic  1° sweeps once per whisk cycle; noise: point σ {} × length, slope σ {}, detection {}",
             n.point_fraction, n.slope_sigma, n.detection_probability
-        );
+        ));
     }
     let loaded = scenario.environment(file)?;
     for line in &loaded.report {
-        println!("{line}");
+        ctx.say(line);
     }
     if let Some(dir) = meshes {
         crate::output::create_dir(dir)?;
@@ -136,7 +135,7 @@ pub fn check(file: &Path, meshes: Option<&Path>) -> CliResult {
                 ),
             );
             crate::output::write_atomic(&path, text.as_bytes())?;
-            println!("wrote      {}", path.display());
+            ctx.say(&format!("wrote      {}", path.display()));
         }
     }
     let dir = &scenario.output.dir;
@@ -146,8 +145,8 @@ pub fn check(file: &Path, meshes: Option<&Path>) -> CliResult {
         ""
     };
     if let Some(e) = &scenario.explore {
-        print!("{}", crate::explore::describe(file, &scenario, e)?);
-        println!(
+        ctx.say(&crate::explore::describe(file, &scenario, e)?);
+        ctx.say(&format!(
             "output     {} ({}, {}, contacts.csv{}{rrd})",
             dir.display(),
             crate::explore::CSV_NAME,
@@ -157,25 +156,24 @@ pub fn check(file: &Path, meshes: Option<&Path>) -> CliResult {
             } else {
                 ""
             }
-        );
+        ));
     } else {
-        println!(
+        ctx.say(&format!(
             "output     {} (path.csv every {} s, summary.json{rrd})",
             dir.display(),
             scenario.output.sample_period_s
-        );
+        ));
     }
     if scenario.trials.is_some() {
-        println!("{}", crate::trials::Batch::load(file)?.describe());
+        ctx.say(&crate::trials::Batch::load(file)?.describe());
     }
     let skipped = whisker_sim::arm::links_without_colliders(&plan.model);
     if !skipped.is_empty() {
-        println!(
-            "warning    links whose collision meshes are missing or not OBJ/STL/PLY get no collider: {}",
+        ctx.say(&format!("warning    links whose collision meshes are missing or not OBJ/STL/PLY get no collider: {}",
             skipped.join(", ")
-        );
+        ));
     }
-    println!("ok");
+    ctx.say("ok");
     Ok(())
 }
 
@@ -249,6 +247,7 @@ pub fn execute(
             &plan,
             &environment,
             recording.as_deref(),
+            ctx.reporter,
         )?),
         _ => None,
     };

@@ -16,7 +16,8 @@ use crate::record::{Context, Layout, Recorder};
 use crate::scenario::Scenario;
 use nalgebra::{Isometry3, Vector3};
 use rayon::prelude::*;
-use serde_json::json;
+use serde::Serialize;
+use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use whisker_sim::environment::Environment;
@@ -25,6 +26,7 @@ use whisker_sim::environment::solids::Solids;
 use whisker_sim::sensing::physics::{DT, PhysicsArray, SolverPath};
 use whisker_sim::sensing::viewpoints;
 use whisker_sim::whisker::array;
+use whisker_sim::whisker::beam::Bending;
 use whisker_slam::sensor::Sample;
 
 /// Depth of a shaft's centre line inside a solid that counts as tunnelling (m).
@@ -33,53 +35,90 @@ const TUNNEL_DEPTH: f64 = 1.0e-3;
 /// The step of `--nudges`: the k-th extra run moves the array k × this along world x (m).
 const NUDGE_M: f64 = 1.0e-9;
 
-/// Options of `whisker soak`.
-#[derive(clap::Args, Debug)]
-pub struct Options {
+/// What `whisker soak` runs.
+#[derive(Debug, Clone)]
+pub struct Settings {
     /// Simulated time per case (s).
-    #[arg(long, default_value_t = 60.0)]
     pub duration: f64,
-    /// Catalogue objects to run (comma-separated) [default: all].
-    #[arg(long, value_delimiter = ',')]
+    /// Catalogue objects to run [default: all].
     pub objects: Vec<String>,
     /// A scenario whose `[maze]` is run as one more case (e.g. scenarios/maze.toml).
-    #[arg(long)]
     pub maze: Option<PathBuf>,
     /// Shaft joint model.
-    #[arg(long, value_enum, default_value_t = crate::characterize::BendingArg::Spatial)]
-    pub bending: crate::characterize::BendingArg,
+    pub bending: Bending,
     /// Also simulate the whiskers that the kinematic sweep says touch nothing (they whisk
     /// freely and cannot tunnel; by default they are left out to save time).
-    #[arg(long)]
     pub all_whiskers: bool,
-    /// Simulate only these whiskers (pixel labels, comma-separated, e.g. D1,C2): each
-    /// whisker has a world of its own, so one alone follows exactly its course in the array.
-    #[arg(long, value_delimiter = ',')]
+    /// Simulate only these whiskers (pixel labels): each whisker has a world of its own,
+    /// so one alone follows exactly its course in the array.
     pub whiskers: Vec<String>,
     /// Rapier substeps per 0.5 ms step.
-    #[arg(long, default_value_t = whisker_sim::sensing::physics::DEFAULT_SUBSTEPS)]
     pub substeps: usize,
-    /// Rapier's multibody code path (vendor/PATCHES.md) [default: the whiskers' default,
-    /// once-per-step].
-    #[arg(long, value_parser = crate::bench::solver_path_parser())]
+    /// Rapier's multibody code path [default: the whiskers' default].
     pub path: Option<SolverPath>,
-    /// One world step per 0.5 ms sample, as before speed-adaptive steps
-    /// (`whisker_sim::sensing::adaptive_step`): for comparison.
-    #[arg(long)]
+    /// One world step per 0.5 ms sample, as before speed-adaptive steps: for comparison.
     pub fixed_steps: bool,
-    /// Also run each case N more times, the k-th with the array moved k nm along world x:
-    /// far below any physical tolerance, so a result that changes is a chaotic coin flip
-    /// of stick-slip contact, not a property of the set-up; prints how many runs tunnelled.
-    #[arg(long, default_value_t = 0)]
+    /// Also run each case N more times, the k-th with the array moved k nm along world x.
     pub nudges: usize,
-    /// Print one JSON list.
-    #[arg(long)]
-    pub json: bool,
-    /// Write a Rerun recording to FILE: per case the environment, the shafts every 10 ms
-    /// and the simulated whiskers' 2 kHz streams (docs/recording.md). Large: about 1 MB
-    /// per simulated second per whisker.
-    #[arg(long, value_name = "FILE")]
+    /// Write a recording to this file.
     pub rrd: Option<PathBuf>,
+}
+
+/// Where a case first tunnelled.
+#[derive(Debug, Clone, Serialize)]
+pub struct Tunnel {
+    pub t_s: f64,
+    pub whisker: String,
+    pub depth_m: f64,
+}
+
+/// One run of a case (`--json`: one object of the list).
+#[derive(Debug, Clone, Serialize)]
+pub struct CaseReport {
+    pub case: String,
+    pub pieces: usize,
+    pub triangles: usize,
+    pub simulated_s: f64,
+    pub whiskers_touching_by_sweep: usize,
+    pub whiskers_simulated: usize,
+    pub max_shaft_depth_m: f64,
+    pub non_finite_or_quarantined: bool,
+    pub tunnelled: bool,
+    pub first_tunnelling: Option<Tunnel>,
+    pub wall_s: f64,
+    pub world_steps_per_sample: f64,
+    pub passed: bool,
+    pub nudge_m: f64,
+}
+
+impl fmt::Display for CaseReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "{:<10} {:>2} whiskers touching  max centre-line depth {:>7.4} mm  {}  {:>6.0} s wall  {:.2} world steps/sample  {}",
+            self.case,
+            self.whiskers_touching_by_sweep,
+            self.max_shaft_depth_m * 1e3,
+            if self.non_finite_or_quarantined {
+                "NON-FINITE"
+            } else {
+                "finite"
+            },
+            self.wall_s,
+            self.world_steps_per_sample,
+            if self.passed { "ok" } else { "FAILED" }
+        )?;
+        if let Some(t) = &self.first_tunnelling {
+            writeln!(
+                f,
+                "           first tunnelling: whisker {} at {:.4} s, {:.3} mm deep",
+                t.whisker,
+                t.t_s,
+                t.depth_m * 1e3
+            )?;
+        }
+        Ok(())
+    }
 }
 
 /// Spacing of the cases' frames in the recording, along y (m).
@@ -144,19 +183,22 @@ impl<'a> CaseRecording<'a> {
     }
 }
 
-/// Runs one case; returns its JSON record and whether it passed.
+/// Runs one case; says its line and returns its record.
+/// `case` (named `name`, its solids `solids`) with the array at `pose` (the case's, or
+/// nudged).
 fn run_case(
     name: &str,
-    environment: &Environment,
+    case: &Case,
     solids: &Solids,
     pose: Isometry3<f64>,
-    touching: &[usize],
-    o: &Options,
+    o: &Settings,
     recording: Option<(&dyn Recorder, usize)>,
-) -> CliResult<(serde_json::Value, bool)> {
+    ctx: Context,
+) -> CliResult<CaseReport> {
+    let (environment, touching) = (&case.environment, case.touching.as_slice());
     let configs = whisker_sim::sensing::physics::standard_array(
         array::modules().len(),
-        o.bending.into(),
+        o.bending,
         None,
         o.substeps,
     )
@@ -208,17 +250,15 @@ fn run_case(
         if broken {
             break;
         }
-        if !o.json && k % 2000 == 0 {
-            eprint!(
-                "\r{name}: {:.0} of {} s simulated",
+        if k % 2000 == 0 {
+            ctx.reporter.status(&format!(
+                "{name}: {:.0} of {} s simulated",
                 k as f64 * DT,
                 o.duration
-            );
+            ));
         }
     }
-    if !o.json {
-        eprint!("\r");
-    }
+    ctx.reporter.status("");
     if let Some(r) = record {
         r.finish()?;
     }
@@ -231,39 +271,32 @@ fn run_case(
         .map(|u| u.steps())
         .fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
     let per_sample = world as f64 / samples.max(1) as f64;
-    let summary = json!({
-        "case": name,
-        "pieces": environment.pieces.len(),
-        "triangles": environment.pieces.iter().map(|p| p.mesh.triangles.len()).sum::<usize>(),
-        "simulated_s": o.duration,
-        "whiskers_touching_by_sweep": touching.len(),
-        "whiskers_simulated": array.units.len(),
-        "max_shaft_depth_m": deepest,
-        "non_finite_or_quarantined": broken,
-        "tunnelled": deepest > TUNNEL_DEPTH,
-        "first_tunnelling": first_tunnel.as_ref().map(|(t, w, d)| json!({"t_s": t, "whisker": w, "depth_m": d})),
-        "wall_s": wall,
-        "world_steps_per_sample": per_sample,
-        "passed": passed,
-    });
-    if !o.json {
-        println!(
-            "{name:<10} {:>2} whiskers touching  max centre-line depth {:>7.4} mm  {}  {:>6.0} s wall  {:.2} world steps/sample  {}",
-            touching.len(),
-            deepest * 1e3,
-            if broken { "NON-FINITE" } else { "finite" },
-            wall,
-            per_sample,
-            if passed { "ok" } else { "FAILED" }
-        );
-        if let Some((t, w, d)) = &first_tunnel {
-            println!(
-                "           first tunnelling: whisker {w} at {t:.4} s, {:.3} mm deep",
-                d * 1e3
-            );
-        }
-    }
-    Ok((summary, passed))
+    let report = CaseReport {
+        case: name.to_string(),
+        pieces: environment.pieces.len(),
+        triangles: environment
+            .pieces
+            .iter()
+            .map(|p| p.mesh.triangles.len())
+            .sum::<usize>(),
+        simulated_s: o.duration,
+        whiskers_touching_by_sweep: touching.len(),
+        whiskers_simulated: array.units.len(),
+        max_shaft_depth_m: deepest,
+        non_finite_or_quarantined: broken,
+        tunnelled: deepest > TUNNEL_DEPTH,
+        first_tunnelling: first_tunnel.map(|(t_s, whisker, depth_m)| Tunnel {
+            t_s,
+            whisker,
+            depth_m,
+        }),
+        wall_s: wall,
+        world_steps_per_sample: per_sample,
+        passed,
+        nudge_m: 0.0,
+    };
+    ctx.say(&report.to_string());
+    Ok(report)
 }
 
 /// An environment and the array pose where the most whiskers touch it.
@@ -329,7 +362,8 @@ pub fn maze_case(file: &Path) -> Result<Case, CliError> {
 }
 
 /// `whisker soak`.
-pub fn soak(o: &Options, ctx: Context) -> CliResult {
+/// `whisker soak`: every case's runs, failed ones included (see [`CaseReport::passed`]).
+pub fn soak(o: &Settings, ctx: Context) -> CliResult<Vec<CaseReport>> {
     if !(o.duration.is_finite() && o.duration > 0.0) {
         return Err(CliError::Input(format!(
             "--duration {}: expected a positive number of seconds",
@@ -361,7 +395,6 @@ pub fn soak(o: &Options, ctx: Context) -> CliResult {
         None => None,
     };
     let mut records = Vec::new();
-    let mut all = true;
     for (k, (name, case)) in cases.iter().enumerate() {
         let solids = Solids::new(&case.environment)
             .map_err(|e| CliError::Failure(format!("soak: {name}: {e}")))?;
@@ -373,38 +406,28 @@ pub fn soak(o: &Options, ctx: Context) -> CliResult {
             };
             let shift = nudge as f64 * NUDGE_M;
             let pose = Isometry3::translation(shift, 0.0, 0.0) * case.pose;
-            let (mut r, ok) = run_case(
+            let mut r = run_case(
                 &label,
-                &case.environment,
+                case,
                 &solids,
                 pose,
-                &case.touching,
                 o,
                 recording.as_deref().filter(|_| nudge == 0).map(|r| (r, k)),
+                ctx,
             )?;
-            r["nudge_m"] = json!(shift);
+            r.nudge_m = shift;
+            failed += usize::from(!r.passed);
             records.push(r);
-            failed += usize::from(!ok);
-            all &= ok;
         }
-        if o.nudges > 0 && !o.json {
-            println!(
+        if o.nudges > 0 {
+            ctx.say(&format!(
                 "{name}: {failed} of {} runs tunnelled or broke",
                 o.nudges + 1
-            );
+            ));
         }
     }
     if let Some(rec) = recording {
         rec.finish()?;
     }
-    if o.json {
-        println!("{}", serde_json::Value::Array(records));
-    }
-    if all {
-        Ok(())
-    } else {
-        Err(CliError::Failure(
-            "soak: a whisker tunnelled or went non-finite (see above)".into(),
-        ))
-    }
+    Ok(records)
 }

@@ -5,8 +5,8 @@
 use crate::error::{CliError, CliResult};
 use crate::output;
 use crate::plan::Plan;
-use crate::record::Recorder;
 use crate::record::SensorColumns;
+use crate::record::{Recorder, Reporter};
 use crate::scenario::Scenario;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -102,6 +102,7 @@ impl ArraySimulation {
         plan: &Plan,
         environment: &Environment,
         recording: Option<&dyn Recorder>,
+        reporter: &dyn Reporter,
     ) -> CliResult<Self> {
         let mut configs = scenario.array.whisker_configs(file)?;
         let chain = array_chain(scenario, file, plan)?;
@@ -112,10 +113,10 @@ impl ArraySimulation {
                 if let (RcpThreshold::NoiseMultiple(_), Some(t)) = (mode, c.rcp_threshold)
                     && t >= c.sensor.saturation_counts
                 {
-                    eprintln!(
+                    reporter.note(&format!(
                         "warning    whisker {}: RCP threshold {t:.0} counts (from free whisking) is at or above saturation: RCP cannot fire",
                         c.module.pixel()
-                    );
+                    ));
                 }
             }
         }

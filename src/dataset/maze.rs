@@ -23,9 +23,10 @@ use crate::error::{CliError, CliResult};
 use crate::maze_slam::path::Sample;
 use crate::maze_slam::physics::{self as maze_physics, ImageFrontEnd};
 use crate::maze_slam::{
-    Geometry, Options, Sensed, Setup, UPDATE_HZ, kinematic_contacts, kinematic_whiskers,
+    Geometry, Sensed, Settings, Setup, UPDATE_HZ, kinematic_contacts, kinematic_whiskers,
     physics_sets,
 };
+use crate::record::Reporter;
 use crate::scenario::Scenario;
 use crate::scenario::maze_slam::AngleEstimate;
 use nalgebra::UnitQuaternion;
@@ -53,9 +54,10 @@ pub fn write(
     scenario_text: &str,
     clean: bool,
     s: &mut Staging,
+    reporter: &dyn Reporter,
 ) -> CliResult<Manifest> {
     let seed = scenario.seed;
-    let o = Options::of(file);
+    let o = Settings::of(file);
     let setup = Setup::new(&o, scenario)?;
     let environment = scenario.environment(file)?.environment;
     let (g, truth) = (&setup.geometry, &setup.truth);
@@ -92,8 +94,8 @@ pub fn write(
             image_sets = vec![(setup.set_names[0].clone(), "contacts".to_string())];
             whisk_hz = UPDATE_HZ;
         }
-        Some((configs, rcp)) => {
-            let mut configs = configs.clone();
+        Some(physics) => {
+            let (mut configs, rcp) = (physics.configs.clone(), &physics.rcp);
             if clean {
                 for c in &mut configs {
                     c.sensor.noise_counts = 0.0;
@@ -115,7 +117,7 @@ pub fn write(
                 0,
             );
             let pieces = environment.physics_pieces();
-            maze_physics::simulate(truth, &pieces, configs, key, g, |c, streams| {
+            maze_physics::simulate(truth, &pieces, configs, key, g, reporter, |c, streams| {
                 let csv = records::whisk_csv(&labels, &streams, model.angle_resolution_rad)?;
                 s.put(
                     &format!("log/whisks/{}", records::whisk_name(c)),

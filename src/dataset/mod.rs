@@ -35,116 +35,99 @@ use crate::scenario::Scenario;
 use manifest::{FileEntry, Manifest, Role};
 use std::path::{Path, PathBuf};
 
-/// `whisker dataset`.
-#[derive(clap::Args, Debug)]
-#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
-pub struct Args {
-    #[command(subcommand)]
-    pub command: Option<Command>,
-    #[command(flatten)]
-    pub write: WriteOptions,
-}
-
-/// `whisker dataset noise`.
-#[derive(clap::Subcommand, Debug)]
-pub enum Command {
-    /// Add noise to a dataset written with `--clean`: sensor noise to the streams,
-    /// detection misses and contact noise to contacts, odometry error; a new seed.
-    Noise(noise::Options),
-    /// The walks of `whisker object-slam` around catalogue objects (§5.2; kinematic).
-    ObjectSlam(object::WriteOptions),
-}
-
-/// `whisker dataset SCENARIO --seed N --out DIR`.
-#[derive(clap::Args, Debug)]
-pub struct WriteOptions {
+/// What `whisker dataset SCENARIO --seed N --out DIR` writes.
+#[derive(Debug, Clone)]
+pub struct ScenarioDataset {
     /// A maze scenario (`[maze]`, run as `whisker maze-slam` runs it) or a closed loop
     /// (`[explore]`, run as `whisker run` runs it: the path it took).
-    #[arg(required = true)]
-    pub scenario: Option<PathBuf>,
+    pub scenario: PathBuf,
     /// Seed [default: the scenario's `seed`].
-    #[arg(long)]
     pub seed: Option<u64>,
     /// The dataset's directory (must not exist).
-    #[arg(long, required = true)]
-    pub out: Option<PathBuf>,
-    /// Write without noise (no sensor noise, odometry error or contact noise), to be
-    /// noised later by `whisker dataset noise`.
-    #[arg(long)]
+    pub out: PathBuf,
+    /// Without noise (no sensor noise, odometry error or contact noise), to be noised
+    /// later by [`noise::run`].
     pub clean: bool,
-    /// Change a scenario field by its dotted path, as `whisker run --set` (repeatable).
-    #[arg(long = "set", value_name = "PATH=VALUE", value_parser = crate::scenario::overrides::Override::parse)]
+    /// Changes to scenario fields, as `whisker run --set`.
     pub set: Vec<crate::scenario::overrides::Override>,
 }
 
-/// `whisker dataset`.
-pub fn run(args: &Args) -> CliResult {
-    match &args.command {
-        Some(Command::Noise(o)) => noise::run(o),
-        Some(Command::ObjectSlam(o)) => {
-            let started = std::time::Instant::now();
-            let manifest = write(&o.out, |staging| object::write(o, staging))?;
-            report(&o.out, &manifest, started.elapsed().as_secs_f64());
-            Ok(())
-        }
-        None => {
-            let w = &args.write;
-            let (Some(file), Some(out)) = (&w.scenario, &w.out) else {
-                return Err(CliError::Input(
-                    "whisker dataset: expected SCENARIO and --out DIR".into(),
-                ));
-            };
-            let mut scenario = Scenario::load_with(file, &w.set)?;
-            let seed = w.seed.unwrap_or(scenario.seed);
-            scenario.seed = seed;
-            // The scenario as run, for truth/scenario.toml: its base merged, --set applied
-            // (the seed is the manifest's: the truth does not change with it).
-            let mut table = Scenario::resolved_table(file)?;
-            for o in &w.set {
-                o.apply(&mut table)
-                    .map_err(|e| CliError::Input(format!("--set {}: {e}", o.dotted())))?;
-            }
-            let text = toml::to_string(&table).map_err(|e| CliError::Failure(e.to_string()))?;
-            let started = std::time::Instant::now();
-            let manifest = write(out, |staging| {
-                if scenario.explore.is_some() {
-                    if w.clean {
-                        return Err(CliError::Input(format!(
-                            "{}: --clean: a closed loop's path depends on its noise; write \
-                             it with the noise it runs with",
-                            file.display()
-                        )));
-                    }
-                    recognition::write(file, &scenario, &text, staging)
-                } else if scenario.maze.is_some() {
-                    maze::write(file, &scenario, &text, w.clean, staging)
-                } else {
-                    Err(CliError::field(
-                        file,
-                        "maze",
-                        "whisker dataset writes maze scenarios ([maze]) and closed loops \
-                         ([explore]); object walks: `whisker dataset object-slam`",
-                    ))
-                }
-            })?;
-            report(out, &manifest, started.elapsed().as_secs_f64());
-            Ok(())
-        }
+/// What was written: a dataset's directory, its manifest and the time it took.
+#[derive(Debug, Clone)]
+pub struct Written {
+    pub out: PathBuf,
+    pub manifest: Manifest,
+    pub seconds: f64,
+}
+
+impl std::fmt::Display for Written {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let bytes: u64 = self.manifest.files.iter().map(|f| f.bytes).sum();
+        writeln!(
+            f,
+            "{}: {} files, {:.1} MB ({} level, seed {}), written in {:.1} s ({:.1} MB/s)",
+            self.out.display(),
+            self.manifest.files.len() + 1,
+            bytes as f64 / 1e6,
+            self.manifest.level.name(),
+            self.manifest.seed,
+            self.seconds,
+            bytes as f64 / 1e6 / self.seconds.max(1e-9),
+        )
     }
 }
 
-/// Prints what was written: files, bytes, time.
-fn report(out: &Path, manifest: &Manifest, seconds: f64) {
-    let bytes: u64 = manifest.files.iter().map(|f| f.bytes).sum();
-    eprintln!(
-        "{}: {} files, {:.1} MB ({} level, seed {}), written in {seconds:.1} s ({:.1} MB/s)",
-        out.display(),
-        manifest.files.len() + 1,
-        bytes as f64 / 1e6,
-        manifest.level.name(),
-        manifest.seed,
-        bytes as f64 / 1e6 / seconds.max(1e-9),
-    );
+/// `whisker dataset SCENARIO`: a maze run or a closed loop written as a dataset.
+pub fn write_scenario(w: &ScenarioDataset, ctx: crate::record::Context) -> CliResult<Written> {
+    let file = &w.scenario;
+    let mut scenario = Scenario::load_with(file, &w.set)?;
+    let seed = w.seed.unwrap_or(scenario.seed);
+    scenario.seed = seed;
+    // The scenario as run, for truth/scenario.toml: its base merged, --set applied (the
+    // seed is the manifest's: the truth does not change with it).
+    let mut table = Scenario::resolved_table(file)?;
+    for o in &w.set {
+        o.apply(&mut table)
+            .map_err(|e| CliError::Input(format!("--set {}: {e}", o.dotted())))?;
+    }
+    let text = toml::to_string(&table).map_err(|e| CliError::Failure(e.to_string()))?;
+    timed(&w.out, |staging| {
+        if scenario.explore.is_some() {
+            if w.clean {
+                return Err(CliError::Input(format!(
+                    "{}: --clean: a closed loop's path depends on its noise; write \
+                     it with the noise it runs with",
+                    file.display()
+                )));
+            }
+            recognition::write(file, &scenario, &text, staging, ctx.reporter)
+        } else if scenario.maze.is_some() {
+            maze::write(file, &scenario, &text, w.clean, staging, ctx.reporter)
+        } else {
+            Err(CliError::field(
+                file,
+                "maze",
+                "whisker dataset writes maze scenarios ([maze]) and closed loops \
+                 ([explore]); object walks: `whisker dataset object-slam`",
+            ))
+        }
+    })
+}
+
+/// `whisker dataset object-slam`: the walks of `whisker object-slam` as a dataset.
+pub fn write_objects(o: &object::ObjectDataset, ctx: crate::record::Context) -> CliResult<Written> {
+    timed(&o.out, |staging| object::write(o, staging, ctx))
+}
+
+/// [`write`], timed.
+fn timed(out: &Path, fill: impl FnOnce(&mut Staging) -> CliResult<Manifest>) -> CliResult<Written> {
+    let started = std::time::Instant::now();
+    let manifest = write(out, fill)?;
+    Ok(Written {
+        out: out.to_path_buf(),
+        manifest,
+        seconds: started.elapsed().as_secs_f64(),
+    })
 }
 
 /// The files of a dataset being written into a staging directory.
@@ -280,51 +263,46 @@ pub fn whisk_streams(
     )
 }
 
-/// `whisker slam DIR`: the front end and the SLAM the dataset's manifest names.
-#[derive(clap::Args, Debug)]
-pub struct SlamOptions {
-    /// The dataset's directory.
-    pub dataset: PathBuf,
-    /// Directory for the results (as the experiment's own command writes them).
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    /// Print one JSON object.
-    #[arg(long)]
-    pub json: bool,
+/// What `whisker slam DIR` found: the report of the experiment the manifest names.
+#[derive(Debug, Clone, serde::Serialize)]
+#[serde(untagged)]
+pub enum SlamReport {
+    Maze(crate::maze_slam::Report),
+    Object(crate::object_slam::Report),
+    ClosedLoop(recognition::ReplaySummary),
 }
 
-/// `whisker slam DIR`.
-pub fn slam(o: &SlamOptions, ctx: crate::record::Context) -> CliResult {
-    let manifest = Manifest::read(&o.dataset)?;
+impl std::fmt::Display for SlamReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SlamReport::Maze(r) => r.fmt(f),
+            SlamReport::Object(r) => r.fmt(f),
+            SlamReport::ClosedLoop(r) => r.fmt(f),
+        }
+    }
+}
+
+/// `whisker slam DIR`: the front end and the SLAM the manifest of the dataset in `dir`
+/// names, results into `out` as the experiment's own command writes them.
+pub fn slam(dir: &Path, out: Option<&Path>, ctx: crate::record::Context) -> CliResult<SlamReport> {
+    let manifest = Manifest::read(dir)?;
     match manifest.experiment {
         manifest::Experiment::MazeSlam => {
-            let mut options = crate::maze_slam::Options::of(Path::new(""));
-            options.out = o.out.clone();
-            options.json = o.json;
-            crate::maze_slam::replay(&options, &o.dataset, &manifest, ctx)
+            let mut settings = crate::maze_slam::Settings::of(Path::new(""));
+            settings.out = out.map(Path::to_path_buf);
+            crate::maze_slam::replay(&settings, dir, &manifest, ctx).map(SlamReport::Maze)
         }
         manifest::Experiment::ObjectSlam => {
-            let data = object::read(&o.dataset, &manifest)?;
-            let options = crate::object_slam::Options {
-                objects: Vec::new(),
+            let data = object::read(dir, &manifest)?;
+            let settings = crate::object_slam::Settings {
                 seed: manifest.seed,
-                out: o.out.clone(),
-                json: o.json,
-                sensing: crate::object_slam::SensingArg::Kinematic,
-                radial_model: None,
-                slam: crate::object_slam::SlamArg::Corrected,
-                placement: crate::object_slam::Placement::Thesis,
-                dataset: Some(o.dataset.clone()),
-                rrd: Default::default(),
+                out: out.map(Path::to_path_buf),
+                ..Default::default()
             };
-            crate::object_slam::analyse(&options, &data, ctx)
+            crate::object_slam::analyse(&settings, &data, ctx).map(SlamReport::Object)
         }
         manifest::Experiment::ClosedLoop => {
-            let replay = recognition::Replay {
-                out: o.out.as_deref(),
-                json: o.json,
-            };
-            recognition::replay(&o.dataset, &manifest, &replay)
+            recognition::replay(dir, &manifest, out).map(SlamReport::ClosedLoop)
         }
     }
 }

@@ -26,36 +26,29 @@ use whisker_slam::ratslam::odometry::OdometryNoise;
 use whisker_slam::ratslam::odometry::noisy_steps;
 use whisker_slam::rng::{gauss, substream};
 
-/// Options of `whisker dataset noise`.
-#[derive(clap::Args, Debug)]
-pub struct Options {
+/// What `whisker dataset noise` adds.
+#[derive(Debug, Clone)]
+pub struct Settings {
     /// The clean dataset.
     pub input: PathBuf,
     /// Seed of the noise.
-    #[arg(long)]
     pub seed: u64,
     /// The noisy dataset's directory (must not exist).
-    #[arg(long)]
     pub out: PathBuf,
     /// σ of the deflection noise (counts).
-    #[arg(long, default_value_t = 2.0)]
     pub deflection_counts: f64,
     /// σ of the angle noise (degrees).
-    #[arg(long, default_value_t = 0.05)]
     pub angle_deg: f64,
     /// Probability that a contact is registered (level contacts).
-    #[arg(long, default_value_t = 0.98)]
     pub detection: f64,
     /// σ of each contact-point coordinate as a fraction of the whisker's length.
-    #[arg(long, default_value_t = 0.25)]
     pub point_fraction: f64,
     /// σ of the contact slope.
-    #[arg(long, default_value_t = 0.33)]
     pub slope_sigma: f64,
 }
 
 /// `whisker dataset noise`.
-pub fn run(o: &Options) -> CliResult {
+pub fn run(o: &Settings) -> CliResult<super::Written> {
     let m = Manifest::read(&o.input)?;
     if !m.noise.is_clean() {
         return Err(CliError::Input(format!(
@@ -89,14 +82,13 @@ pub fn run(o: &Options) -> CliResult {
             )));
         }
     }
-    let started = std::time::Instant::now();
     let odometry = OdometryNoise::default();
     let contact_info = ContactNoiseInfo {
         point_fraction: o.point_fraction,
         slope_sigma: o.slope_sigma,
         detection_probability: o.detection,
     };
-    let written = super::write(&o.out, |s| {
+    super::timed(&o.out, |s| {
         let mut out = m.clone();
         out.noise = NoiseInfo {
             added_with_seed: Some(o.seed),
@@ -204,9 +196,7 @@ pub fn run(o: &Options) -> CliResult {
             }
         }
         Ok(out)
-    })?;
-    super::report(&o.out, &written, started.elapsed().as_secs_f64());
-    Ok(())
+    })
 }
 
 /// The §6.1.3.1.2 noise on clean contacts (whisker lengths `lengths`), from sub-streams

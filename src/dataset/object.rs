@@ -18,9 +18,12 @@ use super::records::{self, POSE_COLUMNS};
 use super::table::{Row, Table, columns};
 use super::whisks::{WhiskFiles, put_model, replay_sensing};
 use super::{Staging, array_info};
+use crate::choice::Choice;
 use crate::error::{CliError, CliResult};
 use crate::object_slam::physics::PhysicsSensing;
-use crate::object_slam::{self, Options, Sensed, SensingArg, Walk};
+use crate::object_slam::{self, Sensed, Walk};
+use crate::record::Context;
+use crate::scenario::SensingMode;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use rayon::prelude::*;
 use std::fmt::Write;
@@ -36,39 +39,30 @@ use whisker_slam::sensor::SAMPLE_RATE_HZ;
 pub(super) const ODOMETRY_COLUMNS: &str =
     "whisk,time_s,vx_m_s,vy_m_s,vz_m_s,wx_rad_s,wy_rad_s,wz_rad_s,dt_s";
 
-/// `whisker dataset object-slam`.
-#[derive(clap::Args, Debug)]
-pub struct WriteOptions {
-    /// Catalogue objects (comma-separated) [default: all eight].
-    #[arg(long, value_delimiter = ',')]
+/// What `whisker dataset object-slam` writes.
+#[derive(Debug, Clone)]
+pub struct ObjectDataset {
+    /// Catalogue objects [default: all eight].
     pub objects: Vec<String>,
     /// Seed of every random draw.
-    #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// The dataset's directory (must not exist).
-    #[arg(long)]
     pub out: PathBuf,
-    /// Write without noise (contact noise and odometry error left out; kinematic only).
-    #[arg(long)]
+    /// Without noise (contact noise and odometry error left out; kinematic only).
     pub clean: bool,
     /// How contacts are sensed: the kinematic sweep (level contacts) or physics whiskers
-    /// (level streams: one whisk file per pose, the front end at replay; slow, as
-    /// `whisker object-slam --sensing physics`).
-    #[arg(long, value_enum, default_value_t = SensingArg::Kinematic)]
-    pub sensing: SensingArg,
-    /// With `--sensing physics`: the radial-distance model [default: the built-in svr10];
+    /// (level streams: one whisk file per pose, the front end at replay).
+    pub sensing: SensingMode,
+    /// With physics sensing: the radial-distance model [default: the built-in svr10];
     /// copied into the dataset.
-    #[arg(long)]
     pub radial_model: Option<PathBuf>,
-    /// Where each object sits relative to its trajectories (as `whisker object-slam
-    /// --placement`); recorded in the manifest.
-    #[arg(long, value_enum, default_value_t = object_slam::Placement::Thesis)]
+    /// Where each object sits relative to its trajectories; recorded in the manifest.
     pub placement: object_slam::Placement,
 }
 
 /// Writes the walks of `o` into `s` (as `whisker object-slam` senses them).
-pub fn write(o: &WriteOptions, s: &mut Staging) -> CliResult<Manifest> {
-    let physics = o.sensing == SensingArg::Physics;
+pub fn write(o: &ObjectDataset, s: &mut Staging, ctx: Context) -> CliResult<Manifest> {
+    let physics = o.sensing == SensingMode::Physics;
     if physics && o.clean {
         return Err(CliError::Input(
             "--clean: only with --sensing kinematic (physics whiskers' sensor noise is part \
@@ -76,17 +70,13 @@ pub fn write(o: &WriteOptions, s: &mut Staging) -> CliResult<Manifest> {
                 .into(),
         ));
     }
-    let options = Options {
+    let settings = object_slam::Settings {
         objects: o.objects.clone(),
         seed: o.seed,
-        out: None,
-        json: false,
         sensing: o.sensing,
         radial_model: o.radial_model.clone(),
-        slam: object_slam::SlamArg::Corrected,
         placement: o.placement,
-        dataset: None,
-        rrd: Default::default(),
+        ..Default::default()
     };
     let whiskers: Vec<RigidWhisker> = match physics {
         true => sensing_configs().iter().map(WhiskerConfig::rigid).collect(),
@@ -108,7 +98,12 @@ pub fn write(o: &WriteOptions, s: &mut Staging) -> CliResult<Manifest> {
         };
         WhiskFiles::new(path, array.labels.clone(), sensor.angle_resolution_rad)
     });
-    let data = object_slam::sense(&options, !o.clean, files.as_ref().map(|f| f.log.clone()))?;
+    let data = object_slam::sense(
+        &settings,
+        !o.clean,
+        files.as_ref().map(|f| f.log.clone()),
+        ctx,
+    )?;
     if let Some(files) = &files {
         files.finish()?;
         put_model(
@@ -275,7 +270,7 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<Vec<Sensed<'static>>> {
             ));
         }
     };
-    if <object_slam::Placement as clap::ValueEnum>::from_str(&info.placement, false).is_err() {
+    if object_slam::Placement::named(&info.placement).is_none() {
         return Err(CliError::field(
             &file,
             "object_slam.placement",

@@ -27,12 +27,14 @@ use crate::scenario::Scenario;
 use crate::scenario::explore::Task;
 use nalgebra::Point3;
 use rayon::prelude::*;
-use serde_json::json;
+use serde::Serialize;
+use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::path::Path;
 use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker};
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::whisker::control::WhiskingPattern;
+use whisker_slam::recognition::Outcome;
 use whisker_slam::recognition::Recognition;
 use whisker_slam::sensor::SAMPLE_RATE_HZ;
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;
@@ -45,6 +47,7 @@ pub fn write(
     scenario: &Scenario,
     scenario_text: &str,
     s: &mut Staging,
+    reporter: &dyn crate::record::Reporter,
 ) -> CliResult<Manifest> {
     let config = scenario.explore.as_ref().expect("checked by the caller");
     let plan = crate::plan::Plan::new(scenario, file)?;
@@ -64,7 +67,8 @@ pub fn write(
         )
     });
     let log = files.as_ref().map(|f| f.log.clone());
-    let outcome = crate::explore::run_logged(scenario, file, plan, &environment, log, None)?;
+    let outcome =
+        crate::explore::run_logged(scenario, file, plan, &environment, log, None, reporter)?;
     if let Some(files) = &files {
         files.finish()?;
     }
@@ -179,17 +183,63 @@ pub fn write(
     })
 }
 
-/// Options of the replay (`whisker slam DIR`).
-pub struct Replay<'a> {
-    /// Directory for `replay.csv`, `summary.json` (and, map building, `map.json`).
-    pub out: Option<&'a Path>,
-    /// Print the summary as JSON.
-    pub json: bool,
+/// What recognition found in a replay.
+#[derive(Debug, Clone, Serialize)]
+pub struct ReplayRecognition {
+    pub identified: Option<String>,
+    pub identified_at: Option<u64>,
+    pub crossings: BTreeMap<String, u64>,
+    pub final_rc: BTreeMap<String, f64>,
+    pub final_ic: BTreeMap<String, f64>,
+    /// These need the true object: absent without ground truth.
+    pub outcome: Option<Outcome>,
+    pub srt: Option<u64>,
+    pub im: Option<f64>,
+    /// The IC threshold.
+    #[serde(skip)]
+    pub threshold: f64,
+}
+
+/// A closed-loop replay's summary (`summary.json` in `--out`; `--json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct ReplaySummary {
+    pub task: String,
+    /// The true object (from the ground truth, when present).
+    pub object: Option<String>,
+    pub whisks: usize,
+    pub relocalisations: usize,
+    pub experiences: usize,
+    pub recognition: Option<ReplayRecognition>,
+}
+
+impl std::fmt::Display for ReplaySummary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(
+            f,
+            "Closed-loop replay (open loop on the recorded path, Ch 6): {} whisks, {} re-localisations into known maps, {} experiences",
+            self.whisks, self.relocalisations, self.experiences
+        )?;
+        if let Some(r) = &self.recognition {
+            match (&r.identified, r.identified_at) {
+                (Some(o), Some(t)) => writeln!(
+                    f,
+                    "  identified {o} at whisk {t} (IC threshold {})",
+                    r.threshold
+                )?,
+                _ => writeln!(f, "  nothing identified (IC threshold {})", r.threshold)?,
+            }
+            match (&self.object, &r.outcome) {
+                (Some(t), Some(outcome)) => writeln!(f, "  true object {t}: {outcome:?}")?,
+                _ => writeln!(f, "  true object: n/a (no ground truth)")?,
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Replays a closed-loop dataset open loop: WhiskerRatSLAM and recognition on its contacts
 /// and odometry.
-pub fn replay(dir: &Path, m: &Manifest, o: &Replay) -> CliResult {
+pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> CliResult<ReplaySummary> {
     let file = dir.join(super::manifest::FILE);
     let Some(info) = m.closed_loop.as_ref() else {
         return Err(CliError::field(&file, "closed_loop", "missing"));
@@ -287,33 +337,33 @@ pub fn replay(dir: &Path, m: &Manifest, o: &Replay) -> CliResult {
         }
         csv.push('\n');
     }
-    let object = object.as_deref();
-    let recognised = recognition.as_ref().map(|r| {
-        let identified = r.identified();
-        json!({
-            "identified": identified.map(|(o, _)| o),
-            "identified_at": identified.map(|(_, t)| t),
-            "crossings": r.crossed,
-            "final_rc": r.raw.confidence,
-            "final_ic": r.integrated,
-            // These need the true object: null without ground truth.
-            "outcome": object.map(|t| json!(r.outcome(t))),
-            "srt": object.and_then(|t| r.srt(t).ok()),
-            "im": object.and_then(|t| r.identity_margin(t)).map(|(v, _)| v),
-        })
-    });
-    let summary = json!({
-        "task": info.task,
-        "object": object,
-        "whisks": n,
-        "relocalisations": relocalisations,
-        "experiences": slam.map.experiences.len(),
-        "recognition": recognised,
-    });
-    if let Some(out) = o.out {
+    let truth = object.as_deref();
+    let summary = ReplaySummary {
+        task: info.task.clone(),
+        whisks: n,
+        relocalisations,
+        experiences: slam.map.experiences.len(),
+        recognition: recognition.as_ref().map(|r| {
+            let identified = r.identified();
+            ReplayRecognition {
+                identified: identified.map(|(o, _)| o.to_string()),
+                identified_at: identified.map(|(_, t)| t),
+                crossings: r.crossed.clone(),
+                final_rc: r.raw.confidence.clone(),
+                final_ic: r.integrated.clone(),
+                outcome: truth.map(|t| r.outcome(t)),
+                srt: truth.and_then(|t| r.srt(t).ok()),
+                im: truth.and_then(|t| r.identity_margin(t)).map(|(v, _)| v),
+                threshold: r.params.threshold,
+            }
+        }),
+        object,
+    };
+    if let Some(out) = out {
         crate::output::create_dir(out)?;
         crate::output::write_atomic(&out.join("replay.csv"), csv.as_bytes())?;
-        let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
+        let value = serde_json::to_value(&summary).expect("plain data");
+        let text = serde_json::to_string_pretty(&value).expect("plain JSON") + "\n";
         crate::output::write_atomic(&out.join("summary.json"), text.as_bytes())?;
         if info.task == "map" {
             slam.map
@@ -321,26 +371,5 @@ pub fn replay(dir: &Path, m: &Manifest, o: &Replay) -> CliResult {
                 .map_err(CliError::Failure)?;
         }
     }
-    if o.json {
-        println!("{summary}");
-    } else {
-        println!(
-            "Closed-loop replay (open loop on the recorded path, Ch 6): {n} whisks, {relocalisations} re-localisations into known maps, {} experiences",
-            slam.map.experiences.len()
-        );
-        if let Some(r) = &recognition {
-            match r.identified() {
-                Some((o, t)) => println!(
-                    "  identified {o} at whisk {t} (IC threshold {})",
-                    r.params.threshold
-                ),
-                None => println!("  nothing identified (IC threshold {})", r.params.threshold),
-            }
-            match object {
-                Some(t) => println!("  true object {t}: {:?}", r.outcome(t)),
-                None => println!("  true object: n/a (no ground truth)"),
-            }
-        }
-    }
-    Ok(())
+    Ok(summary)
 }

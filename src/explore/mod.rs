@@ -39,8 +39,8 @@ use crate::error::{CliError, CliResult};
 use crate::object_slam::physics::PhysicsSensing;
 use crate::plan::Plan;
 use crate::record::GraphSchedule;
-use crate::record::Recorder;
 use crate::record::SensorColumns;
+use crate::record::{Recorder, Reporter, Silent};
 use crate::scenario::explore::{ExploreConfig, Task};
 use crate::scenario::{Scenario, Sensing};
 use log::{Row, Summary};
@@ -167,6 +167,7 @@ struct Loop<'a> {
     time: f64,
     /// The recording, its map schedule and its buffered physics streams.
     recording: Option<&'a dyn Recorder>,
+    reporter: &'a dyn Reporter,
     graph: GraphSchedule,
     columns: Option<SensorColumns>,
 }
@@ -178,7 +179,7 @@ pub fn run(
     plan: Plan,
     environment: &Environment,
 ) -> CliResult<Outcome> {
-    run_logged(scenario, file, plan, environment, None, None)
+    run_logged(scenario, file, plan, environment, None, None, &Silent)
 }
 
 /// [`run`], physics whisks' samples handed to `log` (stream `explore/physics/<k>`), each
@@ -190,6 +191,7 @@ pub fn run_logged(
     environment: &Environment,
     log: Option<crate::object_slam::physics::WhiskLog>,
     recording: Option<&dyn Recorder>,
+    reporter: &dyn Reporter,
 ) -> CliResult<Outcome> {
     let config = scenario
         .explore
@@ -304,6 +306,7 @@ pub fn run_logged(
         fallbacks: BTreeMap::new(),
         time: 0.0,
         recording,
+        reporter,
         graph: GraphSchedule::default(),
         columns: match (recording, scenario.sensing) {
             (Some(rec), Sensing::Physics) => Some(SensorColumns::new(
@@ -467,11 +470,11 @@ impl Loop<'_> {
             out.cycles.push(cycle);
             out.odometry.push(odometry);
             if matches!(self.sensing, Sensor::Physics(_)) && (iteration + 1) % 10 == 0 {
-                eprintln!(
+                self.reporter.note(&format!(
                     "  explore: {}/{} whisks (physics), {relocalisations} re-localisations",
                     iteration + 1,
                     self.config.max_iterations
-                );
+                ));
             }
         }
         let iterations = out.poses.len();

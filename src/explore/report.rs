@@ -71,6 +71,7 @@ pub fn write(
         environment,
         None,
         recording.as_deref(),
+        ctx.reporter,
     )?;
     let wall = started.elapsed().as_secs_f64();
     crate::output::write_atomic(&dir.join(CSV_NAME), out.csv.as_bytes())?;

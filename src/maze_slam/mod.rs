@@ -25,16 +25,17 @@
 //! `--dataset DIR` runs RatSLAM from a dataset (`whisker dataset`, docs/dataset.md) instead
 //! of sensing: the same [`Sensed`] input, so the same bytes out.
 
-use crate::characterize::BendingArg;
 use crate::error::{CliError, CliResult};
-use crate::object_slam::SensingArg;
 use crate::record::{Context, Layout, Recorder, Target};
-use crate::scenario::Scenario;
 use crate::scenario::overrides::Override;
+use crate::scenario::{Scenario, SensingMode};
 use path::Sample;
 use record::RunRecording;
+use serde::Serialize;
 use serde_json::json;
+use std::fmt;
 use std::path::{Path, PathBuf};
+use whisker_sim::whisker::beam::Bending;
 use whisker_slam::ratslam::experience_map::Pose2;
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::ratslam::metrics::{
@@ -53,70 +54,47 @@ pub use sensing::{
     kinematic_whiskers, physics_sets,
 };
 
-/// Options of `whisker maze-slam`; every one but the scenario overrides the scenario.
-#[derive(clap::Args, Debug)]
-pub struct Options {
+/// What `whisker maze-slam` runs; every setting but the scenario overrides the scenario.
+#[derive(Debug, Clone)]
+pub struct Settings {
     /// Scenario with a `[maze]`, pose waypoints (the loop's corners) and optionally
     /// `[maze_slam]`.
-    #[arg(default_value = "scenarios/maze.toml")]
     pub scenario: PathBuf,
-    /// Seeds (comma-separated): one run per seed [default: the scenario's `seed`].
-    #[arg(long, value_delimiter = ',')]
+    /// Seeds: one run per seed [default: the scenario's `seed`].
     pub seeds: Option<Vec<u64>>,
     /// Also run the kidnapped variant of every seed (§3.3.1) [scenario:
     /// `maze_slam.kidnap`].
-    #[arg(long)]
     pub kidnap: bool,
-    /// Local-view matching threshold (Eq 3.1) [scenario:
-    /// `maze_slam.ratslam.local_view.match_threshold`]. Several (comma-separated) run
-    /// RatSLAM once per value on the same images and odometry — a tuning sweep at the
-    /// cost of one physics run.
-    #[arg(long, value_delimiter = ',')]
+    /// Local-view matching thresholds (Eq 3.1): RatSLAM runs once per value [scenario:
+    /// `maze_slam.ratslam.local_view.match_threshold`].
     pub match_threshold: Option<Vec<f64>>,
-    /// Pose-cell injection energy (Eq 5.8) [scenario:
-    /// `maze_slam.ratslam.local_view.inject_energy`]; several as for `--match-threshold`.
-    #[arg(long, value_delimiter = ',')]
+    /// Pose-cell injection energies (Eq 5.8) [scenario:
+    /// `maze_slam.ratslam.local_view.inject_energy`].
     pub inject_energy: Option<Vec<f64>>,
     /// Directory for `trajectory-<images>-<variant>-<seed>.csv` and `images-….csv`.
-    #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Read each seed's tactile images from the `images-….csv` an earlier `--out` wrote
-    /// to this directory, instead of sensing (re-running RatSLAM on recorded images).
-    #[arg(long)]
+    /// Read each seed's tactile images from the `images-….csv` an earlier `out` wrote to
+    /// this directory, instead of sensing.
     pub images: Option<PathBuf>,
-    /// Print one JSON object.
-    #[arg(long)]
-    pub json: bool,
-    /// How tactile images are made [scenario: `sensing`]: the kinematic sweep's contact
-    /// angles, or physics whiskers through the front end.
-    #[arg(long, value_enum)]
-    pub sensing: Option<SensingArg>,
+    /// How tactile images are made [scenario: `sensing`].
+    pub sensing: Option<SensingMode>,
     /// Physics: whisk with RCP at 20 × the free-whisking σ (§3.2.2) [scenario:
     /// `array.rcp`].
-    #[arg(long)]
     pub rcp: bool,
     /// Physics: shaft joint model [scenario: `array.bending`].
-    #[arg(long, value_enum)]
-    pub bending: Option<BendingArg>,
+    pub bending: Option<Bending>,
     /// Physics: segments per whisker [scenario: `array.segments`].
-    #[arg(long)]
     pub segments: Option<usize>,
     /// Physics: Rapier substeps per 0.5 ms step [scenario: `array.substeps`].
-    #[arg(long)]
     pub substeps: Option<usize>,
-    /// Change a scenario field by its dotted path, as `whisker run --set` (repeatable).
-    #[arg(long = "set", value_name = "PATH=VALUE", value_parser = Override::parse)]
+    /// Changes to scenario fields, as `whisker run --set`.
     pub set: Vec<Override>,
-    /// Run RatSLAM from a dataset (`whisker dataset`; docs/dataset.md) instead of the
-    /// simulator: its log, its parameters and, when present, its ground truth.
-    #[arg(long, conflicts_with_all = ["seeds", "images", "sensing", "rcp", "bending", "segments", "substeps", "set"])]
-    pub dataset: Option<PathBuf>,
-    #[command(flatten)]
+    /// Where the recording goes.
     pub rrd: Target,
 }
 
-impl Options {
-    /// The options of `whisker maze-slam FILE` with nothing else given.
+impl Settings {
+    /// The settings of `whisker maze-slam FILE` with nothing else given.
     pub fn of(file: &Path) -> Self {
         Self {
             scenario: file.to_path_buf(),
@@ -126,17 +104,43 @@ impl Options {
             inject_energy: None,
             out: None,
             images: None,
-            json: false,
             sensing: None,
             rcp: false,
             bending: None,
             segments: None,
             substeps: None,
             set: Vec::new(),
-            dataset: None,
             rrd: Target::default(),
         }
     }
+}
+
+/// The figures of one RatSLAM run: one seed, variant, image set and tuning.
+#[derive(Debug, Clone, Serialize)]
+pub struct RunResult {
+    pub seed: u64,
+    /// `normal` or `kidnapped`.
+    pub variant: &'static str,
+    /// The image set (`kinematic`, `open-loop/max_angle` …).
+    pub images: String,
+    pub match_threshold: f64,
+    pub inject_energy: f64,
+    pub updates: usize,
+    pub templates: usize,
+    pub experiences: usize,
+    /// ARR and ARCR (Algorithm 1) and the re-localisations they count; absent without
+    /// ground truth.
+    pub arr: Option<f64>,
+    pub arcr: Option<f64>,
+    pub relocalisations: Option<usize>,
+    /// The Energy Metric (Eq 3.2); absent without ground truth.
+    pub energy_metric: Option<f64>,
+}
+
+/// What `whisker maze-slam` found: every run (`--json`: `{"runs": […]}`).
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    pub runs: Vec<RunResult>,
 }
 
 /// One RatSLAM run over a sequence of images and odometry, and its metrics.
@@ -219,7 +223,7 @@ impl Evaluation {
 
 /// The RatSLAM parameter sets to run: the scenario's, or one per pair of the
 /// command line's lists.
-fn tunings(base: RatSlamParams, o: &Options) -> CliResult<Vec<RatSlamParams>> {
+fn tunings(base: RatSlamParams, o: &Settings) -> CliResult<Vec<RatSlamParams>> {
     let lv = base.local_view;
     let thresholds = o
         .match_threshold
@@ -256,25 +260,20 @@ fn without<T: Copy>(v: &[T], cut: &std::ops::Range<usize>) -> Vec<T> {
 }
 
 /// `whisker maze-slam`.
-pub fn run(o: &Options, ctx: Context) -> CliResult {
-    if let Some(dir) = &o.dataset {
-        let manifest = crate::dataset::manifest::Manifest::read(dir)?;
-        return replay(o, dir, &manifest, ctx);
-    }
+pub fn run(o: &Settings, ctx: Context) -> CliResult<Report> {
     let scenario = Scenario::load_with(&o.scenario, &o.set)?;
-    let results = evaluate(o, &scenario, ctx)?;
-    report(&results, o.json);
-    Ok(())
+    let runs = evaluate(o, &scenario, ctx)?;
+    Ok(Report { runs })
 }
 
 /// `whisker maze-slam --dataset DIR` (and `whisker slam DIR`): RatSLAM from the dataset
 /// in `dir`, whose manifest is `manifest`; the tunings and `--kidnap` of `o` apply.
 pub fn replay(
-    o: &Options,
+    o: &Settings,
     dir: &Path,
     manifest: &crate::dataset::manifest::Manifest,
     ctx: Context,
-) -> CliResult {
+) -> CliResult<Report> {
     if manifest.experiment != crate::dataset::manifest::Experiment::MazeSlam {
         return Err(CliError::Input(format!(
             "{}: not a maze-slam dataset",
@@ -299,12 +298,11 @@ pub fn replay(
         z: 0.0,
         recording: recording.as_deref(),
     };
-    let results = run_sensed(&sensed, &tunings, kidnap, o.out.as_deref(), &plane)?;
+    let runs = run_sensed(&sensed, &tunings, kidnap, o.out.as_deref(), &plane, ctx)?;
     if let Some(rec) = recording {
         rec.finish()?;
     }
-    report(&results, o.json);
-    Ok(())
+    Ok(Report { runs })
 }
 
 /// Where a maze-slam's recording draws and goes.
@@ -357,7 +355,7 @@ fn tuning_tag(params: &RatSlamParams, sweep: bool) -> String {
 
 /// The recording of a maze-slam (`--rrd`, else `run.rrd` in `--out` when `default_on`).
 fn open_recording(
-    o: &Options,
+    o: &Settings,
     ctx: Context,
     default_on: bool,
     stem: &str,
@@ -391,21 +389,21 @@ pub fn trial(
     rrd: &Target,
     ctx: Context,
 ) -> CliResult {
-    let mut o = Options::of(file);
+    let mut o = Settings::of(file);
     o.rrd = rrd.clone();
     o.seeds = Some(vec![scenario.seed]);
     o.out = Some(dir.to_path_buf());
-    o.json = true;
-    let results = evaluate(&o, scenario, ctx)?;
+    let report = Report {
+        runs: evaluate(&o, scenario, ctx)?,
+    };
     let mut summary = serde_json::Map::new();
     summary.insert("seed".into(), json!(scenario.seed));
-    for r in &results {
-        let name = format!(
-            "{}.{}",
-            r["variant"].as_str().unwrap_or(""),
-            r["images"].as_str().unwrap_or("")
-        );
-        let mut figures = r.as_object().cloned().unwrap_or_default();
+    for r in &report.runs {
+        let name = format!("{}.{}", r.variant, r.images);
+        let mut figures = match serde_json::to_value(r) {
+            Ok(serde_json::Value::Object(m)) => m,
+            _ => serde_json::Map::new(),
+        };
         for k in ["seed", "variant", "images"] {
             figures.remove(k);
         }
@@ -413,17 +411,14 @@ pub fn trial(
     }
     let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
     crate::output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
-    ctx.say(&json!({ "runs": results }).to_string());
+    let line = serde_json::to_value(&report).map_err(|e| CliError::Failure(e.to_string()))?;
+    ctx.say(&line.to_string());
     Ok(())
 }
 
-/// The runs of `whisker maze-slam` with options `o` on `scenario` (read from `o.scenario`):
-/// one JSON object per seed, variant, image set and tuning.
-pub fn evaluate(
-    o: &Options,
-    scenario: &Scenario,
-    ctx: Context,
-) -> CliResult<Vec<serde_json::Value>> {
+/// The runs of `whisker maze-slam` with settings `o` on `scenario` (read from
+/// `o.scenario`): one per seed, variant, image set and tuning.
+pub fn evaluate(o: &Settings, scenario: &Scenario, ctx: Context) -> CliResult<Vec<RunResult>> {
     let setup = Setup::new(o, scenario)?;
     let environment = scenario.environment(&o.scenario)?.environment;
     let tunings = tunings(scenario.maze_slam.ratslam, o)?;
@@ -443,13 +438,14 @@ pub fn evaluate(
     let target = std::cell::OnceCell::new();
     let mut results = Vec::new();
     for &seed in &seeds {
-        let sensed = sensing::sense(o, scenario, &setup, &environment, &target, seed)?;
+        let sensed = sensing::sense(o, scenario, &setup, &environment, &target, seed, ctx)?;
         results.extend(run_sensed(
             &sensed,
             &tunings,
             kidnap,
             o.out.as_deref(),
             &plane,
+            ctx,
         )?);
     }
     if let Some(rec) = recording {
@@ -465,7 +461,8 @@ fn run_sensed(
     kidnap: bool,
     out: Option<&Path>,
     plane: &Plane,
-) -> CliResult<Vec<serde_json::Value>> {
+    ctx: Context,
+) -> CliResult<Vec<RunResult>> {
     if let Some(dir) = out {
         crate::output::create_dir(dir)?;
         for (images_name, images) in &sensed.image_sets {
@@ -475,7 +472,7 @@ fn run_sensed(
             )?;
         }
     }
-    slam_runs(sensed, tunings, kidnap, out, plane)
+    slam_runs(sensed, tunings, kidnap, out, plane, ctx)
 }
 
 /// RatSLAM over one seed's data: the normal variant (and, with `kidnap`, the kidnapped
@@ -486,7 +483,8 @@ pub fn slam_runs(
     kidnap: bool,
     out: Option<&Path>,
     plane: &Plane,
-) -> CliResult<Vec<serde_json::Value>> {
+    ctx: Context,
+) -> CliResult<Vec<RunResult>> {
     let seed = sensed.seed;
     let sweep = tunings.len() > 1;
     let starts = &sensed.starts;
@@ -530,67 +528,69 @@ pub fn slam_runs(
                         run.trajectory_csv(truth.as_deref()).as_bytes(),
                     )?;
                 }
-                eprintln!("seed {seed} {name} {images_name}: {updates} updates");
-                results.push(json!({
-                    "seed": seed,
-                    "variant": name,
-                    "images": images_name,
-                    "match_threshold": params.local_view.match_threshold,
-                    "inject_energy": params.local_view.inject_energy,
-                    "updates": updates,
-                    "templates": run.templates,
-                    "experiences": run.experiences,
-                    "arr": run.metric.as_ref().map(|m| m.arr),
-                    "arcr": run.metric.as_ref().map(|m| m.arcr),
-                    "relocalisations": run.metric.as_ref().map(|m| m.relocalisations),
-                    "energy_metric": run.energy,
-                }));
+                ctx.note(&format!(
+                    "seed {seed} {name} {images_name}: {updates} updates"
+                ));
+                results.push(RunResult {
+                    seed,
+                    variant: name,
+                    images: images_name.clone(),
+                    match_threshold: params.local_view.match_threshold,
+                    inject_energy: params.local_view.inject_energy,
+                    updates,
+                    templates: run.templates,
+                    experiences: run.experiences,
+                    arr: run.metric.as_ref().map(|m| m.arr),
+                    arcr: run.metric.as_ref().map(|m| m.arcr),
+                    relocalisations: run.metric.as_ref().map(|m| m.relocalisations),
+                    energy_metric: run.energy,
+                });
             }
         }
     }
     Ok(results)
 }
 
-/// Prints the runs: one JSON object, or a table.
-fn report(results: &[serde_json::Value], as_json: bool) {
-    if as_json {
-        println!("{}", json!({ "runs": results }));
-        return;
-    }
-    println!("Planar RatSLAM on the maze (§3.3)");
-    println!(
-        "  {:>5} {:<10} {:<26} {:>6} {:>6} {:>7} {:>9} {:>11} {:>7} {:>7} {:>9}",
-        "seed",
-        "variant",
-        "images",
-        "thresh",
-        "energy",
-        "updates",
-        "templates",
-        "experiences",
-        "ARR",
-        "ARCR",
-        "EM"
-    );
-    // Metrics that need ground truth are null without it: shown as n/a.
-    let metric = |v: &serde_json::Value, width: usize| match v.as_f64() {
-        Some(x) => format!("{x:>width$.4}"),
-        None => format!("{:>width$}", "n/a"),
-    };
-    for r in results {
-        println!(
-            "  {:>5} {:<10} {:<26} {:>6} {:>6} {:>7} {:>9} {:>11} {} {} {}",
-            r["seed"].as_u64().unwrap_or(0),
-            r["variant"].as_str().unwrap_or(""),
-            r["images"].as_str().unwrap_or(""),
-            r["match_threshold"].as_f64().unwrap_or(f64::NAN),
-            r["inject_energy"].as_f64().unwrap_or(f64::NAN),
-            r["updates"].as_u64().unwrap_or(0),
-            r["templates"].as_u64().unwrap_or(0),
-            r["experiences"].as_u64().unwrap_or(0),
-            metric(&r["arr"], 7),
-            metric(&r["arcr"], 7),
-            metric(&r["energy_metric"], 9),
-        );
+impl fmt::Display for Report {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "Planar RatSLAM on the maze (§3.3)")?;
+        writeln!(
+            f,
+            "  {:>5} {:<10} {:<26} {:>6} {:>6} {:>7} {:>9} {:>11} {:>7} {:>7} {:>9}",
+            "seed",
+            "variant",
+            "images",
+            "thresh",
+            "energy",
+            "updates",
+            "templates",
+            "experiences",
+            "ARR",
+            "ARCR",
+            "EM"
+        )?;
+        // Metrics that need ground truth are absent without it: shown as n/a.
+        let metric = |v: Option<f64>, width: usize| match v.filter(|x| !x.is_nan()) {
+            Some(x) => format!("{x:>width$.4}"),
+            None => format!("{:>width$}", "n/a"),
+        };
+        for r in &self.runs {
+            writeln!(
+                f,
+                "  {:>5} {:<10} {:<26} {:>6} {:>6} {:>7} {:>9} {:>11} {} {} {}",
+                r.seed,
+                r.variant,
+                r.images,
+                r.match_threshold,
+                r.inject_energy,
+                r.updates,
+                r.templates,
+                r.experiences,
+                metric(r.arr, 7),
+                metric(r.arcr, 7),
+                metric(r.energy_metric, 9),
+            )?;
+        }
+        Ok(())
     }
 }

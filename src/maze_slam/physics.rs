@@ -11,6 +11,7 @@
 
 use super::Geometry;
 use super::path::Sample;
+use crate::record::Reporter;
 use nalgebra::Isometry3;
 use whisker_sim::sensing::kinematic::RigidWhisker;
 use whisker_sim::sensing::physics::{
@@ -21,6 +22,15 @@ use whisker_slam::frontend::contact::{FrontEndParams, detect};
 use whisker_slam::ratslam::experience_map::wrap;
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::sensor::Sample as Reading;
+
+/// The physics whiskers of a maze run: their configurations and RCP mode.
+#[derive(Debug, Clone)]
+pub struct PhysicsWhiskers {
+    /// Each whisker's configuration, RCP thresholds not yet calibrated.
+    pub configs: Vec<WhiskerConfig>,
+    /// How the RCP thresholds are calibrated (None: open loop).
+    pub rcp: Option<RcpThreshold>,
+}
 
 /// The images of every update: (by max_angle, by contact_angle).
 pub type Images = (Vec<TactileImage>, Vec<TactileImage>);
@@ -151,6 +161,7 @@ pub fn simulate<E>(
     configs: Vec<WhiskerConfig>,
     seed: u64,
     g: &Geometry,
+    reporter: &dyn Reporter,
     mut each: impl FnMut(usize, Vec<Vec<Reading>>) -> Result<(), E>,
 ) -> Result<(), E> {
     let frequency = configs[0].pattern.frequency;
@@ -166,12 +177,12 @@ pub fn simulate<E>(
             // A line, not a bar: these runs take hours and are often logged to a file.
             let elapsed = started.elapsed();
             let left = elapsed.mul_f64((cycles - c - 1) as f64 / (c + 1) as f64);
-            eprintln!(
+            reporter.note(&format!(
                 "  {} of {cycles} whisk cycles simulated ({} elapsed, about {} left)",
                 c + 1,
                 indicatif::HumanDuration(elapsed),
                 indicatif::HumanDuration(left)
-            );
+            ));
         }
     }
     Ok(())
@@ -181,20 +192,27 @@ pub fn simulate<E>(
 pub fn images(
     path: &[Sample],
     environment: &[EnvironmentPiece],
-    configs: Vec<WhiskerConfig>,
-    rcp: Option<RcpThreshold>,
+    whiskers: &PhysicsWhiskers,
     detection: &FrontEndParams,
     seed: u64,
     g: &Geometry,
+    reporter: &dyn Reporter,
 ) -> Images {
-    let configs = calibrated(configs, rcp, seed);
+    let configs = calibrated(whiskers.configs.clone(), whiskers.rcp, seed);
     let front = ImageFrontEnd::new(&configs, detection);
     let mut by_cycle = Vec::new();
-    let done: Result<(), std::convert::Infallible> =
-        simulate(path, environment, configs, seed, g, |_, streams| {
+    let done: Result<(), std::convert::Infallible> = simulate(
+        path,
+        environment,
+        configs,
+        seed,
+        g,
+        reporter,
+        |_, streams| {
             by_cycle.push(front.cycle(&streams, g));
             Ok(())
-        });
+        },
+    );
     let Ok(()) = done;
     front.per_update(&by_cycle, path.len())
 }
@@ -236,11 +254,11 @@ mod tests {
         let (max, contact) = images(
             &path,
             &environment.physics_pieces(),
-            configs,
-            None,
+            &PhysicsWhiskers { configs, rcp: None },
             &detection,
             0,
             &g,
+            &crate::record::Silent,
         );
         let target = whisker_sim::sensing::kinematic::SweepTarget::of(&environment);
         let whiskers = super::super::kinematic_whiskers();

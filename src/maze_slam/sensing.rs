@@ -3,23 +3,23 @@
 //! model of §3.1.2, and one seed's RatSLAM input — from the kinematic sweep, physics
 //! whiskers ([`super::physics`]) or a dataset (`crate::dataset::maze`).
 
+use super::Settings;
 use super::images;
 use super::path::{self, Sample};
-use super::{Options, physics};
-use crate::characterize::BendingArg;
+use super::physics::{self, PhysicsWhiskers};
 use crate::error::{CliError, CliResult};
-use crate::object_slam::SensingArg;
+use crate::record::Context;
 use crate::scenario::array::{BendingConfig, RcpConfig};
 use crate::scenario::maze_slam::AngleEstimate;
-use crate::scenario::{Scenario, Sensing};
+use crate::scenario::{Scenario, Sensing, SensingMode};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use std::f64::consts::PI;
 use std::path::Path;
 use whisker_sim::environment::Environment;
 use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
-use whisker_sim::sensing::physics::WhiskerConfig;
 use whisker_sim::whisker::array;
-use whisker_sim::whisker::control::{RcpThreshold, WhiskingPattern};
+use whisker_sim::whisker::beam::Bending;
+use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_slam::contact::ContactCycle;
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::ratslam::odometry::{noisy_steps, true_steps};
@@ -138,16 +138,12 @@ fn corners(
 
 /// The physics whiskers: the scenario's `[array]` with the command line's overrides,
 /// checked as the scenario's own values are.
-fn physics_configs(
-    scenario: &Scenario,
-    file: &Path,
-    o: &Options,
-) -> CliResult<(Vec<WhiskerConfig>, Option<RcpThreshold>)> {
+fn physics_configs(scenario: &Scenario, file: &Path, o: &Settings) -> CliResult<PhysicsWhiskers> {
     let mut array = scenario.array.clone();
     if let Some(b) = o.bending {
         array.bending = match b {
-            BendingArg::Spatial => BendingConfig::Spatial,
-            BendingArg::SweepPlane => BendingConfig::SweepPlane,
+            Bending::Spatial => BendingConfig::Spatial,
+            Bending::SweepPlane => BendingConfig::SweepPlane,
         };
     }
     array.segments = o.segments.or(array.segments);
@@ -163,7 +159,10 @@ fn physics_configs(
         )),
         e => e,
     })?;
-    Ok((configs, array.rcp_mode()))
+    Ok(PhysicsWhiskers {
+        configs,
+        rcp: array.rcp_mode(),
+    })
 }
 
 /// One data set: a name and the tactile image of every update.
@@ -178,14 +177,14 @@ pub struct Setup {
     /// Where each circuit starts.
     pub starts: Vec<usize>,
     /// Physics whiskers and RCP mode (None: kinematic sensing).
-    pub physics: Option<(Vec<WhiskerConfig>, Option<RcpThreshold>)>,
+    pub physics: Option<PhysicsWhiskers>,
     /// The image sets, named as in reports and file names.
     pub set_names: Vec<String>,
 }
 
 impl Setup {
     /// The setup of `scenario` (read from `o.scenario`) with the command line's options.
-    pub fn new(o: &Options, scenario: &Scenario) -> CliResult<Self> {
+    pub fn new(o: &Settings, scenario: &Scenario) -> CliResult<Self> {
         let file = o.scenario.as_path();
         let maze = scenario
             .maze
@@ -205,8 +204,8 @@ impl Setup {
         let (loop_corners, geometry) = corners(scenario, file, maze.position_m[2])?;
         let sensing = match (o.sensing, scenario.sensing) {
             (Some(s), _) => s,
-            (None, Sensing::Physics) => SensingArg::Physics,
-            (None, Sensing::Kinematic) => SensingArg::Kinematic,
+            (None, Sensing::Physics) => SensingMode::Physics,
+            (None, Sensing::Kinematic) => SensingMode::Kinematic,
             (None, Sensing::None) => {
                 return Err(CliError::field(
                     file,
@@ -216,13 +215,13 @@ impl Setup {
             }
         };
         let physics = match sensing {
-            SensingArg::Physics => Some(physics_configs(scenario, file, o)?),
-            SensingArg::Kinematic => None,
+            SensingMode::Physics => Some(physics_configs(scenario, file, o)?),
+            SensingMode::Kinematic => None,
         };
         let (truth, starts) = path::path(&loop_corners, config.circuits);
         let set_names = match &physics {
             None => vec!["kinematic".into()],
-            Some((_, rcp)) => image_set_names(rcp.is_some(), &config.images),
+            Some(w) => image_set_names(w.rcp.is_some(), &config.images),
         };
         Ok(Self {
             geometry,
@@ -261,12 +260,13 @@ pub struct Sensed {
 
 /// Senses one seed live (or reads `--images`).
 pub(super) fn sense(
-    o: &Options,
+    o: &Settings,
     scenario: &Scenario,
     setup: &Setup,
     environment: &Environment,
     target: &std::cell::OnceCell<SweepTarget>,
     seed: u64,
+    ctx: Context,
 ) -> CliResult<Sensed> {
     let file = o.scenario.as_path();
     let config = &scenario.maze_slam;
@@ -291,15 +291,15 @@ pub(super) fn sense(
                 .collect();
             vec![(setup.set_names[0].clone(), images)]
         }
-        (None, Some((configs, rcp))) => {
+        (None, Some(whiskers)) => {
             let (max, contact) = physics::images(
                 truth,
                 &environment.physics_pieces(),
-                configs.clone(),
-                *rcp,
+                whiskers,
                 &scenario.frontend.detection,
                 substream_key(seed, "maze-slam/physics"),
                 g,
+                ctx.reporter,
             );
             physics_sets(&config.images, &setup.set_names, max, contact)
         }

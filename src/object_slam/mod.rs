@@ -36,13 +36,14 @@ mod record;
 mod trajectory;
 pub use trajectory::{Placement, Trajectory, mean_step};
 
+use crate::choice::Choice;
 use crate::error::{CliError, CliResult};
-use crate::record::Context;
+use crate::record::{Context, Reporter, Target};
+use crate::scenario::SensingMode;
 use nalgebra::{Isometry3, Point3};
 use physics::PhysicsSensing;
 use rayon::prelude::*;
-use serde_json::json;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use whisker_sim::environment::assets::{Asset, CATALOGUE, generate};
 use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
 use whisker_sim::sensing::noise::ContactNoise;
@@ -63,50 +64,47 @@ const UNMAPPED: &str = "skull";
 /// Identification decay per whisk.
 const DECAY: f64 = 0.9;
 
-/// Options of `whisker object-slam`.
-#[derive(clap::Args, Debug, Clone)]
-pub struct Options {
-    /// Catalogue objects (comma-separated) [default: all eight].
-    #[arg(long, value_delimiter = ',')]
+/// What `whisker object-slam` runs.
+#[derive(Debug, Clone)]
+pub struct Settings {
+    /// Catalogue objects [default: all eight].
     pub objects: Vec<String>,
     /// Seed of every random draw.
-    #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Directory for object maps and CSV results (created; files written atomically).
-    #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Print one JSON object instead of tables.
-    #[arg(long)]
-    pub json: bool,
     /// How contacts are sensed: the kinematic sweep with the noise of §6.1.3.1.2, or
-    /// physics whiskers through the signal front end and a radial-distance model (slow:
-    /// about 10 CPU-minutes per object).
-    #[arg(long, value_enum, default_value_t = SensingArg::Kinematic)]
-    pub sensing: SensingArg,
-    /// With `--sensing physics`: the radial-distance model file (`whisker radial train`)
-    /// [default: the built-in svr10].
-    #[arg(long)]
+    /// physics whiskers through the signal front end and a radial-distance model.
+    pub sensing: SensingMode,
+    /// With physics sensing: the radial-distance model file [default: the built-in svr10].
     pub radial_model: Option<PathBuf>,
-    /// Which WhiskerRatSLAM: with the corrections of issue #19, or Alg 2 as printed (the
-    /// closed loop's default; robust relaxation on in both).
-    #[arg(long, value_enum, default_value_t = SlamArg::Corrected)]
-    pub slam: SlamArg,
-    /// Where each object sits relative to its trajectories (§5.2.2.1): the thesis' set-up
-    /// (the Kettle on the trajectory's centre, the others 5 cm off it) or every object
-    /// centred.
-    #[arg(long, value_enum, default_value_t = Placement::Thesis)]
+    /// Which WhiskerRatSLAM.
+    pub slam: SlamVersion,
+    /// Where each object sits relative to its trajectories (§5.2.2.1).
     pub placement: Placement,
-    /// Run from a dataset (`whisker dataset object-slam`; docs/dataset.md) instead of the
-    /// simulator: its objects, seed and contacts.
-    #[arg(long, conflicts_with_all = ["objects", "seed", "sensing", "radial_model", "placement"])]
-    pub dataset: Option<PathBuf>,
-    #[command(flatten)]
-    pub rrd: crate::record::Target,
+    /// Where the recording goes.
+    pub rrd: Target,
 }
 
-/// `--slam`.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SlamArg {
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            objects: Vec::new(),
+            seed: 0,
+            out: None,
+            sensing: SensingMode::Kinematic,
+            radial_model: None,
+            slam: SlamVersion::Corrected,
+            placement: Placement::Thesis,
+            rrd: Target::default(),
+        }
+    }
+}
+
+/// Which WhiskerRatSLAM: with the corrections of issue #19, or Alg 2 as printed (the
+/// closed loop's default; robust relaxation on in both).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SlamVersion {
     /// Ω relative to the packet's peak, the test before the injection, phase-exact path
     /// integration, the odometry anchor (`Params::corrected`).
     Corrected,
@@ -114,13 +112,15 @@ pub enum SlamArg {
     Printed,
 }
 
-/// `--sensing`.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SensingArg {
-    /// Anticipated intersect with noise.
-    Kinematic,
-    /// Rapier whiskers, the front end and a radial-distance model.
-    Physics,
+impl Choice for SlamVersion {
+    const ALL: &'static [(Self, &'static str, &'static str)] = &[
+        (
+            SlamVersion::Corrected,
+            "corrected",
+            "Ω relative to the packet's peak, the test before the injection, phase-exact path integration, the odometry anchor",
+        ),
+        (SlamVersion::Printed, "printed", "Alg 2 as printed"),
+    ];
 }
 
 /// How contact points are placed (Table 5.1 "contact algorithm").
@@ -238,23 +238,33 @@ pub fn stream(object: &str, which: Trajectory) -> String {
     format!("object-slam/{object}/{}", which.name())
 }
 
-/// Senses `laps` laps of a trajectory around an object (its sweep target and shape),
-/// kinematically or (given `physics`) by physics whiskers; `noise` false leaves out the
-/// contact noise and the odometry error (a clean dataset).
-pub fn walk(
-    asset: &Asset,
-    (which, placement): (Trajectory, Placement),
-    laps: usize,
-    (target, shape): (&SweepTarget, &parry3d_f64::shape::SharedShape),
-    seed: u64,
-    physics: Option<&PhysicsSensing>,
-    noise: bool,
-) -> Walk {
+/// A catalogue object to walk around: the sweep's target and the solid's shape.
+pub struct Object<'a> {
+    pub asset: &'a Asset,
+    pub target: &'a SweepTarget,
+    pub shape: &'a parry3d_f64::shape::SharedShape,
+}
+
+/// How a walk is sensed: kinematically or (given `physics`) by physics whiskers, with
+/// draws from `seed`; `noise` false leaves out the contact noise and the odometry error (a
+/// clean dataset).
+pub struct WalkSensing<'a> {
+    pub placement: Placement,
+    pub seed: u64,
+    pub physics: Option<&'a PhysicsSensing>,
+    pub noise: bool,
+    pub reporter: &'a dyn Reporter,
+}
+
+/// Senses `laps` laps of trajectory `which` around `object`.
+pub fn walk(object: &Object, which: Trajectory, laps: usize, how: &WalkSensing) -> Walk {
+    let (asset, target, seed, noise) = (object.asset, object.target, how.seed, how.noise);
+    let (placement, shape) = (how.placement, object.shape);
     let lap = trajectory::lap(which, placement, asset.name, shape, asset.size);
     let truth: Vec<Isometry3<f64>> = (0..laps).flat_map(|_| lap.iter().copied()).collect();
     let stream = stream(asset.name, which);
-    let cycles = match physics {
-        Some(p) => p.sense(target, &truth, seed, &stream),
+    let cycles = match how.physics {
+        Some(p) => p.sense(target, &truth, seed, &stream, how.reporter),
         None => {
             let whiskers: Vec<RigidWhisker> = array::modules()
                 .into_iter()
@@ -363,27 +373,32 @@ fn explore(
     out
 }
 
-fn params(combo: Combo, slam: SlamArg) -> Params {
+fn params(combo: Combo, slam: SlamVersion) -> Params {
     let mut p = match slam {
-        SlamArg::Corrected => Params::corrected(),
-        SlamArg::Printed => Params::default(),
+        SlamVersion::Corrected => Params::corrected(),
+        SlamVersion::Printed => Params::default(),
     };
     p.matching.features = combo.features;
     p.merge_features = combo.merge;
     p
 }
 
-/// `whisker object-slam`.
-pub fn run(o: &Options, ctx: Context) -> CliResult {
-    if let Some(dir) = &o.dataset {
-        let manifest = crate::dataset::manifest::Manifest::read(dir)?;
-        let data = crate::dataset::object::read(dir, &manifest)?;
-        let mut o = o.clone();
-        o.seed = manifest.seed;
-        return analyse(&o, &data, ctx);
-    }
-    let data = sense(o, true, None)?;
+/// `whisker object-slam`: senses the walks of `o`, then [`analyse`].
+pub fn run(o: &Settings, ctx: Context) -> CliResult<Report> {
+    let data = sense(o, true, None, ctx)?;
     analyse(o, &data, ctx)
+}
+
+/// `whisker object-slam --dataset DIR`: the walks of the dataset in `dir` (its objects and
+/// seed), then [`analyse`] with the settings of `o` that do not sense.
+pub fn replay(o: &Settings, dir: &Path, ctx: Context) -> CliResult<Report> {
+    let manifest = crate::dataset::manifest::Manifest::read(dir)?;
+    let data = crate::dataset::object::read(dir, &manifest)?;
+    let o = Settings {
+        seed: manifest.seed,
+        ..o.clone()
+    };
+    analyse(&o, &data, ctx)
 }
 
 /// The catalogue objects named by `--objects` (all eight when none).
@@ -408,19 +423,20 @@ pub fn objects(names: &[String]) -> CliResult<Vec<&'static Asset>> {
 /// Senses every object of `o` (walks A and B); `noise` false: a clean dataset's walks;
 /// physics sensing hands every whisk's samples to `log` (a dataset writer).
 pub fn sense(
-    o: &Options,
+    o: &Settings,
     noise: bool,
     log: Option<physics::WhiskLog>,
+    ctx: Context,
 ) -> CliResult<Vec<Sensed<'static>>> {
     let assets = objects(&o.objects)?;
     let model: Option<RadialEstimator> = match (o.sensing, &o.radial_model) {
-        (SensingArg::Kinematic, None) => None,
-        (SensingArg::Kinematic, Some(_)) => {
+        (SensingMode::Kinematic, None) => None,
+        (SensingMode::Kinematic, Some(_)) => {
             return Err(CliError::Input(
                 "--radial-model: only used with --sensing physics".into(),
             ));
         }
-        (SensingArg::Physics, path) => Some(crate::frontend::radial_model(path.as_deref())?),
+        (SensingMode::Physics, path) => Some(crate::frontend::radial_model(path.as_deref())?),
     };
     assets
         .par_iter()
@@ -435,24 +451,34 @@ pub fn sense(
                 p.log = log.clone();
                 p
             });
-            let p = physics.as_ref();
-            let object = (&target, &shape);
-            let laps = |which, n| walk(asset, (which, o.placement), n, object, o.seed, p, noise);
+            let object = Object {
+                asset,
+                target: &target,
+                shape: &shape,
+            };
+            let how = WalkSensing {
+                placement: o.placement,
+                seed: o.seed,
+                physics: physics.as_ref(),
+                noise,
+                reporter: ctx.reporter,
+            };
+            let laps = |which, n| walk(&object, which, n, &how);
             let (a, b) = (laps(Trajectory::A, 2), laps(Trajectory::B, 1));
             let truth = a.truth.as_deref().unwrap_or_default();
             let step = trajectory::mean_step(&truth[..truth.len() / 2]);
-            eprintln!(
+            ctx.note(&format!(
                 "{}: {} poses per lap sensed",
                 asset.name,
                 a.cycles.len() / 2
-            );
+            ));
             Ok((*asset, a, b, Some(step)))
         })
         .collect()
 }
 
 /// Localisation and identification on sensed walks (§5.2.2): reports and `--out` files.
-pub fn analyse(o: &Options, data: &[Sensed], ctx: Context) -> CliResult {
+pub fn analyse(o: &Settings, data: &[Sensed], ctx: Context) -> CliResult<Report> {
     if let Some(dir) = &o.out {
         crate::output::create_dir(dir)?;
     }
@@ -477,7 +503,7 @@ pub fn analyse(o: &Options, data: &[Sensed], ctx: Context) -> CliResult {
             (i, combo, on_a, on_b, map)
         })
         .collect();
-    eprintln!("localisation: {} runs done", results.len());
+    ctx.note(&format!("localisation: {} runs done", results.len()));
     let localisation = report::localisation(o, data, &results)?;
     // Identification with the best set's maps, the unmapped object left out.
     let mut appended = ObjectMap::default();
@@ -525,13 +551,13 @@ pub fn analyse(o: &Options, data: &[Sensed], ctx: Context) -> CliResult {
         .collect();
     let identification = report::identification(o, data, &mapped, &id_results)?;
     record::write(o, data, &id_results, ctx)?;
-    if o.json {
-        println!(
-            "{}",
-            json!({ "seed": o.seed, "localisation": localisation, "identification": identification })
-        );
-    }
-    Ok(())
+    Ok(Report {
+        seed: o.seed,
+        localisation,
+        identification,
+        mapped,
+    })
 }
 
 mod report;
+pub use report::{IdentificationRow, LocalisationRow, Report, Summary, WalkStats};

@@ -12,6 +12,7 @@
 //! depend on the number of threads. An undefined slope (no x or y variation) reads as
 //! flat (0), as a missing SDA entry does.
 
+use crate::record::Reporter;
 use nalgebra::{Isometry3, Point3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -86,6 +87,7 @@ impl PhysicsSensing {
         poses: &[Isometry3<f64>],
         seed: u64,
         stream: &str,
+        reporter: &dyn Reporter,
     ) -> Vec<ContactCycle> {
         let done = AtomicUsize::new(0);
         poses
@@ -95,7 +97,7 @@ impl PhysicsSensing {
                 let cycle = self.whisk(target, k, pose, seed, &format!("{stream}/physics/{k}"));
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
                 if n.is_multiple_of(10) || n == poses.len() {
-                    eprintln!("  {stream}: {n}/{} whisks simulated", poses.len());
+                    reporter.note(&format!("  {stream}: {n}/{} whisks simulated", poses.len()));
                 }
                 cycle
             })
@@ -250,7 +252,7 @@ mod tests {
         let target = SweepTarget::of(&environment);
         let model = crate::frontend::radial_model(None).unwrap();
         let sensing = PhysicsSensing::new(vec![(shape, Isometry3::identity())], model);
-        let cycles = sensing.sense(&target, &[far, near], 0, "test");
+        let cycles = sensing.sense(&target, &[far, near], 0, "test", &crate::record::Silent);
         assert!(cycles[0].contacts.is_empty());
         let contacts = &cycles[1].contacts;
         let touching: Vec<usize> = (0..sensing.rigid.len())

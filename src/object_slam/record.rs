@@ -11,7 +11,7 @@
 //! other on this thread, with the same parameters and data (WhiskerRatSLAM is
 //! deterministic), so that the recording does not depend on the thread count.
 
-use super::{Combo, IdentificationRun, Options, Sensed, Walk, anticipated, features, params};
+use super::{Combo, IdentificationRun, Sensed, Settings, Walk, anticipated, features, params};
 use crate::error::CliResult;
 use crate::record::{Contact, ContactKind, Context, GraphSchedule, Layout, Recorder};
 use nalgebra::Isometry3;
@@ -26,7 +26,7 @@ const SPACING_M: f64 = 0.4;
 
 /// Writes the recording of an object-slam run (`--rrd`, else `run.rrd` in `--out`).
 pub(super) fn write(
-    o: &Options,
+    o: &Settings,
     data: &[Sensed],
     identification: &[IdentificationRun],
     ctx: Context,

@@ -1,8 +1,11 @@
-//! Reports of `whisker object-slam`: tables (or JSON values), CSV files and object maps.
+//! Results of `whisker object-slam`: typed rows (printed as tables or JSON by the
+//! command line), CSV files and object maps in `--out`.
 
-use super::{Combo, IdentificationRun, LocalisationRun, Options, Sensed};
+use super::{Combo, Event, IdentificationRun, LocalisationRun, Sensed, Settings};
 use crate::error::{CliError, CliResult};
-use serde_json::{Value, json};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::fmt;
 use whisker_slam::stats::median;
 
 /// Percentile `p` (0–100) of a list, by nearest rank (NaN when empty).
@@ -15,9 +18,101 @@ fn percentile(mut v: Vec<f64>, p: f64) -> f64 {
     v[rank.min(v.len()) - 1]
 }
 
-/// Localisation errors per object and parameter set (Fig 5.15): JSON, CSV
-/// `localisation.csv` and the best set's object maps `maps/<object>.json` in `--out`.
-pub fn localisation(o: &Options, data: &[Sensed], runs: &[LocalisationRun]) -> CliResult<Value> {
+/// The median, 75th percentile and maximum of a list of errors.
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    pub median: f64,
+    pub p75: f64,
+    pub max: f64,
+}
+
+/// One walk's re-localisations and their errors; errors are absent without ground truth.
+#[derive(Debug, Clone, Serialize)]
+pub struct WalkStats {
+    pub relocalisations: usize,
+    pub position_error_m: Option<Summary>,
+    pub rotation_error_deg: Option<Summary>,
+    pub perceived_position_error_m: Option<Summary>,
+    pub perceived_rotation_error_deg: Option<Summary>,
+    /// Re-localisations within the thesis' step of where the experience was made.
+    pub true_revisits: Option<usize>,
+    pub true_revisit_share: Option<f64>,
+}
+
+/// Localisation on one object with one of Table 5.1's parameter sets (Fig 5.15).
+#[derive(Debug, Clone, Serialize)]
+pub struct LocalisationRow {
+    pub object: &'static str,
+    pub parameters: String,
+    pub experiences: usize,
+    pub step_m: Option<f64>,
+    pub step_deg: Option<f64>,
+    pub thesis_step_m: f64,
+    pub thesis_step_deg: f64,
+    #[serde(rename = "A")]
+    pub a: WalkStats,
+    #[serde(rename = "B")]
+    pub b: WalkStats,
+}
+
+/// Identification while exploring one object along one trajectory (Figs 5.16–5.17).
+#[derive(Debug, Clone, Serialize)]
+pub struct IdentificationRow {
+    pub object: &'static str,
+    pub trajectory: &'static str,
+    pub relocalisations: usize,
+    pub onto_the_right_object: usize,
+    pub mean_confidence: BTreeMap<String, f64>,
+    pub final_confidence: BTreeMap<String, f64>,
+}
+
+/// What `whisker object-slam` found.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    pub seed: u64,
+    pub localisation: Vec<LocalisationRow>,
+    pub identification: Vec<IdentificationRow>,
+    /// The mapped objects, in the order of the confidence columns.
+    #[serde(skip)]
+    pub mapped: Vec<String>,
+}
+
+/// The statistics of one walk's re-localisations, for an object whose thesis step is
+/// `thesis` (m, degrees); `known` whether the walks had ground truth.
+fn walk_stats(events: &[Event], thesis: (f64, f64), known: bool) -> WalkStats {
+    // Null without ground truth (no errors to summarise), not zeros.
+    let summary = |v: Vec<f64>| {
+        (!v.is_empty() || known).then(|| Summary {
+            median: median(v.clone()),
+            p75: percentile(v.clone(), 75.0),
+            max: percentile(v, 100.0),
+        })
+    };
+    let perceived: Vec<(f64, f64)> = events.iter().filter_map(|e| e.perceived).collect();
+    let revisits = perceived
+        .iter()
+        .filter(|(t, r)| *t <= thesis.0 && *r <= thesis.1)
+        .count();
+    let errors: Vec<(f64, f64)> = events.iter().filter_map(|e| e.error).collect();
+    WalkStats {
+        relocalisations: events.len(),
+        position_error_m: summary(errors.iter().map(|e| e.0).collect()),
+        rotation_error_deg: summary(errors.iter().map(|e| e.1).collect()),
+        perceived_position_error_m: summary(perceived.iter().map(|p| p.0).collect()),
+        perceived_rotation_error_deg: summary(perceived.iter().map(|p| p.1).collect()),
+        true_revisits: known.then_some(revisits),
+        true_revisit_share: (!perceived.is_empty())
+            .then(|| revisits as f64 / perceived.len() as f64),
+    }
+}
+
+/// Localisation errors per object and parameter set (Fig 5.15); CSV `localisation.csv`
+/// and the best set's object maps `maps/<object>.json` in `--out`.
+pub fn localisation(
+    o: &Settings,
+    data: &[Sensed],
+    runs: &[LocalisationRun],
+) -> CliResult<Vec<LocalisationRow>> {
     let mut csv = String::from(
         "object,parameters,trajectory,sample,position_error_m,rotation_error_deg,perceived_position_error_m,perceived_rotation_error_deg\n",
     );
@@ -39,42 +134,18 @@ pub fn localisation(o: &Options, data: &[Sensed], runs: &[LocalisationRun]) -> C
                 );
             }
         }
-        let (thesis_m, thesis_deg) = super::thesis_step(asset.name);
-        // Null without ground truth (no errors to summarise), not zeros.
-        let summary = |v: Vec<f64>| {
-            if v.is_empty() && step.is_none() {
-                return Value::Null;
-            }
-            json!({ "median": median(v.clone()), "p75": percentile(v.clone(), 75.0), "max": percentile(v, 100.0) })
-        };
-        let stats = |events: &[super::Event]| {
-            let perceived: Vec<(f64, f64)> = events.iter().filter_map(|e| e.perceived).collect();
-            let revisits = perceived
-                .iter()
-                .filter(|(t, r)| *t <= thesis_m && *r <= thesis_deg)
-                .count();
-            let errors: Vec<(f64, f64)> = events.iter().filter_map(|e| e.error).collect();
-            json!({
-                "relocalisations": events.len(),
-                "position_error_m": summary(errors.iter().map(|e| e.0).collect()),
-                "rotation_error_deg": summary(errors.iter().map(|e| e.1).collect()),
-                "perceived_position_error_m": summary(perceived.iter().map(|p| p.0).collect()),
-                "perceived_rotation_error_deg": summary(perceived.iter().map(|p| p.1).collect()),
-                "true_revisits": if step.is_none() { Value::Null } else { json!(revisits) },
-                "true_revisit_share": if perceived.is_empty() { Value::Null } else { json!(revisits as f64 / perceived.len() as f64) },
-            })
-        };
-        rows.push(json!({
-            "object": asset.name,
-            "parameters": combo.name(),
-            "experiences": map.experiences.len(),
-            "step_m": step.map(|s| s.0),
-            "step_deg": step.map(|s| s.1.to_degrees()),
-            "thesis_step_m": thesis_m,
-            "thesis_step_deg": thesis_deg,
-            "A": stats(on_a),
-            "B": stats(on_b),
-        }));
+        let thesis = super::thesis_step(asset.name);
+        rows.push(LocalisationRow {
+            object: asset.name,
+            parameters: combo.name(),
+            experiences: map.experiences.len(),
+            step_m: step.map(|s| s.0),
+            step_deg: step.map(|s| s.1.to_degrees()),
+            thesis_step_m: thesis.0,
+            thesis_step_deg: thesis.1,
+            a: walk_stats(on_a, thesis, step.is_some()),
+            b: walk_stats(on_b, thesis, step.is_some()),
+        });
         if let Some(dir) = &o.out
             && *combo == Combo::BEST
         {
@@ -87,11 +158,57 @@ pub fn localisation(o: &Options, data: &[Sensed], runs: &[LocalisationRun]) -> C
     if let Some(dir) = &o.out {
         crate::output::write_atomic(&dir.join("localisation.csv"), csv.as_bytes())?;
     }
-    if !o.json {
-        println!(
+    Ok(rows)
+}
+
+/// Identification confidence per explored object and mapped object (Figs 5.16–5.17); CSV
+/// `identification.csv` in `--out`.
+pub fn identification(
+    o: &Settings,
+    data: &[Sensed],
+    mapped: &[String],
+    runs: &[IdentificationRun],
+) -> CliResult<Vec<IdentificationRow>> {
+    let mut csv = format!("object,trajectory,sample,{}\n", mapped.join(","));
+    let mut rows = Vec::new();
+    for (i, which, events, series) in runs {
+        let name = data[*i].0.name;
+        for (k, c) in series.iter().enumerate() {
+            let values: Vec<String> = mapped.iter().map(|m| c[m].to_string()).collect();
+            csv += &format!("{name},{},{k},{}\n", which.name(), values.join(","));
+        }
+        let n = series.len().max(1) as f64;
+        let mean = mapped
+            .iter()
+            .map(|m| (m.clone(), series.iter().map(|c| c[m]).sum::<f64>() / n))
+            .collect();
+        let right = events
+            .iter()
+            .filter(|e| e.object.as_deref() == Some(name))
+            .count();
+        rows.push(IdentificationRow {
+            object: name,
+            trajectory: which.name(),
+            relocalisations: events.len(),
+            onto_the_right_object: right,
+            mean_confidence: mean,
+            final_confidence: series.last().cloned().unwrap_or_default(),
+        });
+    }
+    if let Some(dir) = &o.out {
+        crate::output::write_atomic(&dir.join("identification.csv"), csv.as_bytes())?;
+    }
+    Ok(rows)
+}
+
+impl fmt::Display for Report {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
             "Localisation (§5.2.2.1, Fig 5.15): errors at re-localisations, median / 75th percentile; true = true revisits (perceived-pose error within the thesis' step)"
-        );
-        println!(
+        )?;
+        writeln!(
+            f,
             "  {:<10} {:<20} {:>5} {:>12} {:>7} {:>17} {:>15} {:>7} {:>17} {:>15}",
             "object",
             "parameters",
@@ -103,119 +220,67 @@ pub fn localisation(o: &Options, data: &[Sensed], runs: &[LocalisationRun]) -> C
             "nB/true",
             "B position cm",
             "B rotation °"
-        );
-        for r in &rows {
-            // Null (no ground truth) reads n/a.
-            let cell = |t: &str, k: &str, scale: f64| {
-                if r[t][k].is_null() {
-                    return "n/a".to_string();
-                }
-                format!(
-                    "{:.1} / {:.1}",
-                    r[t][k]["median"].as_f64().unwrap_or(f64::NAN) * scale,
-                    r[t][k]["p75"].as_f64().unwrap_or(f64::NAN) * scale
-                )
+        )?;
+        for r in &self.localisation {
+            // Absent (no ground truth) reads n/a.
+            let cell = |s: &Option<Summary>, scale: f64| match s {
+                None => "n/a".to_string(),
+                Some(s) => format!("{:.1} / {:.1}", s.median * scale, s.p75 * scale),
             };
-            let count = |t: &str| {
-                let revisits = r[t]["true_revisits"].as_u64();
+            let count = |w: &WalkStats| {
                 format!(
                     "{}/{}",
-                    r[t]["relocalisations"].as_u64().unwrap_or(0),
-                    revisits.map_or("n/a".into(), |n| n.to_string())
+                    w.relocalisations,
+                    w.true_revisits.map_or("n/a".into(), |n| n.to_string())
                 )
             };
-            let step = match (r["step_m"].as_f64(), r["step_deg"].as_f64()) {
+            let step = match (r.step_m, r.step_deg) {
                 (Some(m), Some(d)) => format!("{:>5.1}cm {d:>3.0}°", m * 100.0),
                 _ => format!("{:>12}", "n/a"),
             };
-            println!(
+            writeln!(
+                f,
                 "  {:<10} {:<20} {:>5} {step} {:>7} {:>17} {:>15} {:>7} {:>17} {:>15}",
-                r["object"].as_str().unwrap_or(""),
-                r["parameters"].as_str().unwrap_or(""),
-                r["experiences"].as_u64().unwrap_or(0),
-                count("A"),
-                cell("A", "position_error_m", 100.0),
-                cell("A", "rotation_error_deg", 1.0),
-                count("B"),
-                cell("B", "position_error_m", 100.0),
-                cell("B", "rotation_error_deg", 1.0),
-            );
+                r.object,
+                r.parameters,
+                r.experiences,
+                count(&r.a),
+                cell(&r.a.position_error_m, 100.0),
+                cell(&r.a.rotation_error_deg, 1.0),
+                count(&r.b),
+                cell(&r.b.position_error_m, 100.0),
+                cell(&r.b.rotation_error_deg, 1.0),
+            )?;
         }
-    }
-    Ok(Value::Array(rows))
-}
-
-/// Identification confidence per explored object and mapped object (Figs 5.16–5.17):
-/// JSON, CSV `identification.csv` in `--out`.
-pub fn identification(
-    o: &Options,
-    data: &[Sensed],
-    mapped: &[String],
-    runs: &[IdentificationRun],
-) -> CliResult<Value> {
-    let mut csv = format!("object,trajectory,sample,{}\n", mapped.join(","));
-    let mut rows = Vec::new();
-    for (i, which, events, series) in runs {
-        let name = data[*i].0.name;
-        for (k, c) in series.iter().enumerate() {
-            let values: Vec<String> = mapped.iter().map(|m| c[m].to_string()).collect();
-            csv += &format!("{name},{},{k},{}\n", which.name(), values.join(","));
-        }
-        let n = series.len().max(1) as f64;
-        let mean: serde_json::Map<String, Value> = mapped
-            .iter()
-            .map(|m| {
-                (
-                    m.clone(),
-                    json!(series.iter().map(|c| c[m]).sum::<f64>() / n),
-                )
-            })
-            .collect();
-        let right = events
-            .iter()
-            .filter(|e| e.object.as_deref() == Some(name))
-            .count();
-        rows.push(json!({
-            "object": name,
-            "trajectory": which.name(),
-            "relocalisations": events.len(),
-            "onto_the_right_object": right,
-            "mean_confidence": mean,
-            "final_confidence": series.last().cloned().unwrap_or_default(),
-        }));
-    }
-    if let Some(dir) = &o.out {
-        crate::output::write_atomic(&dir.join("identification.csv"), csv.as_bytes())?;
-    }
-    if !o.json {
-        println!(
+        writeln!(
+            f,
             "Identification (§5.2.2.2, Figs 5.16-5.17): mean confidence over one lap (maps: best set; {} unmapped)",
             super::UNMAPPED
-        );
-        print!(
+        )?;
+        write!(
+            f,
             "  {:<10} {:<4} {:>7} {:>6}",
             "object", "traj", "reloc", "right"
-        );
-        for m in mapped {
-            print!(" {:>8}", m);
+        )?;
+        for m in &self.mapped {
+            write!(f, " {m:>8}")?;
         }
-        println!();
-        for r in &rows {
-            print!(
+        writeln!(f)?;
+        for r in &self.identification {
+            write!(
+                f,
                 "  {:<10} {:<4} {:>7} {:>6}",
-                r["object"].as_str().unwrap_or(""),
-                r["trajectory"].as_str().unwrap_or(""),
-                r["relocalisations"].as_u64().unwrap_or(0),
-                r["onto_the_right_object"].as_u64().unwrap_or(0)
-            );
-            for m in mapped {
-                print!(
+                r.object, r.trajectory, r.relocalisations, r.onto_the_right_object
+            )?;
+            for m in &self.mapped {
+                write!(
+                    f,
                     " {:>8.3}",
-                    r["mean_confidence"][m].as_f64().unwrap_or(f64::NAN)
-                );
+                    r.mean_confidence.get(m).copied().unwrap_or(f64::NAN)
+                )?;
             }
-            println!();
+            writeln!(f)?;
         }
+        Ok(())
     }
-    Ok(Value::Array(rows))
 }

@@ -16,6 +16,7 @@
 //! and the Mug did not suffer from their symmetry "due to their position in space relative
 //! to their associated exploration trajectories"), or every object centred.
 
+use crate::choice::Choice;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::query::Ray;
@@ -41,7 +42,7 @@ impl Trajectory {
 }
 
 /// Where an object sits relative to its trajectory's centre (§5.2.2.1).
-#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Placement {
     /// The thesis' set-up: the Kettle on the trajectory's centre, every other object off
     /// it by [`OFFSET_M`] (the thesis gives no distance; ours is a choice, not tuned per
@@ -54,14 +55,15 @@ pub enum Placement {
     Centred,
 }
 
-impl Placement {
-    /// Its name in reports and datasets.
-    pub fn name(self) -> &'static str {
-        match self {
-            Placement::Thesis => "thesis",
-            Placement::Centred => "centred",
-        }
-    }
+impl Choice for Placement {
+    const ALL: &'static [(Self, &'static str, &'static str)] = &[
+        (
+            Placement::Thesis,
+            "thesis",
+            "the thesis' set-up: the Kettle on the trajectory's centre, the others off it",
+        ),
+        (Placement::Centred, "centred", "every object centred"),
+    ];
 }
 
 /// The thesis placement's offset of the trajectory's centre from the object's (m, in the

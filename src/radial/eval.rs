@@ -13,8 +13,9 @@ use super::{Label, feature_names, load_model, read_set};
 use crate::error::{CliError, CliResult};
 use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::shape::SharedShape;
-use serde_json::json;
+use serde::Serialize;
 use std::collections::BTreeMap;
+use std::fmt;
 use std::path::PathBuf;
 use whisker_sim::environment::assets::{CATALOGUE, generate};
 use whisker_slam::radial::RadialEstimator;
@@ -22,24 +23,43 @@ use whisker_slam::radial::dataset::RadialSample;
 use whisker_slam::radial::kolmogorov_smirnov::two_sample;
 use whisker_slam::stats::median;
 
-/// Options of `whisker radial eval`.
-#[derive(clap::Args, Debug)]
-pub struct EvalOptions {
+/// What `whisker radial eval` validates.
+#[derive(Debug, Clone)]
+pub struct EvalSettings {
     /// The validation set (CSV of `whisker radial generate --set validation`).
-    #[arg(long)]
     pub data: PathBuf,
     /// Directory of trained models (`<label>.json`, from `whisker radial train`).
-    #[arg(long)]
     pub models: PathBuf,
     /// Seed of the random guess.
-    #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Ground-truth limit as a fraction of the whisker length.
-    #[arg(long, default_value_t = 0.7)]
     pub max_fraction: f64,
-    /// Print one JSON object.
-    #[arg(long)]
-    pub json: bool,
+}
+
+/// One estimator's validation.
+#[derive(Debug, Clone, Serialize)]
+pub struct EvalRow {
+    pub model: String,
+    pub features: String,
+    pub contacts: usize,
+    pub radial_error_median: f64,
+    pub radial_error_std: f64,
+    pub face_distance_median_mm: f64,
+    pub face_distance_std_mm: f64,
+    pub radial_error_p_vs_tip: f64,
+    pub radial_error_p_vs_random: f64,
+    pub face_distance_p_vs_tip: f64,
+    pub face_distance_p_vs_random: f64,
+}
+
+/// What `whisker radial eval` found.
+#[derive(Debug, Clone, Serialize)]
+pub struct EvalReport {
+    pub data: PathBuf,
+    pub contacts_total: usize,
+    pub contacts_used: usize,
+    pub max_fraction: f64,
+    pub models: Vec<EvalRow>,
 }
 
 /// One estimator's distributions.
@@ -91,7 +111,7 @@ fn score(
 }
 
 /// Runs `whisker radial eval`.
-pub fn run(o: &EvalOptions) -> CliResult {
+pub fn run(o: &EvalSettings) -> CliResult<EvalReport> {
     if !(o.max_fraction > 0.0 && o.max_fraction <= 1.0) {
         return Err(CliError::Input(format!(
             "--max-fraction: expected 0 < f ≤ 1, got {}",
@@ -145,71 +165,76 @@ pub fn run(o: &EvalOptions) -> CliResult {
         )));
     }
     let p = |a: &[f64], b: &[f64]| two_sample(a, b).map_or(f64::NAN, |t| t.p);
-    let rows: Vec<serde_json::Value> = scored
+    let models = scored
         .iter()
-        .map(|s| {
-            json!({
-                "model": s.name,
-                "features": s.features,
-                "contacts": s.errors.len(),
-                "radial_error_median": median(s.errors.clone()),
-                "radial_error_std": std(&s.errors),
-                "face_distance_median_mm": median(s.distances_mm.clone()),
-                "face_distance_std_mm": std(&s.distances_mm),
-                "radial_error_p_vs_tip": p(&s.errors, &scored[0].errors),
-                "radial_error_p_vs_random": p(&s.errors, &scored[1].errors),
-                "face_distance_p_vs_tip": p(&s.distances_mm, &scored[0].distances_mm),
-                "face_distance_p_vs_random": p(&s.distances_mm, &scored[1].distances_mm),
-            })
+        .map(|s| EvalRow {
+            model: s.name.clone(),
+            features: s.features.clone(),
+            contacts: s.errors.len(),
+            radial_error_median: median(s.errors.clone()),
+            radial_error_std: std(&s.errors),
+            face_distance_median_mm: median(s.distances_mm.clone()),
+            face_distance_std_mm: std(&s.distances_mm),
+            radial_error_p_vs_tip: p(&s.errors, &scored[0].errors),
+            radial_error_p_vs_random: p(&s.errors, &scored[1].errors),
+            face_distance_p_vs_tip: p(&s.distances_mm, &scored[0].distances_mm),
+            face_distance_p_vs_random: p(&s.distances_mm, &scored[1].distances_mm),
         })
         .collect();
-    if o.json {
-        println!(
-            "{}",
-            json!({"data": o.data, "contacts_total": all.len(), "contacts_used": set.len(),
-                   "max_fraction": o.max_fraction, "models": rows})
-        );
-        return Ok(());
+    Ok(EvalReport {
+        data: o.data.clone(),
+        contacts_total: all.len(),
+        contacts_used: set.len(),
+        max_fraction: o.max_fraction,
+        models,
+    })
+}
+
+impl fmt::Display for EvalReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "{}: {} of {} contacts with ground truth ≤ {} L",
+            self.data.display(),
+            self.contacts_used,
+            self.contacts_total,
+            self.max_fraction
+        )?;
+        writeln!(
+            f,
+            "{:<7} {:<20} | {:>8} {:>7} {:>9} {:>9} | {:>8} {:>7} {:>9} {:>9}",
+            "model",
+            "features",
+            "δr med",
+            "δr std",
+            "p(tip)",
+            "p(random)",
+            "d med",
+            "d std",
+            "p(tip)",
+            "p(random)"
+        )?;
+        writeln!(
+            f,
+            "{:<28} | {:^36} | {:^36}",
+            "", "radial error (Eq 4.1)", "distance to face (mm)"
+        )?;
+        for r in &self.models {
+            writeln!(
+                f,
+                "{:<7} {:<20} | {:>+8.3} {:>7.3} {:>9.2e} {:>9.2e} | {:>8.2} {:>7.2} {:>9.2e} {:>9.2e}",
+                r.model,
+                r.features,
+                r.radial_error_median,
+                r.radial_error_std,
+                r.radial_error_p_vs_tip,
+                r.radial_error_p_vs_random,
+                r.face_distance_median_mm,
+                r.face_distance_std_mm,
+                r.face_distance_p_vs_tip,
+                r.face_distance_p_vs_random,
+            )?;
+        }
+        Ok(())
     }
-    println!(
-        "{}: {} of {} contacts with ground truth ≤ {} L",
-        o.data.display(),
-        set.len(),
-        all.len(),
-        o.max_fraction
-    );
-    println!(
-        "{:<7} {:<20} | {:>8} {:>7} {:>9} {:>9} | {:>8} {:>7} {:>9} {:>9}",
-        "model",
-        "features",
-        "δr med",
-        "δr std",
-        "p(tip)",
-        "p(random)",
-        "d med",
-        "d std",
-        "p(tip)",
-        "p(random)"
-    );
-    println!(
-        "{:<28} | {:^36} | {:^36}",
-        "", "radial error (Eq 4.1)", "distance to face (mm)"
-    );
-    for r in &rows {
-        let f = |k: &str| r[k].as_f64().unwrap_or(f64::NAN);
-        println!(
-            "{:<7} {:<20} | {:>+8.3} {:>7.3} {:>9.2e} {:>9.2e} | {:>8.2} {:>7.2} {:>9.2e} {:>9.2e}",
-            r["model"].as_str().unwrap_or(""),
-            r["features"].as_str().unwrap_or(""),
-            f("radial_error_median"),
-            f("radial_error_std"),
-            f("radial_error_p_vs_tip"),
-            f("radial_error_p_vs_random"),
-            f("face_distance_median_mm"),
-            f("face_distance_std_mm"),
-            f("face_distance_p_vs_tip"),
-            f("face_distance_p_vs_random"),
-        );
-    }
-    Ok(())
 }

@@ -24,13 +24,15 @@ use crate::record::Context;
 use nalgebra::{Isometry3, Point3, Vector3};
 use rand::RngExt;
 use rayon::prelude::*;
+use serde::Serialize;
+use std::fmt;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use whisker_sim::environment::assets::{CATALOGUE, placed};
 use whisker_sim::environment::{Environment, Piece};
 use whisker_sim::sensing::kinematic::{Intersect, RigidWhisker, SweepTarget};
-use whisker_sim::sensing::physics::{DEFAULT_SUBSTEPS, DT, PhysicsArray, WhiskerConfig};
+use whisker_sim::sensing::physics::{DT, PhysicsArray, WhiskerConfig};
 use whisker_sim::sensing::viewpoints;
 use whisker_sim::whisker::array::{self, Module};
 use whisker_sim::whisker::beam::BeamDesign;
@@ -52,7 +54,7 @@ const DISTANCES: usize = 20;
 const FIRST_DISTANCE: f64 = 0.025;
 
 /// Which data set.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Set {
     /// Single whiskers against a rod (§4.1.2.1).
     Training,
@@ -60,35 +62,72 @@ pub enum Set {
     Validation,
 }
 
-/// Options of `whisker radial generate`.
-#[derive(clap::Args, Debug)]
-pub struct GenerateOptions {
+impl crate::choice::Choice for Set {
+    const ALL: &'static [(Self, &'static str, &'static str)] = &[
+        (
+            Set::Training,
+            "training",
+            "Single whiskers against a rod (§4.1.2.1)",
+        ),
+        (
+            Set::Validation,
+            "validation",
+            "The array around the Box (§4.1.2.2)",
+        ),
+    ];
+}
+
+/// What `whisker radial generate` simulates.
+#[derive(Debug, Clone)]
+pub struct GenerateSettings {
     /// Which set.
-    #[arg(long, value_enum)]
     pub set: Set,
     /// Output CSV file.
-    #[arg(long)]
     pub out: PathBuf,
     /// Seed of every random draw (frequencies, rod angles, waypoints, sensor noise).
-    #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Training: whisks (each at its own frequency) per whisker length and distance.
-    #[arg(long, default_value_t = 3)]
     pub frequencies: usize,
-    /// Training: only these whisker lengths (mm, comma-separated) [default: all eight].
-    #[arg(long, value_delimiter = ',')]
+    /// Training: only these whisker lengths (mm) [default: all eight].
     pub lengths: Vec<f64>,
     /// Validation: array poses held still around the Box.
-    #[arg(long, default_value_t = 24)]
     pub waypoints: usize,
     /// Validation: whisks (1 Hz) per pose.
-    #[arg(long, default_value_t = 2)]
     pub whisks: usize,
     /// Rapier substeps per 0.5 ms step.
-    #[arg(long, default_value_t = DEFAULT_SUBSTEPS)]
     pub substeps: usize,
-    #[command(flatten)]
+    /// Where the recording goes [default: beside the data set, `<out>.rrd`].
     pub rrd: crate::record::Target,
+}
+
+/// What a data set holds.
+#[derive(Debug, Clone, Serialize)]
+pub struct Generated {
+    pub out: PathBuf,
+    pub contacts: usize,
+    /// Contacts whose ground truth lies at ≤ 0.7 L.
+    pub near: usize,
+    pub whisks: usize,
+    /// Whisks the sweep says touch with no contact detected.
+    pub missed: usize,
+    pub seconds: f64,
+}
+
+impl fmt::Display for Generated {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "{}: {} contacts ({} at ≤ 0.7 L) from {} whisks that the sweep says touch; \
+             {} whisks with no contact detected ({:.1} %); {:.0} s",
+            self.out.display(),
+            self.contacts,
+            self.near,
+            self.whisks,
+            self.missed,
+            100.0 * self.missed as f64 / self.whisks.max(1) as f64,
+            self.seconds
+        )
+    }
 }
 
 /// A candidate pose: whiskers touching at ≤ 0.7 L, the pose, (whisker, intersect) of all touching.
@@ -138,7 +177,7 @@ fn rod(whisker: &RigidWhisker, r: f64, theta: f64) -> Piece {
     Piece::cylinder("rod".into(), ROD_RADIUS, 0.06, pose)
 }
 
-fn training_jobs(o: &GenerateOptions) -> CliResult<Vec<Job>> {
+fn training_jobs(o: &GenerateSettings) -> CliResult<Vec<Job>> {
     let lengths: Vec<f64> = if o.lengths.is_empty() {
         TRAINING_LENGTHS_MM.to_vec()
     } else {
@@ -197,7 +236,7 @@ fn piece_mesh(piece: &Piece) -> whisker_sim::environment::Mesh {
     .world_mesh()
 }
 
-fn validation_jobs(o: &GenerateOptions) -> CliResult<Vec<Job>> {
+fn validation_jobs(o: &GenerateSettings) -> CliResult<Vec<Job>> {
     if o.waypoints == 0 || o.whisks == 0 {
         return Err(CliError::Input(
             "--waypoints and --whisks: expected at least 1".into(),
@@ -316,7 +355,7 @@ fn run_job(job: &Job, seed: u64, params: &FrontEndParams, keep: bool) -> Outcome
 }
 
 /// Runs `whisker radial generate`.
-pub fn run(o: &GenerateOptions, ctx: Context) -> CliResult {
+pub fn run(o: &GenerateSettings, ctx: Context) -> CliResult<Generated> {
     let jobs = match o.set {
         Set::Training => training_jobs(o)?,
         Set::Validation => validation_jobs(o)?,
@@ -325,11 +364,11 @@ pub fn run(o: &GenerateOptions, ctx: Context) -> CliResult {
         .iter()
         .map(|j| j.whisks as f64 / j.config.pattern.frequency)
         .sum();
-    eprintln!(
+    ctx.note(&format!(
         "{:?} set: {} simulations, {simulated:.0} whisker-seconds of physics",
         o.set,
         jobs.len()
-    );
+    ));
     let params = FrontEndParams::default();
     // The recording: `--rrd`, else beside the data set (`<out>.rrd`).
     let recording = (!o.rrd.no_rrd).then(|| {
@@ -346,11 +385,11 @@ pub fn run(o: &GenerateOptions, ctx: Context) -> CliResult {
             let out = run_job(j, o.seed, &params, recording.is_some());
             let n = done.fetch_add(1, Ordering::Relaxed) + 1;
             if n.is_multiple_of((jobs.len() / 20).max(1)) || n == jobs.len() {
-                eprintln!(
+                ctx.note(&format!(
                     "  {n}/{} simulations ({:.0} s)",
                     jobs.len(),
                     start.elapsed().as_secs_f64()
-                );
+                ));
             }
             out
         })
@@ -366,15 +405,14 @@ pub fn run(o: &GenerateOptions, ctx: Context) -> CliResult {
         .filter(|s| s.truth_radial_m <= 0.7 * s.features.wl)
         .count();
     write_atomic(&o.out, to_csv(&samples).as_bytes())?;
-    println!(
-        "{}: {} contacts ({near} at ≤ 0.7 L) from {whisks} whisks that the sweep says touch; \
-         {missed} whisks with no contact detected ({:.1} %); {:.0} s",
-        o.out.display(),
-        samples.len(),
-        100.0 * missed as f64 / whisks.max(1) as f64,
-        start.elapsed().as_secs_f64()
-    );
-    Ok(())
+    Ok(Generated {
+        out: o.out.clone(),
+        contacts: samples.len(),
+        near,
+        whisks,
+        missed,
+        seconds: start.elapsed().as_secs_f64(),
+    })
 }
 
 /// Spacing of the jobs' frames in the recording (a grid of 20 per row, m).
@@ -386,7 +424,7 @@ const JOB_SPACING_M: f64 = 0.3;
 /// their order (the recording does not depend on the thread count).
 fn record(
     path: &std::path::Path,
-    o: &GenerateOptions,
+    o: &GenerateSettings,
     jobs: &[Job],
     outcomes: &[Outcome],
     ctx: Context,

@@ -12,26 +12,6 @@ use whisker_slam::frontend::features::Feature;
 use whisker_slam::radial::dataset::{RadialSample, from_csv};
 use whisker_slam::radial::{RadialEstimator, table_4_1_features};
 
-/// The subcommands.
-#[derive(clap::Subcommand)]
-pub enum RadialCommand {
-    /// Generate the training (rod) or validation (Box) data set by physics (§4.1.2).
-    Generate(generate::GenerateOptions),
-    /// Train the twelve regressors of Table 4.1 on a training set.
-    Train(train::TrainOptions),
-    /// Validate trained regressors, the tip assumption and a random guess (Figs 4.8–4.9).
-    Eval(eval::EvalOptions),
-}
-
-/// Runs a `whisker radial` subcommand.
-pub fn run(command: &RadialCommand, ctx: crate::record::Context) -> CliResult {
-    match command {
-        RadialCommand::Generate(o) => generate::run(o, ctx),
-        RadialCommand::Train(o) => train::run(o),
-        RadialCommand::Eval(o) => eval::run(o),
-    }
-}
-
 /// A model label of Table 4.1: nn1–nn4, poly5–poly8, svr9–svr12.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Label {

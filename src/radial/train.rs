@@ -14,6 +14,8 @@ use super::{Label, read_set};
 use crate::error::{CliError, CliResult};
 use crate::output::{create_dir, write_atomic};
 use rayon::prelude::*;
+use serde::Serialize;
+use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
 use whisker_slam::frontend::features::Feature;
@@ -24,21 +26,40 @@ use whisker_slam::radial::pca::Pca;
 use whisker_slam::radial::polynomial::Polynomial;
 use whisker_slam::radial::svr::Svr;
 
-/// Options of `whisker radial train`.
-#[derive(clap::Args, Debug)]
-pub struct TrainOptions {
+/// What `whisker radial train` trains.
+#[derive(Debug, Clone)]
+pub struct TrainSettings {
     /// The training set (CSV of `whisker radial generate`).
-    #[arg(long)]
     pub data: PathBuf,
     /// Directory the models are written to.
-    #[arg(long)]
     pub out: PathBuf,
-    /// Models to train (labels of Table 4.1, comma-separated) [default: all twelve].
-    #[arg(long, value_delimiter = ',')]
+    /// Models to train (labels of Table 4.1) [default: all twelve].
     pub models: Vec<String>,
     /// Seed of the cross-validation folds and the MLP weights.
-    #[arg(long, default_value_t = 0)]
     pub seed: u64,
+}
+
+/// One trained model's fit on the training set.
+#[derive(Debug, Clone, Serialize)]
+pub struct Trained {
+    pub model: String,
+    pub features: String,
+    pub r2_train: f64,
+    pub rmse_mm: f64,
+    /// The hyper-parameters cross-validation chose.
+    pub chosen: String,
+}
+
+/// What `whisker radial train` did.
+#[derive(Debug, Clone, Serialize)]
+pub struct TrainReport {
+    /// The first three principal components of the whitened features (Fig 4.6): the
+    /// share of variance and the loadings on CP CA DV DA AV AA WL.
+    pub pca: Vec<(f64, Vec<f64>)>,
+    pub models: Vec<Trained>,
+    pub contacts: usize,
+    pub out: PathBuf,
+    pub seconds: f64,
 }
 
 /// Folds of the cross-validation (§4.1.3).
@@ -94,7 +115,7 @@ fn train(
 }
 
 /// Runs `whisker radial train`.
-pub fn run(o: &TrainOptions) -> CliResult {
+pub fn run(o: &TrainSettings) -> CliResult<TrainReport> {
     let set = read_set(&o.data)?;
     if set.len() < 2 * FOLDS {
         return Err(CliError::Input(format!(
@@ -120,23 +141,14 @@ pub fn run(o: &TrainOptions) -> CliResult {
             .map(|s| s.features.select(&all))
             .collect::<Vec<_>>(),
     );
-    println!("PCA of the whitened features (Fig 4.6), loadings on CP CA DV DA AV AA WL:");
     let total: f64 = pca.variances.iter().sum();
-    for (k, (c, v)) in pca
+    let pca = pca
         .components
         .iter()
         .zip(&pca.variances)
         .take(3)
-        .enumerate()
-    {
-        let loadings: Vec<String> = c.iter().map(|v| format!("{v:+.2}")).collect();
-        println!(
-            "  PC{} ({:4.1} % of variance): {}",
-            k + 1,
-            100.0 * v / total,
-            loadings.join(" ")
-        );
-    }
+        .map(|(c, v)| (100.0 * v / total, c.to_vec()))
+        .collect();
     let y: Vec<f64> = set.iter().map(|s| s.truth_radial_m).collect();
     let start = Instant::now();
     let trained: Vec<CliResult<(RadialEstimator, String)>> = labels
@@ -149,11 +161,8 @@ pub fn run(o: &TrainOptions) -> CliResult {
             train(label, &x, &y, o.seed)
         })
         .collect();
-    println!(
-        "{:<7} {:<20} {:>9} {:>11}  chosen",
-        "model", "features", "R² train", "RMSE (mm)"
-    );
     let mut rng = whisker_slam::rng::substream(o.seed, "radial/train/report");
+    let mut models = Vec::new();
     for (label, t) in labels.iter().zip(trained) {
         let (model, note) = t?;
         let name = &label.name;
@@ -161,23 +170,60 @@ pub fn run(o: &TrainOptions) -> CliResult {
             .iter()
             .map(|s| model.estimate(&s.features, &mut rng))
             .collect();
-        let rmse = mse(&p, &y).sqrt();
-        println!(
-            "{name:<7} {:<20} {:>9.4} {:>11.2}  {note}",
-            label.feature_names(),
-            r2(&p, &y),
-            1000.0 * rmse
-        );
+        models.push(Trained {
+            model: name.clone(),
+            features: label.feature_names(),
+            r2_train: r2(&p, &y),
+            rmse_mm: 1000.0 * mse(&p, &y).sqrt(),
+            chosen: note,
+        });
         let json = serde_json::to_string_pretty(&model)
             .map_err(|e| CliError::Failure(format!("{name}: {e}")))?;
         write_atomic(&o.out.join(format!("{name}.json")), json.as_bytes())?;
     }
-    println!(
-        "{} models from {} contacts written to {} ({:.0} s)",
-        labels.len(),
-        set.len(),
-        o.out.display(),
-        start.elapsed().as_secs_f64()
-    );
-    Ok(())
+    Ok(TrainReport {
+        pca,
+        models,
+        contacts: set.len(),
+        out: o.out.clone(),
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+impl fmt::Display for TrainReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "PCA of the whitened features (Fig 4.6), loadings on CP CA DV DA AV AA WL:"
+        )?;
+        for (k, (share, c)) in self.pca.iter().enumerate() {
+            let loadings: Vec<String> = c.iter().map(|v| format!("{v:+.2}")).collect();
+            writeln!(
+                f,
+                "  PC{} ({share:4.1} % of variance): {}",
+                k + 1,
+                loadings.join(" ")
+            )?;
+        }
+        writeln!(
+            f,
+            "{:<7} {:<20} {:>9} {:>11}  chosen",
+            "model", "features", "R² train", "RMSE (mm)"
+        )?;
+        for m in &self.models {
+            writeln!(
+                f,
+                "{:<7} {:<20} {:>9.4} {:>11.2}  {}",
+                m.model, m.features, m.r2_train, m.rmse_mm, m.chosen
+            )?;
+        }
+        writeln!(
+            f,
+            "{} models from {} contacts written to {} ({:.0} s)",
+            self.models.len(),
+            self.contacts,
+            self.out.display(),
+            self.seconds
+        )
+    }
 }

@@ -154,6 +154,30 @@ impl Sensing {
     }
 }
 
+/// How whisker contacts are sensed by a command that needs them (`--sensing`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SensingMode {
+    /// The anticipated intersect with noise.
+    Kinematic,
+    /// Rapier whiskers, the front end and a radial-distance model.
+    Physics,
+}
+
+impl crate::choice::Choice for SensingMode {
+    const ALL: &'static [(Self, &'static str, &'static str)] = &[
+        (
+            SensingMode::Kinematic,
+            "kinematic",
+            "Anticipated intersect with noise",
+        ),
+        (
+            SensingMode::Physics,
+            "physics",
+            "Rapier whiskers, the front end and a radial-distance model",
+        ),
+    ];
+}
+
 /// `[arm]`: the robot description and its initial state.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]

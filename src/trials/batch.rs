@@ -12,40 +12,42 @@
 use super::journal::{self, CSV, Entry, Journal, Meta, RUNS, Status};
 use super::{Batch, Shard, Trial};
 use crate::error::{CliError, CliResult};
-use crate::record::{Context, Recordings, Reporter};
+use crate::record::{Context, Reporter};
 use crate::scenario::trials::{Experiment, HEAVY, Outputs};
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-/// `whisker trials SCENARIO …`.
-#[derive(clap::Args, Debug, Clone)]
-pub struct Options {
+/// How a batch runs (`whisker trials SCENARIO …`).
+#[derive(Debug, Clone)]
+pub struct Settings {
     /// Output directory (created): trials.json, journal.jsonl, trials.csv, log.txt,
     /// runs/<key>/, report.md and figures/.
-    #[arg(long)]
     pub out: PathBuf,
     /// Worker threads, one trial each [default: the available cores].
-    #[arg(long)]
     pub jobs: Option<usize>,
     /// Run only part I of K (from 0): trials I, I+K, I+2K… of the fixed order.
-    #[arg(long, value_parser = Shard::parse)]
     pub shard: Option<Shard>,
     /// Finish a batch in an existing directory: run each trial its journal lacks.
-    #[arg(long)]
     pub resume: bool,
-    /// With --resume: continue although the scenario changed since the batch began.
-    #[arg(long, requires = "resume")]
+    /// With `resume`: continue although the scenario changed since the batch began.
     pub force: bool,
-    /// With --resume: run the trials that failed again (their journal lines are dropped).
-    #[arg(long, requires = "resume")]
+    /// With `resume`: run the trials that failed again (their journal lines are dropped).
     pub retry_failed: bool,
     /// Do not write report.md and the figures at the end.
-    #[arg(long)]
     pub no_report: bool,
+}
+
+/// Hears a batch's progress: the CLI draws a bar on a terminal, a line per trial
+/// otherwise.
+pub trait Progress: Sync {
+    /// `total` trials are about to run.
+    fn start(&self, total: usize);
+    /// A trial ended: its journal entry.
+    fn trial(&self, entry: &Entry);
+    /// The last trial ended.
+    fn finish(&self);
 }
 
 /// What a batch did.
@@ -60,7 +62,12 @@ pub struct Outcome {
 }
 
 /// Runs (or resumes) `batch` into `o.out`.
-pub fn run(batch: &Batch, o: &Options, recordings: &dyn Recordings) -> CliResult<Outcome> {
+pub fn run(
+    batch: &Batch,
+    o: &Settings,
+    ctx: Context,
+    progress: &dyn Progress,
+) -> CliResult<Outcome> {
     let dir = &o.out;
     crate::output::create_dir(dir)?;
     let meta = Meta::of(batch, o.shard);
@@ -90,14 +97,14 @@ pub fn run(batch: &Batch, o: &Options, recordings: &dyn Recordings) -> CliResult
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
         .max(1);
-    eprintln!(
+    ctx.note(&format!(
         "trials     {} of {} trials{} to run on {jobs} worker{} ({already} finished before) into {}",
         todo.len(),
         batch.trials.len(),
         o.shard.map_or(String::new(), |s| format!(" (shard {s})")),
         if jobs == 1 { "" } else { "s" },
         dir.display()
-    );
+    ));
     let mut journal = Journal::open(dir)?;
     // A kill between a journal line and its log line: the journal is the record, the log
     // catches up.
@@ -105,7 +112,7 @@ pub fn run(batch: &Batch, o: &Options, recordings: &dyn Recordings) -> CliResult
     for e in entries.iter().filter(|e| !logged.contains(&e.key)) {
         journal.log(e.status.name(), &e.key)?;
     }
-    let progress = Progress::new(todo.len());
+    progress.start(todo.len());
     let shared = Mutex::new((journal, std::mem::take(&mut entries)));
     let next = AtomicUsize::new(0);
     let first_error: Mutex<Option<CliError>> = Mutex::new(None);
@@ -115,7 +122,7 @@ pub fn run(batch: &Batch, o: &Options, recordings: &dyn Recordings) -> CliResult
                 loop {
                     let i = next.fetch_add(1, Ordering::SeqCst);
                     let Some(&trial) = todo.get(i) else { break };
-                    if let Err(e) = one(batch, dir, trial, &meta, &shared, &progress, recordings) {
+                    if let Err(e) = one(batch, dir, trial, &meta, &shared, progress, ctx) {
                         // The batch's own files cannot be written: stop taking trials.
                         first_error
                             .lock()
@@ -139,7 +146,7 @@ pub fn run(batch: &Batch, o: &Options, recordings: &dyn Recordings) -> CliResult
         .count();
     if !o.no_report {
         let written = super::report::write(dir)?;
-        eprintln!("report     {}", written.display());
+        ctx.note(&format!("report     {}", written.display()));
     }
     Ok(Outcome {
         ran: todo.len(),
@@ -149,7 +156,7 @@ pub fn run(batch: &Batch, o: &Options, recordings: &dyn Recordings) -> CliResult
 }
 
 /// Checks (resume) or writes (new batch) the directory's metadata.
-fn prepare(dir: &Path, meta: &Meta, o: &Options) -> CliResult {
+fn prepare(dir: &Path, meta: &Meta, o: &Settings) -> CliResult {
     let exists = dir.join(journal::META).exists();
     match (exists, o.resume) {
         (false, _) => meta.write(dir),
@@ -194,8 +201,8 @@ fn one(
     trial: &Trial,
     meta: &Meta,
     shared: &Mutex<(Journal, Vec<Entry>)>,
-    progress: &Progress,
-    recordings: &dyn Recordings,
+    progress: &dyn Progress,
+    ctx: Context,
 ) -> CliResult {
     shared
         .lock()
@@ -203,13 +210,13 @@ fn one(
         .0
         .log("start", &trial.key)?;
     let started = Instant::now();
-    let result = run_trial(batch, trial, &dir.join(RUNS).join(&trial.key), recordings);
+    let result = run_trial(batch, trial, &dir.join(RUNS).join(&trial.key), ctx);
     let entry = Entry::new(batch, trial, result, started.elapsed().as_secs_f64());
     let mut guard = shared.lock().expect("no panic holds it");
     let (journal, entries) = &mut *guard;
     journal.append(&entry)?;
     journal.log(entry.status.name(), &trial.key)?;
-    progress.tick(&entry);
+    progress.trial(&entry);
     entries.push(entry);
     crate::output::write_atomic(
         &dir.join(CSV),
@@ -222,7 +229,7 @@ pub fn run_trial(
     batch: &Batch,
     trial: &Trial,
     dir: &Path,
-    recordings: &dyn Recordings,
+    batch_ctx: Context,
 ) -> Result<serde_json::Value, String> {
     let work = || -> CliResult<serde_json::Value> {
         let scenario = batch.scenario(trial)?;
@@ -232,10 +239,10 @@ pub fn run_trial(
             .map_err(|e| CliError::Failure(format!("{}: {e}", path.display())))?;
         use std::io::Write;
         let _ = writeln!(file, "# trial {}: {}", trial.key, batch.command(trial));
-        let say = ToFile(Mutex::new(file));
+        let say = ToFile(Mutex::new(file), batch_ctx.reporter);
         let ctx = Context {
-            recordings,
             reporter: &say,
+            ..batch_ctx
         };
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(1)
@@ -274,16 +281,16 @@ pub fn run_trial(
 }
 
 /// A trial's account, written to its `stdout.txt`; its notes go to the batch's stderr.
-struct ToFile(Mutex<std::fs::File>);
+struct ToFile<'a>(Mutex<std::fs::File>, &'a dyn Reporter);
 
-impl Reporter for ToFile {
+impl Reporter for ToFile<'_> {
     fn say(&self, line: &str) {
         use std::io::Write;
         let _ = writeln!(self.0.lock().expect("no panic holds it"), "{line}");
     }
 
     fn note(&self, line: &str) {
-        eprintln!("{line}");
+        self.1.note(line);
     }
 }
 
@@ -298,78 +305,4 @@ fn drop_heavy(dir: &Path) -> CliResult {
         }
     }
     Ok(())
-}
-
-/// Progress: a bar with ETA on a terminal, a line per trial otherwise.
-struct Progress {
-    bar: Option<ProgressBar>,
-    total: usize,
-    done: AtomicUsize,
-    started: Instant,
-}
-
-impl Progress {
-    fn new(total: usize) -> Self {
-        let bar = std::io::stderr().is_terminal().then(|| {
-            let bar = ProgressBar::new(total as u64);
-            bar.set_style(
-                ProgressStyle::with_template(
-                    "{bar:40} {pos}/{len} trials  {elapsed_precise} elapsed, ETA {eta_precise}  {msg}",
-                )
-                .expect("a valid template"),
-            );
-            bar
-        });
-        Self {
-            bar,
-            total,
-            done: AtomicUsize::new(0),
-            started: Instant::now(),
-        }
-    }
-
-    fn tick(&self, e: &Entry) {
-        let done = self.done.fetch_add(1, Ordering::SeqCst) + 1;
-        let status = match e.status {
-            Status::Ok => "ok",
-            Status::Failed => "FAILED",
-        };
-        if let Some(bar) = &self.bar {
-            bar.set_message(format!("{status} {}", e.key));
-            bar.inc(1);
-            if let Some(err) = &e.error {
-                bar.println(format!("trial {} failed: {err}", e.key));
-            }
-            return;
-        }
-        let elapsed = self.started.elapsed().as_secs_f64();
-        let eta = elapsed / done as f64 * (self.total - done) as f64;
-        eprintln!(
-            "trials     {done}/{} {status} {} ({:.1} s; elapsed {}, ETA {}){}",
-            self.total,
-            e.key,
-            e.wall_s,
-            clock(elapsed),
-            clock(eta),
-            e.error
-                .as_ref()
-                .map_or(String::new(), |err| format!(": {err}"))
-        );
-    }
-
-    fn finish(&self) {
-        if let Some(bar) = &self.bar {
-            bar.finish();
-        }
-    }
-}
-
-/// Seconds as `1h02m03s`, `2m03s` or `3s`.
-fn clock(s: f64) -> String {
-    let s = s.round() as u64;
-    match (s / 3600, s / 60 % 60, s % 60) {
-        (0, 0, sec) => format!("{sec}s"),
-        (0, m, sec) => format!("{m}m{sec:02}s"),
-        (h, m, sec) => format!("{h}h{m:02}m{sec:02}s"),
-    }
 }

@@ -9,33 +9,22 @@ use crate::error::{CliError, CliResult};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// `whisker trials merge`.
-#[derive(clap::Args, Debug)]
-pub struct Options {
-    /// The shard directories.
-    #[arg(required = true)]
-    pub dirs: Vec<PathBuf>,
-    /// The merged batch's directory (created; not one of the shards).
-    #[arg(long)]
-    pub out: PathBuf,
-}
-
-/// Merges; returns the number of trials.
-pub fn merge(o: &Options) -> CliResult<usize> {
-    let metas: Vec<Meta> = o
-        .dirs
+/// Merges the shard directories `dirs` into `out` (created; not one of the shards);
+/// returns the number of trials.
+pub fn merge(dirs: &[PathBuf], out: &Path) -> CliResult<usize> {
+    let metas: Vec<Meta> = dirs
         .iter()
         .map(|d| Meta::read(d))
         .collect::<CliResult<_>>()?;
     let first = &metas[0];
-    for (d, m) in o.dirs.iter().zip(&metas) {
+    for (d, m) in dirs.iter().zip(&metas) {
         if m.scenario_hash != first.scenario_hash
             || m.keys != first.keys
             || m.factors != first.factors
         {
             return Err(CliError::Input(format!(
                 "{} and {} hold different batches (scenario {} vs {}, hash {} vs {})",
-                o.dirs[0].display(),
+                dirs[0].display(),
                 d.display(),
                 first.scenario,
                 m.scenario,
@@ -48,23 +37,23 @@ pub fn merge(o: &Options) -> CliResult<usize> {
                 "{} is shard {} but {} is shard {}: not parts of one split",
                 d.display(),
                 m.shard.map_or("none".into(), |s| s.to_string()),
-                o.dirs[0].display(),
+                dirs[0].display(),
                 first.shard.map_or("none".into(), |s| s.to_string())
             )));
         }
-        if o.out
+        if out
             .canonicalize()
             .ok()
             .is_some_and(|out| d.canonicalize().ok() == Some(out))
         {
             return Err(CliError::Input(format!(
                 "--out {} is one of the shards: choose another directory",
-                o.out.display()
+                out.display()
             )));
         }
     }
     let mut found: BTreeMap<String, Vec<(&Path, Entry)>> = BTreeMap::new();
-    for d in &o.dirs {
+    for d in dirs {
         for e in journal::read(d)? {
             found
                 .entry(e.key.clone())
@@ -119,29 +108,29 @@ pub fn merge(o: &Options) -> CliResult<usize> {
     if !problems.is_empty() {
         return Err(CliError::Input(format!(
             "cannot merge into {}: {}",
-            o.out.display(),
+            out.display(),
             problems.join("; ")
         )));
     }
-    crate::output::create_dir(&o.out)?;
+    crate::output::create_dir(out)?;
     let mut entries: Vec<(&Path, Entry)> = found.into_values().flatten().collect();
     entries.sort_by_key(|(_, e)| e.index);
     for (d, e) in &entries {
         let from = d.join(RUNS).join(&e.key);
         if from.is_dir() {
-            copy_dir(&from, &o.out.join(RUNS).join(&e.key))?;
+            copy_dir(&from, &out.join(RUNS).join(&e.key))?;
         }
     }
     let mut meta = first.clone();
     meta.shard = None;
-    meta.write(&o.out)?;
+    meta.write(out)?;
     let entries: Vec<Entry> = entries.into_iter().map(|(_, e)| e).collect();
-    journal::rewrite(&o.out, &entries)?;
+    journal::rewrite(out, &entries)?;
     crate::output::write_atomic(
-        &o.out.join(journal::CSV),
+        &out.join(journal::CSV),
         journal::csv(&meta.factors, &entries).as_bytes(),
     )?;
-    super::report::write(&o.out)?;
+    super::report::write(out)?;
     Ok(entries.len())
 }
 

@@ -12,7 +12,6 @@
 //! the number of workers, nor the order trials finish, nor the sharding.
 
 pub mod batch;
-pub mod command;
 pub mod journal;
 pub mod merge;
 pub mod plots;

@@ -14,25 +14,20 @@ use crate::error::{CliError, CliResult};
 use std::path::{Path, PathBuf};
 
 /// `whisker trials slurm`.
-#[derive(clap::Args, Debug)]
-pub struct Options {
+#[derive(Debug, Clone)]
+pub struct Settings {
     /// The scenario with `[trials]`.
     pub scenario: PathBuf,
     /// The batch directory (scripts in slurm/, shards in shards/, merged results here).
-    #[arg(long)]
     pub out: PathBuf,
     /// Number of array tasks K (each runs every K-th trial).
-    #[arg(long)]
     pub shards: usize,
     /// CPUs per task (worker threads of each shard).
-    #[arg(long, default_value_t = 1)]
     pub cpus_per_task: usize,
     /// Extra `#SBATCH` option for both jobs, e.g. `--sbatch=--partition=short`
     /// (repeatable).
-    #[arg(long = "sbatch", value_name = "OPTION", allow_hyphen_values = true)]
     pub sbatch: Vec<String>,
     /// The `whisker` binary the jobs run [default: this one].
-    #[arg(long)]
     pub whisker: Option<PathBuf>,
 }
 
@@ -41,7 +36,7 @@ fn absolute(p: &Path) -> CliResult<PathBuf> {
 }
 
 /// Writes the scripts; returns the path of `submit.sh`.
-pub fn write(o: &Options) -> CliResult<PathBuf> {
+pub fn write(o: &Settings) -> CliResult<PathBuf> {
     let batch = Batch::load(&o.scenario)?;
     if o.shards == 0 || o.shards > 1000 {
         return Err(CliError::Input(format!(

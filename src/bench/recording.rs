@@ -8,37 +8,47 @@ use crate::error::CliResult;
 use crate::record::{Context, Target};
 use crate::scenario::Scenario;
 use crate::scenario::overrides::Override;
-use serde_json::json;
+use serde::Serialize;
+use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
 
-/// Options of `whisker bench recording`.
-#[derive(clap::Args, Debug)]
-pub struct Options {
+/// What `whisker bench recording` times.
+#[derive(Debug, Clone)]
+pub struct Settings {
     /// The scenario (a physics run is the case the recording's 2 kHz streams weigh on).
-    #[arg(default_value = "scenarios/whisking.toml")]
     pub scenario: PathBuf,
     /// Output directory (`without/`, `with/` below it).
-    #[arg(long, default_value = "out/bench-recording")]
     pub out: PathBuf,
     /// Runs of each kind; the fastest counts.
-    #[arg(long, default_value_t = 1)]
     pub repeats: usize,
-    /// Change a scenario field, as `whisker run --set` (repeatable), e.g.
-    /// `--set 'trajectory.waypoints=[{joints_deg=[0,-90,90,-90,-90,0],hold_s=60}]'`.
-    #[arg(long = "set", value_name = "PATH=VALUE", value_parser = Override::parse)]
+    /// Changes to the scenario, as `whisker run --set`.
     pub set: Vec<Override>,
-    /// Print one JSON object.
-    #[arg(long)]
-    pub json: bool,
+}
+
+/// What it measured (`--json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    pub scenario: String,
+    pub sensing: &'static str,
+    pub simulated_s: f64,
+    pub wall_without_s: f64,
+    pub wall_with_s: f64,
+    pub ratio: f64,
+    pub rrd_bytes: u64,
+    pub rrd_mb_per_simulated_s: f64,
 }
 
 /// `whisker bench recording`.
-pub fn recording(o: &Options, ctx: Context) -> CliResult {
+pub fn recording(o: &Settings, ctx: Context) -> CliResult<Report> {
     let mut scenario = Scenario::load_with(&o.scenario, &o.set)?;
     scenario.output.recording = true;
     let (without_dir, with_dir) = (o.out.join("without"), o.out.join("with"));
     let mut best = [f64::INFINITY; 2];
+    let quiet = Context {
+        reporter: &crate::record::Silent,
+        ..ctx
+    };
     for _ in 0..o.repeats.max(1) {
         for (k, (dir, no_rrd)) in [(&without_dir, true), (&with_dir, false)]
             .into_iter()
@@ -50,10 +60,6 @@ pub fn recording(o: &Options, ctx: Context) -> CliResult {
                 ..Default::default()
             };
             let start = Instant::now();
-            let quiet = Context {
-                reporter: &crate::record::Silent,
-                ..ctx
-            };
             crate::run::execute(&o.scenario, &scenario, dir, &rrd, quiet)?;
             best[k] = best[k].min(start.elapsed().as_secs_f64());
         }
@@ -68,38 +74,38 @@ pub fn recording(o: &Options, ctx: Context) -> CliResult {
         .or(summary["simulated_time_s"].as_f64())
         .unwrap_or(f64::NAN);
     let bytes = std::fs::metadata(with_dir.join("run.rrd")).map_or(0, |m| m.len());
-    let ratio = best[1] / best[0];
-    let mb_per_s = bytes as f64 / 1e6 / simulated;
-    if o.json {
-        println!(
-            "{}",
-            json!({
-                "scenario": o.scenario.display().to_string(),
-                "sensing": scenario.sensing.name(),
-                "simulated_s": simulated,
-                "wall_without_s": best[0],
-                "wall_with_s": best[1],
-                "ratio": ratio,
-                "rrd_bytes": bytes,
-                "rrd_mb_per_simulated_s": mb_per_s,
-            })
-        );
-    } else {
-        println!(
-            "{} ({} sensing, {simulated:.2} s simulated)",
-            o.scenario.display(),
-            scenario.sensing.name()
-        );
-        println!("  without recording  {:8.2} s wall", best[0]);
-        println!(
-            "  with recording     {:8.2} s wall   ratio {ratio:.3} ({:+.1} %)",
-            best[1],
-            (ratio - 1.0) * 100.0
-        );
-        println!(
-            "  run.rrd            {:8.2} MB       {mb_per_s:.2} MB per simulated second",
-            bytes as f64 / 1e6
-        );
+    Ok(Report {
+        scenario: o.scenario.display().to_string(),
+        sensing: scenario.sensing.name(),
+        simulated_s: simulated,
+        wall_without_s: best[0],
+        wall_with_s: best[1],
+        ratio: best[1] / best[0],
+        rrd_bytes: bytes,
+        rrd_mb_per_simulated_s: bytes as f64 / 1e6 / simulated,
+    })
+}
+
+impl fmt::Display for Report {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "{} ({} sensing, {:.2} s simulated)",
+            self.scenario, self.sensing, self.simulated_s
+        )?;
+        writeln!(f, "  without recording  {:8.2} s wall", self.wall_without_s)?;
+        writeln!(
+            f,
+            "  with recording     {:8.2} s wall   ratio {:.3} ({:+.1} %)",
+            self.wall_with_s,
+            self.ratio,
+            (self.ratio - 1.0) * 100.0
+        )?;
+        writeln!(
+            f,
+            "  run.rrd            {:8.2} MB       {:.2} MB per simulated second",
+            self.rrd_bytes as f64 / 1e6,
+            self.rrd_mb_per_simulated_s
+        )
     }
-    Ok(())
 }

@@ -1,7 +1,10 @@
-//! `whisker urdf info URDF` and `whisker urdf fk URDF --joints …`.
+//! `whisker urdf info URDF` and `whisker urdf fk URDF --joints …`: a robot description
+//! looked at from the command line.
 
 use crate::error::{CliError, CliResult};
-use serde_json::json;
+use crate::record::Context;
+use serde::Serialize;
+use std::fmt;
 use std::path::{Path, PathBuf};
 use whisker_sim::kinematics::urdf::Geometry;
 use whisker_sim::kinematics::{Chain, PackagePaths, RobotModel};
@@ -67,11 +70,11 @@ fn fmt_limit(v: f64, angular: bool) -> String {
 }
 
 /// `whisker urdf info`.
-pub fn info(path: &Path, package_paths: &[PathBuf]) -> CliResult {
+pub fn info(path: &Path, package_paths: &[PathBuf], ctx: Context) -> CliResult {
     let model = load(path, package_paths)?;
-    println!("robot  {} ({})", model.name, path.display());
-    println!("root   {}", model.links[model.root].name);
-    println!("links  {}", model.links.len());
+    ctx.say(&format!("robot  {} ({})", model.name, path.display()));
+    ctx.say(&format!("root   {}", model.links[model.root].name));
+    ctx.say(&format!("links  {}", model.links.len()));
     for l in &model.links {
         let shapes: Vec<String> = l
             .collisions
@@ -100,9 +103,9 @@ pub fn info(path: &Path, package_paths: &[PathBuf]) -> CliResult {
         } else {
             shapes.join("; ")
         };
-        println!("  {:<24} {shapes}", l.name);
+        ctx.say(&format!("  {:<24} {shapes}", l.name));
     }
-    println!("joints {}", model.joints.len());
+    ctx.say(&format!("joints {}", model.joints.len()));
     for j in &model.joints {
         let angular = !matches!(j.kind, whisker_sim::kinematics::JointKind::Prismatic);
         let limits = if j.kind.is_single_dof() {
@@ -125,23 +128,23 @@ pub fn info(path: &Path, package_paths: &[PathBuf]) -> CliResult {
         } else {
             String::new()
         };
-        println!(
+        ctx.say(&format!(
             "  {:<34} {:<10} {} -> {}{axis}{limits}",
             j.name,
             j.kind.name(),
             model.links[j.parent].name,
             model.links[j.child].name
-        );
+        ));
     }
     let base = default_base(&model);
     if let Ok(tip) = default_tip(&model)
         && let Ok(chain) = Chain::new(&model, &base, &tip)
     {
-        println!(
+        ctx.say(&format!(
             "chain  {base} -> {tip}: {} joints ({})",
             chain.dof(),
             chain.joint_names.join(", ")
-        );
+        ));
     }
     Ok(())
 }
@@ -164,15 +167,29 @@ pub fn parse_joints(text: &str) -> CliResult<Vec<f64>> {
         .collect()
 }
 
-/// `whisker urdf fk`.
+/// A pose computed by forward kinematics (`whisker urdf fk`).
+#[derive(Debug, Clone, Serialize)]
+pub struct Fk {
+    pub base: String,
+    pub link: String,
+    pub joint_names: Vec<String>,
+    pub joints: Vec<f64>,
+    pub position_m: [f64; 3],
+    pub quaternion_xyzw: [f64; 4],
+    pub rpy_rad: [f64; 3],
+    /// The homogeneous transform, row by row.
+    pub matrix: Vec<[f64; 4]>,
+}
+
+/// `whisker urdf fk`: the pose of `link` in `base` at joint positions `joints`
+/// (comma-separated; rad, m for prismatic joints).
 pub fn fk(
     path: &Path,
     package_paths: &[PathBuf],
     joints: &str,
     base: Option<&str>,
     link: Option<&str>,
-    as_json: bool,
-) -> CliResult {
+) -> CliResult<Fk> {
     let model = load(path, package_paths)?;
     let base = base
         .map(str::to_string)
@@ -194,40 +211,40 @@ pub fn fk(
     }
     let p = chain.fk(&q);
     let t = p.translation.vector;
-    let quat = pose::quaternion_xyzw(&p.rotation);
     let m = pose::matrix(&p);
-    let rows: Vec<[f64; 4]> = (0..4)
-        .map(|r| [m[(r, 0)], m[(r, 1)], m[(r, 2)], m[(r, 3)]])
-        .collect();
-    if as_json {
-        let out = json!({
-            "base": base,
-            "link": tip,
-            "joint_names": chain.joint_names,
-            "joints": q,
-            "position_m": [t.x, t.y, t.z],
-            "quaternion_xyzw": quat,
-            "rpy_rad": pose::rpy(&p.rotation),
-            "matrix": rows,
-        });
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&out).expect("plain JSON")
-        );
-    } else {
-        println!("pose of {tip} in {base}");
-        println!("position_m       {:.6} {:.6} {:.6}", t.x, t.y, t.z);
-        println!(
+    Ok(Fk {
+        base,
+        link: tip,
+        joint_names: chain.joint_names.clone(),
+        joints: q,
+        position_m: [t.x, t.y, t.z],
+        quaternion_xyzw: pose::quaternion_xyzw(&p.rotation),
+        rpy_rad: pose::rpy(&p.rotation),
+        matrix: (0..4)
+            .map(|r| [m[(r, 0)], m[(r, 1)], m[(r, 2)], m[(r, 3)]])
+            .collect(),
+    })
+}
+
+impl fmt::Display for Fk {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let [x, y, z] = self.position_m;
+        let q = self.quaternion_xyzw;
+        writeln!(f, "pose of {} in {}", self.link, self.base)?;
+        writeln!(f, "position_m       {x:.6} {y:.6} {z:.6}")?;
+        writeln!(
+            f,
             "quaternion_xyzw  {:.6} {:.6} {:.6} {:.6}",
-            quat[0], quat[1], quat[2], quat[3]
-        );
-        println!("matrix");
-        for r in rows {
-            println!(
+            q[0], q[1], q[2], q[3]
+        )?;
+        writeln!(f, "matrix")?;
+        for r in &self.matrix {
+            writeln!(
+                f,
                 "  {:>10.6} {:>10.6} {:>10.6} {:>10.6}",
                 r[0], r[1], r[2], r[3]
-            );
+            )?;
         }
+        Ok(())
     }
-    Ok(())
 }

@@ -15,7 +15,8 @@
 use crate::error::{CliError, CliResult};
 use nalgebra::{Point3, Vector3};
 use rand::RngExt;
-use serde_json::json;
+use serde::Serialize;
+use std::fmt;
 use std::time::Instant;
 use whisker_slam::features::pfh::{PfhParams, histogram};
 use whisker_slam::pose_grid::gaussian_kernel;
@@ -23,15 +24,20 @@ use whisker_slam::ratslam::posecells3d::{PlanarCellParams, PoseCells3};
 use whisker_slam::rng::substream;
 use whisker_slam::whisker_ratslam::posecells6d::{PoseCellParams, PoseCells6, dense_convolve};
 
-/// Options of `whisker bench slam`.
-#[derive(clap::Args, Debug)]
-pub struct Options {
-    /// Pose-cell updates timed.
-    #[arg(long, default_value_t = 2000)]
-    pub updates: usize,
-    /// Print one JSON object.
-    #[arg(long)]
-    pub json: bool,
+/// What `whisker bench slam` measured (`--json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    pub posecell3d_cells: usize,
+    pub posecell3d_update_ms: f64,
+    pub posecell6d_cells: usize,
+    pub posecell6d_update_ms: f64,
+    pub naive_dense_ms: f64,
+    pub separable_excitation_ms: f64,
+    pub dense_over_separable: f64,
+    pub pfh_18_contacts_ms: f64,
+    pub pfh_bins: usize,
+    #[serde(skip)]
+    updates: usize,
 }
 
 /// Mean wall time of `f` over `n` calls (ms).
@@ -43,9 +49,9 @@ fn time_ms(n: usize, mut f: impl FnMut()) -> f64 {
     start.elapsed().as_secs_f64() * 1e3 / n as f64
 }
 
-/// `whisker bench slam`.
-pub fn slam(o: &Options) -> CliResult {
-    if o.updates == 0 {
+/// `whisker bench slam` over `updates` pose-cell updates.
+pub fn slam(updates: usize) -> CliResult<Report> {
+    if updates == 0 {
         return Err(CliError::Input("--updates: expected at least 1".into()));
     }
     let params = PoseCellParams::default();
@@ -58,12 +64,12 @@ pub fn slam(o: &Options) -> CliResult {
         Vector3::new(0.3 * params.cell_size_m, 0.0, 0.0),
         Vector3::new(2f64.to_radians(), 0.0, 5f64.to_radians()),
     );
-    let update_ms = time_ms(o.updates, || cells.update(&v, &w));
+    let update_ms = time_ms(updates, || cells.update(&v, &w));
     let kernel = gaussian_kernel(params.excite_width, params.excite_variance);
     let mut dense_out = Vec::new();
     let dense_ms = time_ms(1, || dense_out = dense_convolve(&cells.grid, &kernel));
     let mut separable = cells.grid.clone();
-    let separable_ms = time_ms(o.updates, || separable.convolve(&kernel));
+    let separable_ms = time_ms(updates, || separable.convolve(&kernel));
     let mut rng = substream(0, "bench/slam/contacts");
     let contacts: Vec<Point3<f64>> = (0..18)
         .map(|_| {
@@ -76,7 +82,7 @@ pub fn slam(o: &Options) -> CliResult {
         .collect();
     let pfh = PfhParams::default();
     let mut bins = 0;
-    let pfh_ms = time_ms(o.updates, || {
+    let pfh_ms = time_ms(updates, || {
         bins = histogram(&contacts, &Point3::origin(), &pfh).len();
     });
     let planar = PlanarCellParams {
@@ -84,60 +90,72 @@ pub fn slam(o: &Options) -> CliResult {
         ..PlanarCellParams::default()
     };
     let mut cells3 = PoseCells3::new(planar, &[10.0, 10.0, 0.0]);
-    let posecell3d_ms = time_ms(o.updates, || {
+    let posecell3d_ms = time_ms(updates, || {
         cells3.update(planar.cell_size_m, 10f64.to_radians())
     });
-    if o.json {
-        println!(
-            "{}",
-            json!({
-                "posecell3d_cells": cells3.grid.cells.len(),
-                "posecell3d_update_ms": posecell3d_ms,
-                "posecell6d_cells": cells.grid.cells.len(),
-                "posecell6d_update_ms": update_ms,
-                "naive_dense_ms": dense_ms,
-                "separable_excitation_ms": separable_ms,
-                "dense_over_separable": dense_ms / separable_ms,
-                "pfh_18_contacts_ms": pfh_ms,
-                "pfh_bins": bins,
-            })
+    Ok(Report {
+        posecell3d_cells: cells3.grid.cells.len(),
+        posecell3d_update_ms: posecell3d_ms,
+        posecell6d_cells: cells.grid.cells.len(),
+        posecell6d_update_ms: update_ms,
+        naive_dense_ms: dense_ms,
+        separable_excitation_ms: separable_ms,
+        dense_over_separable: dense_ms / separable_ms,
+        pfh_18_contacts_ms: pfh_ms,
+        pfh_bins: bins,
+        updates,
+    })
+}
+
+impl fmt::Display for Report {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (dense_ms, separable_ms, update_ms) = (
+            self.naive_dense_ms,
+            self.separable_excitation_ms,
+            self.posecell6d_update_ms,
         );
-    } else {
-        println!(
+        writeln!(
+            f,
             "WhiskerRatSLAM core, {} pose cells (5 per axis), {} updates",
-            cells.grid.cells.len(),
-            o.updates
-        );
-        println!("  {:<58} {:>12} {:>10}", "case", "ms", "ratio");
-        println!(
+            self.posecell6d_cells, self.updates
+        )?;
+        writeln!(f, "  {:<58} {:>12} {:>10}", "case", "ms", "ratio")?;
+        writeln!(
+            f,
             "  {:<58} {:>12.3} {:>10.1}",
             "baseline: naive dense 6-D excitation (5^6 kernel)", dense_ms, 1.0
-        );
-        println!(
+        )?;
+        writeln!(
+            f,
             "  {:<58} {:>12.4} {:>10.1}",
             "separable excitation (six 1-D passes)",
             separable_ms,
             dense_ms / separable_ms
-        );
-        println!(
+        )?;
+        writeln!(
+            f,
             "  {:<58} {:>12.4} {:>10.1}",
             "one 6-D pose-cell update (excite, inhibit, path integration)",
             update_ms,
             dense_ms / update_ms
-        );
-        println!(
+        )?;
+        writeln!(
+            f,
             "  {:<58} {:>12.4}",
-            format!("point feature histogram, 18 contacts, {bins} bins"),
-            pfh_ms
-        );
-        println!(
+            format!(
+                "point feature histogram, 18 contacts, {} bins",
+                self.pfh_bins
+            ),
+            self.pfh_18_contacts_ms
+        )?;
+        writeln!(
+            f,
             "  {:<58} {:>12.4}",
             format!(
                 "one planar pose-cell update, {} cells (21x21x36)",
-                cells3.grid.cells.len()
+                self.posecell3d_cells
             ),
-            posecell3d_ms
-        );
+            self.posecell3d_update_ms
+        )
     }
-    Ok(())
 }

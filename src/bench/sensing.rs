@@ -13,25 +13,43 @@ use nalgebra::{Isometry3, Vector3};
 use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::query::Ray;
 use rayon::prelude::*;
-use serde_json::json;
+use serde::Serialize;
+use std::fmt;
 use std::time::Instant;
 use whisker_sim::environment::assets::{CATALOGUE, generate};
 use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
 use whisker_sim::sensing::viewpoints;
 use whisker_sim::whisker::array;
 
-/// Options of `whisker bench sensing`.
-#[derive(clap::Args, Debug)]
-pub struct Options {
+/// What `whisker bench sensing` times.
+#[derive(Debug, Clone)]
+pub struct Settings {
     /// Catalogue object the array sweeps.
-    #[arg(long, default_value = "kettle")]
     pub object: String,
     /// Whisk cycles timed per case.
-    #[arg(long, default_value_t = 20_000)]
     pub cycles: usize,
-    /// Print one JSON object.
-    #[arg(long)]
-    pub json: bool,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            object: "kettle".into(),
+            cycles: 20_000,
+        }
+    }
+}
+
+/// What it measured (`--json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    pub object: &'static str,
+    pub triangles: usize,
+    pub poses: usize,
+    pub contacts_per_cycle: f64,
+    pub whisk_cycles_per_s: f64,
+    pub whisk_cycles_per_s_2_threads: f64,
+    pub baseline_ray_casts_whisk_cycles_per_s: f64,
+    pub speedup_over_ray_casts: f64,
 }
 
 /// Times `cycles` whisk cycles of `sweep` over the poses on `threads` threads; returns
@@ -59,7 +77,7 @@ fn time_case(
 }
 
 /// `whisker bench sensing`.
-pub fn sensing(o: &Options) -> CliResult {
+pub fn sensing(o: &Settings) -> CliResult<Report> {
     let asset = CATALOGUE
         .iter()
         .find(|a| a.name == o.object)
@@ -109,41 +127,49 @@ pub fn sensing(o: &Options) -> CliResult {
     let (naive_1, _) = time_case(1, baseline_cycles, &poses, &naive)?;
     let (exact_1, contacts) = time_case(1, o.cycles, &poses, &exact)?;
     let (exact_2, _) = time_case(2, o.cycles, &poses, &exact)?;
-    if o.json {
-        let out = json!({
-            "object": asset.name,
-            "triangles": triangles,
-            "poses": poses.len(),
-            "contacts_per_cycle": contacts,
-            "whisk_cycles_per_s": exact_1,
-            "whisk_cycles_per_s_2_threads": exact_2,
-            "baseline_ray_casts_whisk_cycles_per_s": naive_1,
-            "speedup_over_ray_casts": exact_1 / naive_1,
-        });
-        println!("{out}");
-    } else {
-        println!(
-            "kinematic sensing, 18 whiskers, 40°–140° in 1° steps, near {} ({triangles} triangles), {} poses, {contacts:.1} contacts per cycle",
-            asset.name,
-            poses.len()
+    Ok(Report {
+        object: asset.name,
+        triangles,
+        poses: poses.len(),
+        contacts_per_cycle: contacts,
+        whisk_cycles_per_s: exact_1,
+        whisk_cycles_per_s_2_threads: exact_2,
+        baseline_ray_casts_whisk_cycles_per_s: naive_1,
+        speedup_over_ray_casts: exact_1 / naive_1,
+    })
+}
+
+impl fmt::Display for Report {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (naive_1, exact_1, exact_2) = (
+            self.baseline_ray_casts_whisk_cycles_per_s,
+            self.whisk_cycles_per_s,
+            self.whisk_cycles_per_s_2_threads,
         );
-        println!("  {:<40} {:>14} {:>10}", "case", "cycles/s", "ratio");
-        println!(
+        writeln!(
+            f,
+            "kinematic sensing, 18 whiskers, 40°–140° in 1° steps, near {} ({} triangles), {} poses, {:.1} contacts per cycle",
+            self.object, self.triangles, self.poses, self.contacts_per_cycle
+        )?;
+        writeln!(f, "  {:<40} {:>14} {:>10}", "case", "cycles/s", "ratio")?;
+        writeln!(
+            f,
             "  {:<40} {:>14.0} {:>10.2}",
             "baseline: per-step ray casts, 1 thread", naive_1, 1.0
-        );
-        println!(
+        )?;
+        writeln!(
+            f,
             "  {:<40} {:>14.0} {:>10.2}",
             "sweep-plane slicing, 1 thread",
             exact_1,
             exact_1 / naive_1
-        );
-        println!(
+        )?;
+        writeln!(
+            f,
             "  {:<40} {:>14.0} {:>10.2}",
             "sweep-plane slicing, 2 threads",
             exact_2,
             exact_2 / naive_1
-        );
+        )
     }
-    Ok(())
 }

@@ -27,60 +27,54 @@
 //! each path's speed-up over `released`. Timing is a benchmark, never a test.
 
 use crate::error::{CliError, CliResult};
-use clap::builder::TypedValueParser;
+use crate::record::Context;
 use nalgebra::Isometry3;
-use serde_json::json;
+use serde::Serialize;
+use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
 use whisker_sim::sensing::physics::{DT, EnvironmentPiece, PhysicsArray, SolverPath, StageTimes};
 use whisker_sim::whisker::array;
+use whisker_sim::whisker::beam::Bending;
 
 /// CPU-seconds per simulated second for one whisker of WHISKiT Physics, the reference
 /// simulator (`shared/notes/physics.md`, "The peer to beat").
 const WHISKIT_CPU_S_PER_S: f64 = 7.0;
 
-/// Options of `whisker bench physics`.
-#[derive(clap::Args, Debug)]
-pub struct Options {
+/// What `whisker bench physics` times.
+#[derive(Debug, Clone)]
+pub struct Settings {
     /// Simulated time per case (s).
-    #[arg(long, default_value_t = 0.5)]
     pub duration: f64,
     /// Shaft joint model of every whisker.
-    #[arg(long, value_enum, default_value_t = crate::characterize::BendingArg::Spatial)]
-    pub bending: crate::characterize::BendingArg,
+    pub bending: Bending,
     /// Rapier substeps per 0.5 ms step.
-    #[arg(long, default_value_t = whisker_sim::sensing::physics::DEFAULT_SUBSTEPS)]
     pub substeps: usize,
     /// Segments per whisker [default: the array's].
-    #[arg(long)]
     pub segments: Option<usize>,
     /// The scenario whose `[maze]` is the maze case.
-    #[arg(long, default_value = "scenarios/maze.toml")]
     pub maze: PathBuf,
     /// Skip the segment-count scaling (8/12/16/24).
-    #[arg(long)]
     pub no_scaling: bool,
-    /// Time only this code path (e.g. under a profiler) [default: all].
-    #[arg(long, value_parser = solver_path_parser())]
+    /// Time only this code path [default: all].
     pub path: Option<SolverPath>,
-    /// Instead: Rapier's stage timers for the array against the Box on 1 thread (the
-    /// released, exact, composite and once-per-step paths, or --path); needs `--features profiler`.
-    #[arg(long)]
+    /// Instead: Rapier's stage timers for the array against the Box on 1 thread.
     pub stages: bool,
-    /// Print a JSON list of {case, threads, path, real_time_factor, …}.
-    #[arg(long)]
-    pub json: bool,
 }
 
-/// Parses a code path by its name ([`SolverPath::name`]: `released`, `exact`, …) for
-/// `--path` here and in `whisker soak`.
-pub fn solver_path_parser() -> impl clap::builder::TypedValueParser<Value = SolverPath> {
-    clap::builder::PossibleValuesParser::new(SolverPath::ALL.map(SolverPath::name)).map(|name| {
-        *SolverPath::ALL
-            .iter()
-            .find(|p| p.name() == name)
-            .expect("clap accepts only the paths' names")
-    })
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            duration: 0.5,
+            bending: Bending::Spatial,
+            substeps: whisker_sim::sensing::physics::DEFAULT_SUBSTEPS,
+            segments: None,
+            maze: PathBuf::from("scenarios/maze.toml"),
+            no_scaling: false,
+            path: None,
+            stages: false,
+        }
+    }
 }
 
 /// One timed case.
@@ -97,7 +91,7 @@ fn time_case(
     case: &Case,
     path: SolverPath,
     threads: usize,
-    o: &Options,
+    o: &Settings,
 ) -> Result<(f64, StageTimes), String> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -106,7 +100,7 @@ fn time_case(
     pool.install(|| {
         let mut configs = whisker_sim::sensing::physics::standard_array(
             array::modules().len(),
-            o.bending.into(),
+            o.bending,
             case.segments.or(o.segments),
             o.substeps,
         );
@@ -139,20 +133,59 @@ fn time_case(
     })
 }
 
-/// One measured row.
-struct Row {
-    case: String,
-    segments: usize,
-    threads: usize,
-    path: SolverPath,
-    rtf: f64,
-    cpu: f64,
-    speedup: Option<f64>,
+/// One measured row (`--json`: one object of the list).
+#[derive(Debug, Clone, Serialize)]
+pub struct Row {
+    pub case: String,
+    pub whiskers: usize,
+    pub segments: usize,
+    pub threads: usize,
+    pub path: &'static str,
+    pub real_time_factor: f64,
+    pub cpu_s_per_sim_s_per_whisker: f64,
+    pub speedup_vs_released: Option<f64>,
+    pub cpu_vs_whiskit: f64,
 }
 
-/// Times `case` by every path (or `--path`) on each of `threads`, printing progress.
-fn measure(case: &Case, threads: &[usize], o: &Options, rows: &mut Vec<Row>) -> CliResult {
-    let whiskers = array::modules().len() as f64;
+/// The table of `whisker bench physics`.
+#[derive(Debug, Clone, Serialize)]
+#[serde(transparent)]
+pub struct Table {
+    pub rows: Vec<Row>,
+    #[serde(skip)]
+    heading: String,
+}
+
+/// Where one path's steps spent their time (`--stages`).
+#[derive(Debug, Clone, Serialize)]
+pub struct Stages {
+    pub path: &'static str,
+    pub wall_s: f64,
+    pub stages_s: std::collections::BTreeMap<&'static str, f64>,
+    /// The stages in the order Rapier runs them, for the table.
+    #[serde(skip)]
+    order: Vec<(&'static str, f64)>,
+    #[serde(skip)]
+    heading: String,
+}
+
+/// What `whisker bench physics` measured.
+#[derive(Debug, Clone, Serialize)]
+#[serde(untagged)]
+pub enum Report {
+    Table(Table),
+    Stages(Vec<Stages>),
+}
+
+/// Times `case` by every path (or `--path`) on each of `threads`, noting progress.
+fn measure(
+    case: &Case,
+    threads: &[usize],
+    o: &Settings,
+    rows: &mut Vec<Row>,
+    ctx: Context,
+) -> CliResult {
+    let whiskers = array::modules().len();
     let segments = case
         .segments
         .or(o.segments)
@@ -172,21 +205,22 @@ fn measure(case: &Case, threads: &[usize], o: &Options, rows: &mut Vec<Row>) -> 
                 }
                 _ => released_wall.map(|r| r / wall),
             };
-            if !o.json {
-                eprintln!(
-                    "  {:<26} {segments:>2} segments {t} thread(s) {:<9} {rtf:.3}× real time",
-                    case.name,
-                    path.name()
-                );
-            }
+            ctx.note(&format!(
+                "  {:<26} {segments:>2} segments {t} thread(s) {:<9} {rtf:.3}× real time",
+                case.name,
+                path.name()
+            ));
+            let cpu = t as f64 * wall / o.duration / whiskers as f64;
             rows.push(Row {
                 case: case.name.to_string(),
+                whiskers,
                 segments,
                 threads: t,
-                path,
-                rtf,
-                cpu: t as f64 * wall / o.duration / whiskers,
-                speedup,
+                path: path.name(),
+                real_time_factor: rtf,
+                cpu_s_per_sim_s_per_whisker: cpu,
+                speedup_vs_released: speedup,
+                cpu_vs_whiskit: cpu / WHISKIT_CPU_S_PER_S,
             });
         }
     }
@@ -194,7 +228,7 @@ fn measure(case: &Case, threads: &[usize], o: &Options, rows: &mut Vec<Row>) -> 
 }
 
 /// Runs `whisker bench physics`.
-pub fn physics(o: &Options) -> CliResult {
+pub fn physics(o: &Settings, ctx: Context) -> CliResult<Report> {
     if !(1..=64).contains(&o.substeps) {
         return Err(CliError::Input(format!(
             "--substeps: expected 1 to 64, got {}",
@@ -241,11 +275,11 @@ pub fn physics(o: &Options) -> CliResult {
         },
     ];
     if o.stages {
-        return stages(&cases[1], o);
+        return stages(&cases[1], o).map(Report::Stages);
     }
     let mut rows = Vec::new();
     for case in &cases {
-        measure(case, &[1, 2], o, &mut rows)?;
+        measure(case, &[1, 2], o, &mut rows, ctx)?;
     }
     if !o.no_scaling {
         for n in [8, 12, 16, 24] {
@@ -254,81 +288,86 @@ pub fn physics(o: &Options) -> CliResult {
                 segments: Some(n),
                 ..cases[1]
             };
-            measure(&case, &[2], o, &mut rows)?;
+            measure(&case, &[2], o, &mut rows, ctx)?;
         }
     }
-    print(&rows, &boxed.touching, &maze.touching, o);
-    Ok(())
-}
-
-/// Prints the table (or the JSON list).
-fn print(rows: &[Row], box_touching: &[usize], maze_touching: &[usize], o: &Options) {
-    if o.json {
-        let list: Vec<_> = rows
-            .iter()
-            .map(|r| {
-                json!({
-                    "case": r.case,
-                    "whiskers": array::modules().len(),
-                    "segments": r.segments,
-                    "threads": r.threads,
-                    "path": r.path.name(),
-                    "real_time_factor": r.rtf,
-                    "cpu_s_per_sim_s_per_whisker": r.cpu,
-                    "speedup_vs_released": r.speedup,
-                    "cpu_vs_whiskit": r.cpu / WHISKIT_CPU_S_PER_S,
-                })
-            })
-            .collect();
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&list).expect("plain JSON")
-        );
-        return;
-    }
-    println!(
+    let heading = format!(
         "physics sensing of the 18-whisker array, {} s simulated per case at 2 kHz, {:?} bending, {} substep(s); \
          {} whiskers touch the Box and {} the maze by the kinematic sweep",
         o.duration,
         o.bending,
         o.substeps,
-        box_touching.len(),
-        maze_touching.len()
+        boxed.touching.len(),
+        maze.touching.len()
     );
-    println!(
-        "{:<18} {:>8} {:>7} {:>17} {:>16} {:>24} {:>11} {:>13}",
-        "case",
-        "segments",
-        "threads",
-        "path",
-        "real-time factor",
-        "CPU s / sim s / whisker",
-        "vs WHISKiT",
-        "speed-up"
-    );
-    for r in rows {
-        println!(
-            "{:<18} {:>8} {:>7} {:>17} {:>16.3} {:>24.3} {:>10.3}× {:>13}",
-            r.case,
-            r.segments,
-            r.threads,
-            r.path.name(),
-            r.rtf,
-            r.cpu,
-            r.cpu / WHISKIT_CPU_S_PER_S,
-            r.speedup.map_or(String::new(), |s| format!("{s:.2}×"))
-        );
+    Ok(Report::Table(Table { rows, heading }))
+}
+
+impl fmt::Display for Report {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Report::Table(t) => t.fmt(f),
+            Report::Stages(list) => list.iter().try_for_each(|s| s.fmt(f)),
+        }
     }
-    println!(
-        "released: Rapier 0.36.1 as released, a barrier per sample; exact: vendor/PATCHES.md 1-2 (bit-identical); \
-         composite: 1-2, 5 (the same matrices up to rounding); once-per-step: 1-3, 5 (the default); \
-         explicit-coriolis: 1-5 (both went non-finite in nudged Mug soaks with fixed steps); all four one task per whisker and speed-adaptive steps. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
-         (below 1: cheaper). Speed-up: released wall time / the path's, same case and threads."
-    );
+}
+
+impl fmt::Display for Table {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "{}", self.heading)?;
+        writeln!(
+            f,
+            "{:<18} {:>8} {:>7} {:>17} {:>16} {:>24} {:>11} {:>13}",
+            "case",
+            "segments",
+            "threads",
+            "path",
+            "real-time factor",
+            "CPU s / sim s / whisker",
+            "vs WHISKiT",
+            "speed-up"
+        )?;
+        for r in &self.rows {
+            writeln!(
+                f,
+                "{:<18} {:>8} {:>7} {:>17} {:>16.3} {:>24.3} {:>10.3}× {:>13}",
+                r.case,
+                r.segments,
+                r.threads,
+                r.path,
+                r.real_time_factor,
+                r.cpu_s_per_sim_s_per_whisker,
+                r.cpu_vs_whiskit,
+                r.speedup_vs_released
+                    .map_or(String::new(), |s| format!("{s:.2}×"))
+            )?;
+        }
+        writeln!(
+            f,
+            "released: Rapier 0.36.1 as released, a barrier per sample; exact: vendor/PATCHES.md 1-2 (bit-identical); \
+             composite: 1-2, 5 (the same matrices up to rounding); once-per-step: 1-3, 5 (the default); \
+             explicit-coriolis: 1-5 (both went non-finite in nudged Mug soaks with fixed steps); all four one task per whisker and speed-adaptive steps. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
+             (below 1: cheaper). Speed-up: released wall time / the path's, same case and threads."
+        )
+    }
+}
+
+impl fmt::Display for Stages {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "{}", self.heading)?;
+        for (name, s) in &self.order {
+            writeln!(
+                f,
+                "  {name:<36} {s:>8.3} s {:>6.1} %",
+                100.0 * s / self.wall_s
+            )?;
+        }
+        Ok(())
+    }
 }
 
 /// `--stages`: where Rapier's steps spend their time, against the Box on 1 thread.
-fn stages(case: &Case, o: &Options) -> CliResult {
+fn stages(case: &Case, o: &Settings) -> CliResult<Vec<Stages>> {
     let paths = match o.path {
         Some(p) => vec![p],
         None => vec![
@@ -348,7 +387,7 @@ fn stages(case: &Case, o: &Options) -> CliResult {
                     .into(),
             ));
         }
-        let rows = [
+        let order = vec![
             ("user changes (driver pose)", t.user_changes),
             ("body update", t.update),
             ("broad phase", t.broad_phase),
@@ -363,29 +402,18 @@ fn stages(case: &Case, o: &Options) -> CliResult {
             ("CCD", t.ccd),
             ("whisker-slam outside Rapier's step", wall - t.step),
         ];
-        if o.json {
-            let mut m = serde_json::Map::new();
-            for (name, s) in rows {
-                m.insert(name.into(), json!(s));
-            }
-            list.push(json!({"path": path.name(), "wall_s": wall, "stages_s": m}));
-        } else {
-            println!(
+        list.push(Stages {
+            path: path.name(),
+            wall_s: wall,
+            stages_s: order.iter().copied().collect(),
+            heading: format!(
                 "{}: 18 whiskers {} for {} s on 1 thread, {wall:.2} s wall",
                 path.name(),
                 case.name,
                 o.duration
-            );
-            for (name, s) in rows {
-                println!("  {name:<36} {s:>8.3} s {:>6.1} %", 100.0 * s / wall);
-            }
-        }
+            ),
+            order,
+        });
     }
-    if o.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&list).expect("plain JSON")
-        );
-    }
-    Ok(())
+    Ok(list)
 }

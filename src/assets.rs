@@ -3,18 +3,19 @@
 
 use crate::error::CliResult;
 use crate::output::{create_dir, write_atomic};
+use crate::record::Context;
 use std::path::Path;
 use whisker_sim::environment::assets::{CATALOGUE, obj};
 
 /// Writes every catalogued asset to `out/<name>.obj`.
-pub fn generate_all(out: &Path) -> CliResult {
+pub fn generate_all(out: &Path, ctx: Context) -> CliResult {
     create_dir(out)?;
     for asset in &CATALOGUE {
         let text = obj(asset);
         let path = out.join(format!("{}.obj", asset.name));
         write_atomic(&path, text.as_bytes())?;
         let triangles = text.lines().filter(|l| l.starts_with("f ")).count();
-        println!(
+        ctx.say(&format!(
             "{:<10} {:>6} triangles  {:.2} x {:.2} x {:.2} m  -> {}",
             asset.name,
             triangles,
@@ -22,7 +23,7 @@ pub fn generate_all(out: &Path) -> CliResult {
             asset.size[1],
             asset.size[2],
             path.display()
-        );
+        ));
     }
     Ok(())
 }
