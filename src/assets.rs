@@ -1,14 +1,14 @@
 //! `whisker assets generate`: writes the generated object catalogue
 //! (`whisker_sim::environment::assets`) as OBJ files.
 
-use crate::error::CliResult;
+use crate::error::Result;
 use crate::output::{create_dir, write_atomic};
 use crate::record::Context;
 use std::path::Path;
 use whisker_sim::environment::assets::{CATALOGUE, obj};
 
 /// Writes every catalogued asset to `out/<name>.obj`.
-pub fn generate_all(out: &Path, ctx: Context) -> CliResult {
+pub fn generate_all(out: &Path, ctx: Context) -> Result {
     create_dir(out)?;
     for asset in &CATALOGUE {
         let text = obj(asset);

@@ -1,7 +1,7 @@
 //! `whisker characterize`: a static point load on one held whisker, then its ring-down
 //! (see `whisker_sim::whisker::characterize`).
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use serde::Serialize;
 use std::fmt;
 use whisker_sim::whisker::beam::Bending;
@@ -60,10 +60,10 @@ pub struct Report {
 }
 
 /// Loads and rings down the design of `s`.
-pub fn run(s: &Settings) -> CliResult<Report> {
+pub fn run(s: &Settings) -> Result<Report> {
     let beam = s.beam;
     beam.validate()
-        .map_err(|e| CliError::Input(format!("characterize: {e}")))?;
+        .map_err(|e| Error::Input(format!("characterize: {e}")))?;
     let follicle = match s.follicle_stiffness {
         0.0 => None,
         k if k.is_finite() && k > 0.0 => Some(FollicleDesign {
@@ -71,26 +71,25 @@ pub fn run(s: &Settings) -> CliResult<Report> {
             ..FollicleDesign::default()
         }),
         k => {
-            return Err(CliError::Input(format!(
+            return Err(Error::Input(format!(
                 "--follicle-stiffness: expected a number ≥ 0, got {k}"
             )));
         }
     };
     let at = s.at.unwrap_or(0.8 * beam.length);
     if !(at.is_finite() && at > 0.0 && at <= beam.length) {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "--at: expected an arc length in (0, {}] m, got {at}",
             beam.length
         )));
     }
     if !s.force.is_finite() || s.force == 0.0 {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "--force: expected a non-zero finite number of newtons, got {}",
             s.force
         )));
     }
-    let c: Characterization =
-        characterize(beam, follicle, s.force, at).map_err(CliError::Failure)?;
+    let c: Characterization = characterize(beam, follicle, s.force, at).map_err(Error::Failure)?;
     Ok(Report {
         length_m: beam.length,
         force_n: s.force,

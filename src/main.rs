@@ -6,6 +6,7 @@ mod cli;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
+use whisker::error::Error;
 use whisker::record::{Context, Reporter};
 use whisker::recording::Rerun;
 
@@ -101,7 +102,11 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");
-            ExitCode::from(e.exit_code() as u8)
+            // Bad input exits with 2, anything else with 1.
+            ExitCode::from(match e {
+                Error::Input(_) => 2,
+                Error::Failure(_) => 1,
+            })
         }
     }
 }

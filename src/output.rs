@@ -1,7 +1,7 @@
 //! Writing output files without ever leaving a half-written one: every file is written
 //! to a temporary sibling and renamed into place once complete.
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -16,9 +16,9 @@ pub fn temporary(path: &Path) -> PathBuf {
 }
 
 /// Creates `dir` (and parents).
-pub fn create_dir(dir: &Path) -> CliResult {
+pub fn create_dir(dir: &Path) -> Result {
     fs::create_dir_all(dir).map_err(|e| {
-        CliError::Failure(format!(
+        Error::Failure(format!(
             "cannot create output directory {}: {e}",
             dir.display()
         ))
@@ -26,7 +26,7 @@ pub fn create_dir(dir: &Path) -> CliResult {
 }
 
 /// Writes `bytes` to `path` atomically (temporary file, then rename).
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> CliResult {
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result {
     let tmp = temporary(path);
     let result = fs::File::create(&tmp)
         .and_then(|mut f| {
@@ -36,14 +36,14 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> CliResult {
         .and_then(|_| fs::rename(&tmp, path));
     result.map_err(|e| {
         let _ = fs::remove_file(&tmp);
-        CliError::Failure(format!("cannot write {}: {e}", path.display()))
+        Error::Failure(format!("cannot write {}: {e}", path.display()))
     })
 }
 
 /// Renames a completed temporary file into place.
-pub fn commit(tmp: &Path, path: &Path) -> CliResult {
+pub fn commit(tmp: &Path, path: &Path) -> Result {
     fs::rename(tmp, path).map_err(|e| {
         let _ = fs::remove_file(tmp);
-        CliError::Failure(format!("cannot write {}: {e}", path.display()))
+        Error::Failure(format!("cannot write {}: {e}", path.display()))
     })
 }

@@ -2,8 +2,9 @@
 //! base link to the tip link, and a joint trajectory through the waypoints (tip poses
 //! solved by IK from the previous waypoint's configuration, §2.2.1).
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use crate::scenario::{Scenario, Target};
+use std::fmt::Write as _;
 use std::path::Path;
 use whisker_sim::kinematics::ik::{self, IkOptions};
 use whisker_sim::kinematics::{Chain, JointTrajectory, PackagePaths, RobotModel};
@@ -34,9 +35,9 @@ fn chain_units(chain: &Chain, values: &[f64]) -> Vec<f64> {
 }
 
 /// Checks a configuration against the chain: count and limits.
-fn check_joints(file: &Path, field: &str, chain: &Chain, q: &[f64]) -> CliResult {
+fn check_joints(file: &Path, field: &str, chain: &Chain, q: &[f64]) -> Result {
     if q.len() != chain.dof() {
-        return Err(CliError::field(
+        return Err(Error::field(
             file,
             field,
             format!(
@@ -59,7 +60,7 @@ fn check_joints(file: &Path, field: &str, chain: &Chain, q: &[f64]) -> CliResult
                     format!("{x:.4} m")
                 }
             };
-            return Err(CliError::field(
+            return Err(Error::field(
                 file,
                 &format!("{field}[{i}]"),
                 format!(
@@ -77,11 +78,11 @@ fn check_joints(file: &Path, field: &str, chain: &Chain, q: &[f64]) -> CliResult
 
 impl Plan {
     /// Loads the URDF of `scenario` (read from `file`) and plans its trajectory.
-    pub fn new(scenario: &Scenario, file: &Path) -> CliResult<Self> {
+    pub fn new(scenario: &Scenario, file: &Path) -> Result<Self> {
         let packages = PackagePaths::new(scenario.package_paths(file));
         let urdf = scenario.urdf_path(file);
         if !urdf.is_file() {
-            return Err(CliError::field(
+            return Err(Error::field(
                 file,
                 "arm.urdf",
                 format!("no such file: {}", urdf.display()),
@@ -90,9 +91,9 @@ impl Plan {
         let model = RobotModel::load(&urdf, &packages)?;
         let arm = &scenario.arm;
         let chain = Chain::new(&model, &arm.base_link, &arm.tip_link)
-            .map_err(|e| CliError::field(file, "arm.base_link / arm.tip_link", e))?;
+            .map_err(|e| Error::field(file, "arm.base_link / arm.tip_link", e))?;
         if chain.dof() == 0 {
-            return Err(CliError::field(
+            return Err(Error::field(
                 file,
                 "arm.tip_link",
                 format!("no movable joint between {} and {}", chain.base, chain.tip),
@@ -119,7 +120,7 @@ impl Plan {
                 Target::Pose { position, rpy } => {
                     let target = pose::from_xyz_rpy(position, rpy);
                     ik::solve(&chain, &target, previous, &options)
-                        .map_err(|e| CliError::field(file, &field, e))?
+                        .map_err(|e| Error::field(file, &field, e))?
                 }
             };
             waypoints.push(q);
@@ -172,5 +173,54 @@ impl Plan {
         let poses = self.model.link_poses(&self.model_joints(q));
         let base_inv = poses[base].inverse();
         skeleton.iter().map(|&l| base_inv * poses[l]).collect()
+    }
+
+    /// What `whisker check` and `whisker run` say of the plan of `scenario` (read from
+    /// `file`): the arm, the trajectory and every waypoint.
+    pub fn describe(&self, file: &Path, scenario: &Scenario) -> String {
+        let plan = self;
+        let c = &plan.chain;
+        let mut s = String::new();
+        let _ = writeln!(s, "scenario   {} (seed {})", file.display(), scenario.seed);
+        let _ = writeln!(
+            s,
+            "arm        {} from {}: {} -> {}, {} joints ({})",
+            plan.model.name,
+            scenario.urdf_path(file).display(),
+            c.base,
+            c.tip,
+            c.dof(),
+            c.joint_names.join(", ")
+        );
+        let speed = plan.speed.iter().cloned().fold(f64::INFINITY, f64::min);
+        let _ = writeln!(
+            s,
+            "trajectory {} waypoints, {:.2} s at joint speeds ≤ {speed} rad/s",
+            plan.waypoints.len() - 1,
+            plan.trajectory.duration()
+        );
+        for (k, q) in plan.waypoints.iter().enumerate() {
+            let tip = c.fk(q);
+            let p = tip.translation.vector;
+            let r = pose::rpy(&tip.rotation).map(f64::to_degrees);
+            let deg: Vec<String> = q.iter().map(|v| format!("{:.2}", v.to_degrees())).collect();
+            let label = if k == 0 {
+                "start".to_string()
+            } else {
+                format!("#{}", k - 1)
+            };
+            let _ = writeln!(
+                s,
+                "  {label:>5}  tip ({:.4}, {:.4}, {:.4}) m  rpy ({:.1}, {:.1}, {:.1})°  joints [{}]°",
+                p.x,
+                p.y,
+                p.z,
+                r[0],
+                r[1],
+                r[2],
+                deg.join(", ")
+            );
+        }
+        s
     }
 }

@@ -13,7 +13,7 @@
 //! [`Recorder::step_done`]), so that one seed gives the same content whatever the thread
 //! count.
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use nalgebra::Isometry3;
 use std::path::{Path, PathBuf};
 use whisker_sim::environment::{Environment, Mesh};
@@ -118,29 +118,29 @@ pub trait Recorder {
     /// (after [`Self::at`], which clears it).
     fn at_step(&self, timeline: &'static str, k: u64);
     /// Writes what has been logged so far (a fixed point of the simulation).
-    fn checkpoint(&self) -> CliResult;
+    fn checkpoint(&self) -> Result;
     /// Completes the recording and moves it into place.
-    fn finish(self: Box<Self>) -> CliResult;
+    fn finish(self: Box<Self>) -> Result;
 
     /// A line of the event log (`events`).
-    fn event(&self, text: &str) -> CliResult;
+    fn event(&self, text: &str) -> Result;
     /// A static frame at `entity`, translated by `translation` (m) from its parent.
-    fn frame(&self, entity: &str, translation: [f64; 3]) -> CliResult;
+    fn frame(&self, entity: &str, translation: [f64; 3]) -> Result;
     /// A static triangle mesh at `entity` (its own frame) in `colour`.
-    fn mesh(&self, entity: &str, mesh: &Mesh, colour: [u8; 3]) -> CliResult;
+    fn mesh(&self, entity: &str, mesh: &Mesh, colour: [u8; 3]) -> Result;
     /// The environment's pieces as static meshes at `<prefix>/<piece>`.
-    fn environment_in(&self, prefix: &str, environment: &Environment) -> CliResult;
+    fn environment_in(&self, prefix: &str, environment: &Environment) -> Result;
     /// The tip positions at the waypoints (`world/waypoints`, static).
-    fn waypoints(&self, tips: &[Isometry3<f64>]) -> CliResult;
+    fn waypoints(&self, tips: &[Isometry3<f64>]) -> Result;
     /// The arm at time `t`: its link frames along the chain from the root, a line through
     /// their origins and the tip frame (`world/arm/…`).
-    fn arm(&self, t: f64, links: &[Isometry3<f64>], tip: &Isometry3<f64>) -> CliResult;
+    fn arm(&self, t: f64, links: &[Isometry3<f64>], tip: &Isometry3<f64>) -> Result;
     /// A frame's pose at `entity`.
-    fn pose(&self, entity: &str, pose: &Isometry3<f64>) -> CliResult;
+    fn pose(&self, entity: &str, pose: &Isometry3<f64>) -> Result;
     /// The whole tip path (`world/arm/tip_path`, static) and the axes of the frames.
-    fn tip_path(&self, path: &[Isometry3<f64>]) -> CliResult;
+    fn tip_path(&self, path: &[Isometry3<f64>]) -> Result;
     /// Whisker shafts at `entity` at time `t`, each base to tip (world).
-    fn shafts_at(&self, entity: &str, t: f64, shafts: &[Vec<[f64; 3]>]) -> CliResult;
+    fn shafts_at(&self, entity: &str, t: f64, shafts: &[Vec<[f64; 3]>]) -> Result;
     /// The contacts of whisk cycle `cycle` of one kind at `<prefix>/true` or
     /// `<prefix>/estimated`; once both kinds of a cycle are in, the error between them.
     fn contacts_in(
@@ -149,59 +149,54 @@ pub trait Recorder {
         kind: ContactKind,
         cycle: u64,
         contacts: &[Contact],
-    ) -> CliResult;
+    ) -> Result;
     /// One point at `entity` (world, m) of `radius` (m), in `colour` if given.
-    fn marker(
-        &self,
-        entity: &str,
-        point: [f64; 3],
-        radius: f64,
-        colour: Option<[u8; 3]>,
-    ) -> CliResult;
+    fn marker(&self, entity: &str, point: [f64; 3], radius: f64, colour: Option<[u8; 3]>)
+    -> Result;
     /// A whole path (world) as a static line at `entity`.
-    fn trajectory(&self, entity: &str, points: &[[f64; 3]], colour: [u8; 3]) -> CliResult;
+    fn trajectory(&self, entity: &str, points: &[[f64; 3]], colour: [u8; 3]) -> Result;
     /// A re-localisation: a point at the true pose (at `entity`) and a line of the event
     /// log.
-    fn relocalisation(&self, entity: &str, at: &Isometry3<f64>, text: &str) -> CliResult;
+    fn relocalisation(&self, entity: &str, at: &Isometry3<f64>, text: &str) -> Result;
     /// A closed loop's goal of kind `kind` (`face:<k>`, `spc`, `step:<e>`).
-    fn goal(&self, pose: &Isometry3<f64>, kind: &str) -> CliResult;
+    fn goal(&self, pose: &Isometry3<f64>, kind: &str) -> Result;
     /// A tactile image (6 × 3, intensities 0–255) at `entity`.
-    fn tactile_image(&self, entity: &str, image: &TactileImage) -> CliResult;
+    fn tactile_image(&self, entity: &str, image: &TactileImage) -> Result;
     /// The pose-cell activity of `grid` (planar or 6-D) at `entity`.
-    fn pose_cells(&self, entity: &str, grid: &PoseGrid) -> CliResult;
+    fn pose_cells(&self, entity: &str, grid: &PoseGrid) -> Result;
     /// An experience graph under `entity`, in map space.
-    fn graph(&self, entity: &str, graph: &Graph) -> CliResult;
+    fn graph(&self, entity: &str, graph: &Graph) -> Result;
     /// One scalar at `entity`.
-    fn scalar(&self, entity: &str, value: f64) -> CliResult;
+    fn scalar(&self, entity: &str, value: f64) -> Result;
     /// Names the series of a whisker's stream at `entity` ([`SENSOR_SERIES`], static).
-    fn sensor_series(&self, entity: &str) -> CliResult;
+    fn sensor_series(&self, entity: &str) -> Result;
     /// Rows of a whisker's stream at `entity`: `values` holds [`SENSOR_VALUES`] values per
     /// time of `times` (s).
-    fn sensor_columns(&self, entity: &str, times: &[f64], values: Vec<f64>) -> CliResult;
+    fn sensor_columns(&self, entity: &str, times: &[f64], values: Vec<f64>) -> Result;
 
     /// Marks the end of step `k` (a SLAM update, a whisk): every
     /// [`STEPS_PER_CHECKPOINT`]-th is a checkpoint.
-    fn step_done(&self, k: usize) -> CliResult {
+    fn step_done(&self, k: usize) -> Result {
         if (k + 1).is_multiple_of(STEPS_PER_CHECKPOINT) {
             self.checkpoint()?;
         }
         Ok(())
     }
     /// The environment at `world/environment`.
-    fn environment(&self, environment: &Environment) -> CliResult {
+    fn environment(&self, environment: &Environment) -> Result {
         self.environment_in("world/environment", environment)
     }
     /// The array frame at time `t` (`world/array`).
-    fn array(&self, t: f64, pose: &Isometry3<f64>) -> CliResult {
+    fn array(&self, t: f64, pose: &Isometry3<f64>) -> Result {
         self.at(t);
         self.pose("world/array", pose)
     }
     /// The 18 shafts at time `t` (`world/whiskers`).
-    fn shafts(&self, t: f64, shafts: &[Vec<[f64; 3]>]) -> CliResult {
+    fn shafts(&self, t: f64, shafts: &[Vec<[f64; 3]>]) -> Result {
         self.shafts_at("world/whiskers", t, shafts)
     }
     /// The contacts of whisk cycle `cycle` (starting at `t`) at `world/contacts/…`.
-    fn contacts(&self, kind: ContactKind, cycle: u64, t: f64, contacts: &[Contact]) -> CliResult {
+    fn contacts(&self, kind: ContactKind, cycle: u64, t: f64, contacts: &[Contact]) -> Result {
         self.at(t);
         self.contacts_in("world/contacts", kind, cycle, contacts)
     }
@@ -214,7 +209,7 @@ pub trait Recorder {
         map: &ObjectMap,
         current: Option<usize>,
         target: Option<usize>,
-    ) -> CliResult {
+    ) -> Result {
         let objects: Vec<Option<String>> =
             map.experiences.iter().map(|e| e.object.clone()).collect();
         self.graph(
@@ -237,7 +232,7 @@ pub trait Recorder {
 /// Makes recordings: the CLI's writes Rerun files (`whisker-recording`).
 pub trait Recordings: Sync {
     /// Starts a recording to be saved at `path`, identified by `id`, opening on `layout`.
-    fn create(&self, path: &Path, id: &str, layout: Layout) -> CliResult<Box<dyn Recorder>>;
+    fn create(&self, path: &Path, id: &str, layout: Layout) -> Result<Box<dyn Recorder>>;
 }
 
 /// Records nothing: a request for a recording is an error (for library users and tests
@@ -245,8 +240,8 @@ pub trait Recordings: Sync {
 pub struct NoRecordings;
 
 impl Recordings for NoRecordings {
-    fn create(&self, path: &Path, _: &str, _: Layout) -> CliResult<Box<dyn Recorder>> {
-        Err(CliError::Failure(format!(
+    fn create(&self, path: &Path, _: &str, _: Layout) -> Result<Box<dyn Recorder>> {
+        Err(Error::Failure(format!(
             "cannot write recording {}: this program records nothing",
             path.display()
         )))
@@ -291,25 +286,23 @@ impl Context<'_> {
         text.lines().for_each(|l| self.reporter.note(l));
     }
 
-    /// The recording `run.rrd` of a scenario run into `dir` (named after the file and the
-    /// seed, or `target.id`) unless `target` or the scenario switch it off; `target.rrd`
-    /// chooses another file.
+    /// The recording `run.rrd` of a scenario run into `dir` (named after the scenario's
+    /// `file` and `seed`, or `target.id`) unless `target` or the scenario (`on`: its
+    /// `output.recording`) switch it off; `target.rrd` chooses another file.
     pub fn scenario_recording(
         &self,
         file: &Path,
-        scenario: &crate::scenario::Scenario,
+        seed: u64,
+        on: bool,
         dir: &Path,
         target: &Target,
         layout: Layout,
-    ) -> CliResult<Option<Box<dyn Recorder>>> {
-        let Some(path) = target.path(Some(dir), scenario.output.recording) else {
+    ) -> Result<Option<Box<dyn Recorder>>> {
+        let Some(path) = target.path(Some(dir), on) else {
             return Ok(None);
         };
         let stem = file.file_stem().unwrap_or_default().to_string_lossy();
-        let name = target
-            .id
-            .clone()
-            .unwrap_or_else(|| id(&stem, scenario.seed));
+        let name = target.id.clone().unwrap_or_else(|| id(&stem, seed));
         self.recordings.create(&path, &name, layout).map(Some)
     }
 }
@@ -357,6 +350,20 @@ impl Target {
     }
 }
 
+impl Target {
+    /// `, NAME` of the recording a command writes into `dir` (for its `wrote` line),
+    /// `; recording PATH` when it goes elsewhere, or nothing.
+    pub fn wrote(&self, dir: &Path, default_on: bool) -> String {
+        match self.path(Some(dir), default_on) {
+            Some(p) if p.parent() == Some(dir) => {
+                format!(", {}", p.file_name().unwrap_or_default().to_string_lossy())
+            }
+            Some(p) => format!("; recording {}", p.display()),
+            None => String::new(),
+        }
+    }
+}
+
 /// The recording id of `name` (a scenario's file stem, or a command) with `seed`.
 pub fn id(name: &str, seed: u64) -> String {
     format!("{name}-seed{seed}")
@@ -385,7 +392,7 @@ pub struct SensorColumns {
 impl SensorColumns {
     /// Columns for the whiskers labelled `labels` at `<prefix>/<label>` (`prefix`:
     /// `sensors`, or `sensors/<case>`), their series named on `rec`.
-    pub fn new(rec: &dyn Recorder, prefix: &str, labels: &[String]) -> CliResult<Self> {
+    pub fn new(rec: &dyn Recorder, prefix: &str, labels: &[String]) -> Result<Self> {
         let entities: Vec<String> = labels.iter().map(|l| format!("{prefix}/{l}")).collect();
         for e in &entities {
             rec.sensor_series(e)?;
@@ -405,7 +412,7 @@ impl SensorColumns {
         t: f64,
         samples: &[Sample],
         rcp: Option<&[bool]>,
-    ) -> CliResult {
+    ) -> Result {
         self.times.push(t);
         for (w, (v, s)) in self.values.iter_mut().zip(samples).enumerate() {
             let r = rcp.map_or(f64::NAN, |r| f64::from(u8::from(r[w])));
@@ -427,7 +434,7 @@ impl SensorColumns {
         first: usize,
         streams: &[Vec<Sample>],
         rcp: Option<&[bool]>,
-    ) -> CliResult {
+    ) -> Result {
         let dt = 1.0 / whisker_slam::sensor::SAMPLE_RATE_HZ;
         let n = streams.iter().map(Vec::len).min().unwrap_or(0);
         for i in 0..n {
@@ -438,7 +445,7 @@ impl SensorColumns {
     }
 
     /// Sends what is buffered (one chunk per whisker).
-    pub fn send(&mut self, rec: &dyn Recorder) -> CliResult {
+    pub fn send(&mut self, rec: &dyn Recorder) -> Result {
         if self.times.is_empty() {
             return Ok(());
         }

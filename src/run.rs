@@ -1,6 +1,4 @@
-//! `whisker run SCENARIO` and `whisker check SCENARIO`.
-//!
-//! `run` plans the arm motion of a scenario, drives the arm's kinematic bodies through it
+//! `whisker run SCENARIO`: plans the arm motion of a scenario, drives the arm's kinematic bodies through it
 //! in a Rapier world at the output sample period, and writes to the output directory:
 //! - `path.csv`: one row per sample (columns documented in `scenarios/README.md`),
 //! - `summary.json`: the run's figures,
@@ -8,18 +6,15 @@
 //!   false` or `--no-rrd`; `--rrd FILE` writes it elsewhere),
 //! - `whiskers.csv` (physics sensing), `contacts.csv` (kinematic sensing) or
 //!   `anticipated.csv` (the anticipated contacts of a physics run with an environment).
-//!
-//! `check` does everything up to the simulation (parsing, URDF, IK of every waypoint)
-//! and prints what would run, writing nothing.
 
-use crate::contacts::ContactSensing;
-use crate::error::CliResult;
+use crate::error::Result;
 use crate::output;
 use crate::plan::Plan;
 use crate::record::{Context, Layout, Target};
 use crate::scenario::overrides::Override;
 use crate::scenario::{Scenario, Sensing};
-use crate::whiskers::ArraySimulation;
+use crate::sensing::array_run::ArraySimulation;
+use crate::sensing::sweep::ContactSensing;
 use nalgebra::Isometry3;
 use serde_json::json;
 use std::fmt::Write as _;
@@ -31,152 +26,6 @@ use whisker_slam::pose;
 /// Arm samples between the recording's checkpoints.
 const CHECKPOINT_SAMPLES: usize = 100;
 
-/// `, NAME` of the recording a run writes into `dir` (for the `wrote` line), or nothing.
-pub fn recording_name(rrd: &Target, dir: &Path, scenario: &Scenario) -> String {
-    match rrd.path(Some(dir), scenario.output.recording) {
-        Some(p) if p.parent() == Some(dir) => {
-            format!(", {}", p.file_name().unwrap_or_default().to_string_lossy())
-        }
-        Some(p) => format!("; recording {}", p.display()),
-        None => String::new(),
-    }
-}
-
-fn describe(file: &Path, scenario: &Scenario, plan: &Plan) -> String {
-    let c = &plan.chain;
-    let mut s = String::new();
-    let _ = writeln!(s, "scenario   {} (seed {})", file.display(), scenario.seed);
-    let _ = writeln!(
-        s,
-        "arm        {} from {}: {} -> {}, {} joints ({})",
-        plan.model.name,
-        scenario.urdf_path(file).display(),
-        c.base,
-        c.tip,
-        c.dof(),
-        c.joint_names.join(", ")
-    );
-    let speed = plan.speed.iter().cloned().fold(f64::INFINITY, f64::min);
-    let _ = writeln!(
-        s,
-        "trajectory {} waypoints, {:.2} s at joint speeds ≤ {speed} rad/s",
-        plan.waypoints.len() - 1,
-        plan.trajectory.duration()
-    );
-    for (k, q) in plan.waypoints.iter().enumerate() {
-        let tip = c.fk(q);
-        let p = tip.translation.vector;
-        let r = pose::rpy(&tip.rotation).map(f64::to_degrees);
-        let deg: Vec<String> = q.iter().map(|v| format!("{:.2}", v.to_degrees())).collect();
-        let label = if k == 0 {
-            "start".to_string()
-        } else {
-            format!("#{}", k - 1)
-        };
-        let _ = writeln!(
-            s,
-            "  {label:>5}  tip ({:.4}, {:.4}, {:.4}) m  rpy ({:.1}, {:.1}, {:.1})°  joints [{}]°",
-            p.x,
-            p.y,
-            p.z,
-            r[0],
-            r[1],
-            r[2],
-            deg.join(", ")
-        );
-    }
-    s
-}
-
-/// `whisker check`: validate and print what would run.
-/// `whisker check`: validates and describes; with `meshes`, writes each object's mesh as
-/// loaded to `meshes/NAME.obj`.
-pub fn check(file: &Path, meshes: Option<&Path>, ctx: Context) -> CliResult {
-    let scenario = Scenario::load(file)?;
-    let plan = Plan::new(&scenario, file)?;
-    ctx.say(&describe(file, &scenario, &plan));
-    if scenario.sensing != Sensing::None {
-        ctx.say(&crate::whiskers::describe(&scenario, file)?);
-        crate::whiskers::array_chain(&scenario, file, &plan)?;
-    }
-    if scenario.sensing == Sensing::Kinematic {
-        let n = scenario.kinematic.noise(file)?;
-        ctx.say(&format!("kinematic  1° sweeps once per whisk cycle; noise: point σ {} × length, slope σ {}, detection {}",
-            n.point_fraction, n.slope_sigma, n.detection_probability
-        ));
-    }
-    let loaded = scenario.environment(file)?;
-    for line in &loaded.report {
-        ctx.say(line);
-    }
-    if let Some(dir) = meshes {
-        crate::output::create_dir(dir)?;
-        let names = scenario.object_names();
-        for (i, (name, piece)) in names.iter().zip(&loaded.environment.pieces).enumerate() {
-            // A file name per object: separators replaced, and the index added to a name
-            // that several objects share (two copies of one mesh).
-            let mut stem = name.replace(['/', '\\'], "_");
-            if names.iter().filter(|n| *n == name).count() > 1 {
-                stem = format!("{stem}-{i}");
-            }
-            let path = dir.join(format!("{stem}.obj"));
-            let vertices: Vec<[f64; 3]> = piece
-                .mesh
-                .vertices
-                .iter()
-                .map(|p| [p.x, p.y, p.z])
-                .collect();
-            let text = whisker_sim::environment::mesh_io::obj_text(
-                &vertices,
-                &piece.mesh.triangles,
-                &format!(
-                    "{name} as loaded by {} (metres, z up, its own frame)",
-                    file.display()
-                ),
-            );
-            crate::output::write_atomic(&path, text.as_bytes())?;
-            ctx.say(&format!("wrote      {}", path.display()));
-        }
-    }
-    let dir = &scenario.output.dir;
-    let rrd = if scenario.output.recording {
-        ", run.rrd"
-    } else {
-        ""
-    };
-    if let Some(e) = &scenario.explore {
-        ctx.say(&crate::explore::describe(file, &scenario, e)?);
-        ctx.say(&format!(
-            "output     {} ({}, {}, contacts.csv{}{rrd})",
-            dir.display(),
-            crate::explore::CSV_NAME,
-            crate::explore::SUMMARY_NAME,
-            if e.task == crate::scenario::explore::Task::Map {
-                ", map.json"
-            } else {
-                ""
-            }
-        ));
-    } else {
-        ctx.say(&format!(
-            "output     {} (path.csv every {} s, summary.json{rrd})",
-            dir.display(),
-            scenario.output.sample_period_s
-        ));
-    }
-    if scenario.trials.is_some() {
-        ctx.say(&crate::trials::Batch::load(file)?.describe());
-    }
-    let skipped = whisker_sim::arm::links_without_colliders(&plan.model);
-    if !skipped.is_empty() {
-        ctx.say(&format!("warning    links whose collision meshes are missing or not OBJ/STL/PLY get no collider: {}",
-            skipped.join(", ")
-        ));
-    }
-    ctx.say("ok");
-    Ok(())
-}
-
 /// `whisker run`: simulate and write the outputs; `seed` replaces the scenario's seed,
 /// `overrides` change fields (`--set`), `out` the output directory, `rrd` the recording.
 pub fn run(
@@ -186,7 +35,7 @@ pub fn run(
     overrides: &[Override],
     rrd: &Target,
     ctx: Context,
-) -> CliResult {
+) -> Result {
     let mut scenario = Scenario::load_with(file, overrides)?;
     if let Some(seed) = seed {
         scenario.seed = seed;
@@ -198,15 +47,9 @@ pub fn run(
 /// Runs `scenario` (read from `file`) into `dir` (created), saying what it does to
 /// `ctx`: `whisker run` and each trial of `whisker trials`; the recording goes where
 /// `rrd` and the scenario's `output.recording` say.
-pub fn execute(
-    file: &Path,
-    scenario: &Scenario,
-    dir: &Path,
-    rrd: &Target,
-    ctx: Context,
-) -> CliResult {
+pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: Context) -> Result {
     let plan = Plan::new(scenario, file)?;
-    ctx.say(&describe(file, scenario, &plan));
+    ctx.say(&plan.describe(file, scenario));
     let loaded = scenario.environment(file)?;
     for line in &loaded.report {
         ctx.say(line);
@@ -214,12 +57,12 @@ pub fn execute(
     let environment = loaded.environment;
     if let Some(e) = &scenario.explore {
         // Loads the object maps: a bad one stops the run before anything is written.
-        ctx.say(&crate::explore::describe(file, scenario, e)?);
+        ctx.say(&crate::closed_loop::describe(file, scenario, e)?);
     }
     output::create_dir(dir)?;
 
     if scenario.explore.is_some() {
-        return crate::explore::write(file, scenario, plan, &environment, dir, rrd, ctx);
+        return crate::closed_loop::write(file, scenario, plan, &environment, dir, rrd, ctx);
     }
     let dt = scenario.output.sample_period_s;
     let chain = &plan.chain;
@@ -229,7 +72,14 @@ pub fn execute(
     let layout = Layout::Run {
         physics: scenario.sensing == Sensing::Physics,
     };
-    let recording = ctx.scenario_recording(file, scenario, dir, rrd, layout)?;
+    let recording = ctx.scenario_recording(
+        file,
+        scenario.seed,
+        scenario.output.recording,
+        dir,
+        rrd,
+        layout,
+    )?;
     if let Some(rec) = &recording {
         let tips: Vec<Isometry3<f64>> = plan.waypoints.iter().map(|q| chain.fk(q)).collect();
         rec.waypoints(&tips)?;
@@ -237,7 +87,7 @@ pub fn execute(
     }
     let array_chain = match scenario.sensing {
         Sensing::None => None,
-        _ => Some(crate::whiskers::array_chain(scenario, file, &plan)?),
+        _ => Some(crate::sensing::array::array_chain(scenario, file, &plan)?),
     };
 
     let mut whiskers = match scenario.sensing {
@@ -405,7 +255,7 @@ pub fn execute(
             )
         }
     ));
-    let rrd = recording_name(rrd, dir, scenario);
+    let rrd = rrd.wrote(dir, scenario.output.recording);
     let csv = match (scenario.sensing, contacts_file.is_some()) {
         (Sensing::Physics, true) => ", whiskers.csv, frontend.csv, anticipated.csv",
         (Sensing::Physics, false) => ", whiskers.csv, frontend.csv",

@@ -10,7 +10,7 @@
 //! whether any body went non-finite. Exit code 1 if a case tunnels (centre line deeper
 //! than the shaft's base radius, 1 mm) or breaks.
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use crate::record::SensorColumns;
 use crate::record::{Context, Layout, Recorder};
 use crate::scenario::Scenario;
@@ -140,7 +140,7 @@ impl<'a> CaseRecording<'a> {
         name: &str,
         environment: &Environment,
         array: &PhysicsArray,
-    ) -> CliResult<Self> {
+    ) -> Result<Self> {
         let frame = format!("world/cases/{}", crate::record::entity_name(name));
         rec.frame(&frame, [0.0, CASE_SPACING_M * k as f64, 0.0])?;
         rec.environment_in(&format!("{frame}/environment"), environment)?;
@@ -164,7 +164,7 @@ impl<'a> CaseRecording<'a> {
     }
 
     /// Logs the samples of steps `k0 + 1 ..` (per whisker) and the shafts now.
-    fn chunk(&mut self, k0: usize, samples: &[Vec<Sample>], array: &PhysicsArray) -> CliResult {
+    fn chunk(&mut self, k0: usize, samples: &[Vec<Sample>], array: &PhysicsArray) -> Result {
         let n = samples.first().map_or(0, Vec::len);
         let off = vec![false; samples.len()];
         let rcp = self.open_loop.then_some(off.as_slice());
@@ -177,7 +177,7 @@ impl<'a> CaseRecording<'a> {
         )
     }
 
-    fn finish(mut self) -> CliResult {
+    fn finish(mut self) -> Result {
         self.columns.send(self.rec)?;
         self.rec.checkpoint()
     }
@@ -194,7 +194,7 @@ fn run_case(
     o: &Settings,
     recording: Option<(&dyn Recorder, usize)>,
     ctx: Context,
-) -> CliResult<CaseReport> {
+) -> Result<CaseReport> {
     let (environment, touching) = (&case.environment, case.touching.as_slice());
     let configs = whisker_sim::sensing::physics::standard_array(
         array::modules().len(),
@@ -311,15 +311,15 @@ pub struct Case {
 
 /// The catalogue object `name` at the `bench sensing` candidate pose where the most
 /// whiskers touch it.
-pub fn object_case(name: &str) -> Result<Case, CliError> {
+pub fn object_case(name: &str) -> Result<Case, Error> {
     let asset = CATALOGUE
         .iter()
         .find(|a| a.name == name)
-        .ok_or_else(|| CliError::Input(format!("no catalogue object {name:?}")))?;
-    let (environment, shape) = placed(asset).map_err(CliError::Failure)?;
+        .ok_or_else(|| Error::Input(format!("no catalogue object {name:?}")))?;
+    let (environment, shape) = placed(asset).map_err(Error::Failure)?;
     let (pose, touching) =
         viewpoints::busiest(&environment, &shape, asset.size).ok_or_else(|| {
-            CliError::Failure(format!(
+            Error::Failure(format!(
                 "{}: no candidate pose where the whiskers reach it without starting inside",
                 asset.name
             ))
@@ -333,12 +333,12 @@ pub fn object_case(name: &str) -> Result<Case, CliError> {
 
 /// The `[maze]` of the scenario `file`, the array 100 mm above the board facing down, at
 /// the point of a 50 mm grid where the most whiskers touch the walls.
-pub fn maze_case(file: &Path) -> Result<Case, CliError> {
+pub fn maze_case(file: &Path) -> Result<Case, Error> {
     let scenario = Scenario::load(file)?;
     let maze = scenario
         .maze
         .as_ref()
-        .ok_or_else(|| CliError::field(file, "maze", "expected a [maze] section"))?;
+        .ok_or_else(|| Error::field(file, "maze", "expected a [maze] section"))?;
     let environment = scenario.environment(file)?.environment;
     let frame =
         whisker_slam::pose::from_xyz_rpy(maze.position_m, maze.rpy_deg.map(f64::to_radians));
@@ -363,9 +363,9 @@ pub fn maze_case(file: &Path) -> Result<Case, CliError> {
 
 /// `whisker soak`.
 /// `whisker soak`: every case's runs, failed ones included (see [`CaseReport::passed`]).
-pub fn soak(o: &Settings, ctx: Context) -> CliResult<Vec<CaseReport>> {
+pub fn soak(o: &Settings, ctx: Context) -> Result<Vec<CaseReport>> {
     if !(o.duration.is_finite() && o.duration > 0.0) {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "--duration {}: expected a positive number of seconds",
             o.duration
         )));
@@ -373,7 +373,7 @@ pub fn soak(o: &Settings, ctx: Context) -> CliResult<Vec<CaseReport>> {
     let mut cases: Vec<(String, Case)> = Vec::new();
     for name in &o.objects {
         if !CATALOGUE.iter().any(|a| a.name == name) {
-            return Err(CliError::Input(format!(
+            return Err(Error::Input(format!(
                 "--objects: no catalogue object {name:?}"
             )));
         }
@@ -397,7 +397,7 @@ pub fn soak(o: &Settings, ctx: Context) -> CliResult<Vec<CaseReport>> {
     let mut records = Vec::new();
     for (k, (name, case)) in cases.iter().enumerate() {
         let solids = Solids::new(&case.environment)
-            .map_err(|e| CliError::Failure(format!("soak: {name}: {e}")))?;
+            .map_err(|e| Error::Failure(format!("soak: {name}: {e}")))?;
         let mut failed = 0;
         for nudge in 0..=o.nudges {
             let label = match nudge {

@@ -1,7 +1,7 @@
 //! `whisker urdf info URDF` and `whisker urdf fk URDF --joints …`: a robot description
 //! looked at from the command line.
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use crate::record::Context;
 use serde::Serialize;
 use std::fmt;
@@ -11,9 +11,9 @@ use whisker_sim::kinematics::{Chain, PackagePaths, RobotModel};
 use whisker_slam::pose;
 
 /// Loads a URDF given on the command line.
-pub fn load(path: &Path, package_paths: &[PathBuf]) -> CliResult<RobotModel> {
+pub fn load(path: &Path, package_paths: &[PathBuf]) -> Result<RobotModel> {
     if !path.is_file() {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "{}: no such URDF file",
             path.display()
         )));
@@ -40,13 +40,13 @@ pub fn default_base(model: &RobotModel) -> String {
 }
 
 /// The default tip link: `tool0` if present, else the only leaf link.
-pub fn default_tip(model: &RobotModel) -> CliResult<String> {
+pub fn default_tip(model: &RobotModel) -> Result<String> {
     if model.link("tool0").is_some() {
         return Ok("tool0".into());
     }
     match leaves(model).as_slice() {
         [l] => Ok(model.links[*l].name.clone()),
-        many => Err(CliError::Input(format!(
+        many => Err(Error::Input(format!(
             "{}: no tool0 link and {} leaf links ({}): choose one with --link",
             model.source.display(),
             many.len(),
@@ -70,7 +70,7 @@ fn fmt_limit(v: f64, angular: bool) -> String {
 }
 
 /// `whisker urdf info`.
-pub fn info(path: &Path, package_paths: &[PathBuf], ctx: Context) -> CliResult {
+pub fn info(path: &Path, package_paths: &[PathBuf], ctx: Context) -> Result {
     let model = load(path, package_paths)?;
     ctx.say(&format!("robot  {} ({})", model.name, path.display()));
     ctx.say(&format!("root   {}", model.links[model.root].name));
@@ -150,7 +150,7 @@ pub fn info(path: &Path, package_paths: &[PathBuf], ctx: Context) -> CliResult {
 }
 
 /// Parses `q1,q2,…` (radians or metres).
-pub fn parse_joints(text: &str) -> CliResult<Vec<f64>> {
+pub fn parse_joints(text: &str) -> Result<Vec<f64>> {
     if text.trim().is_empty() {
         return Ok(Vec::new());
     }
@@ -158,7 +158,7 @@ pub fn parse_joints(text: &str) -> CliResult<Vec<f64>> {
         .enumerate()
         .map(|(i, s)| match s.trim().parse::<f64>() {
             Ok(v) if v.is_finite() => Ok(v),
-            _ => Err(CliError::Input(format!(
+            _ => Err(Error::Input(format!(
                 "--joints: value {} ({:?}) is not a finite number; expected comma-separated joint positions in rad (m for prismatic)",
                 i + 1,
                 s.trim()
@@ -189,7 +189,7 @@ pub fn fk(
     joints: &str,
     base: Option<&str>,
     link: Option<&str>,
-) -> CliResult<Fk> {
+) -> Result<Fk> {
     let model = load(path, package_paths)?;
     let base = base
         .map(str::to_string)
@@ -198,11 +198,11 @@ pub fn fk(
         Some(l) => l.to_string(),
         None => default_tip(&model)?,
     };
-    let chain = Chain::new(&model, &base, &tip)
-        .map_err(|e| CliError::Input(format!("--base/--link: {e}")))?;
+    let chain =
+        Chain::new(&model, &base, &tip).map_err(|e| Error::Input(format!("--base/--link: {e}")))?;
     let q = parse_joints(joints)?;
     if q.len() != chain.dof() {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "--joints: expected {} values for the chain {base} -> {tip} ({}), got {}",
             chain.dof(),
             chain.joint_names.join(", "),

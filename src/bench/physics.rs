@@ -26,7 +26,7 @@
 //! unit: WHISKiT Physics needs about 7 for one whisker, `shared/notes/physics.md`), and
 //! each path's speed-up over `released`. Timing is a benchmark, never a test.
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use crate::record::Context;
 use nalgebra::Isometry3;
 use serde::Serialize;
@@ -184,7 +184,7 @@ fn measure(
     o: &Settings,
     rows: &mut Vec<Row>,
     ctx: Context,
-) -> CliResult {
+) -> Result {
     let whiskers = array::modules().len();
     let segments = case
         .segments
@@ -196,7 +196,7 @@ fn measure(
             if o.path.is_some_and(|p| p != path) {
                 continue;
             }
-            let (wall, _) = time_case(case, path, t, o).map_err(CliError::Failure)?;
+            let (wall, _) = time_case(case, path, t, o).map_err(Error::Failure)?;
             let rtf = o.duration / wall;
             let speedup = match path {
                 SolverPath::Released => {
@@ -228,9 +228,9 @@ fn measure(
 }
 
 /// Runs `whisker bench physics`.
-pub fn physics(o: &Settings, ctx: Context) -> CliResult<Report> {
+pub fn physics(o: &Settings, ctx: Context) -> Result<Report> {
     if !(1..=64).contains(&o.substeps) {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "--substeps: expected 1 to 64, got {}",
             o.substeps
         )));
@@ -238,12 +238,12 @@ pub fn physics(o: &Settings, ctx: Context) -> CliResult<Report> {
     if let Some(n) = o.segments
         && !(2..=200).contains(&n)
     {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "--segments: expected 2 to 200, got {n}"
         )));
     }
     if !(o.duration.is_finite() && o.duration > 0.0) {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "--duration: expected a positive number of seconds, got {}",
             o.duration
         )));
@@ -367,7 +367,7 @@ impl fmt::Display for Stages {
 }
 
 /// `--stages`: where Rapier's steps spend their time, against the Box on 1 thread.
-fn stages(case: &Case, o: &Settings) -> CliResult<Vec<Stages>> {
+fn stages(case: &Case, o: &Settings) -> Result<Vec<Stages>> {
     let paths = match o.path {
         Some(p) => vec![p],
         None => vec![
@@ -379,9 +379,9 @@ fn stages(case: &Case, o: &Settings) -> CliResult<Vec<Stages>> {
     };
     let mut list = Vec::new();
     for path in paths {
-        let (wall, t) = time_case(case, path, 1, o).map_err(CliError::Failure)?;
+        let (wall, t) = time_case(case, path, 1, o).map_err(Error::Failure)?;
         if t.step == 0.0 {
-            return Err(CliError::Input(
+            return Err(Error::Input(
                 "--stages: this build has no stage timers; build with \
                  `cargo build --release --features profiler`"
                     .into(),

@@ -4,7 +4,7 @@
 //! repeats), their ratio, and the recording's size per simulated second. Timing is a
 //! benchmark, never a test.
 
-use crate::error::CliResult;
+use crate::error::Result;
 use crate::record::{Context, Target};
 use crate::scenario::Scenario;
 use crate::scenario::overrides::Override;
@@ -40,7 +40,7 @@ pub struct Report {
 }
 
 /// `whisker bench recording`.
-pub fn recording(o: &Settings, ctx: Context) -> CliResult<Report> {
+pub fn recording(o: &Settings, ctx: Context) -> Result<Report> {
     let mut scenario = Scenario::load_with(&o.scenario, &o.set)?;
     scenario.output.recording = true;
     let (without_dir, with_dir) = (o.out.join("without"), o.out.join("with"));

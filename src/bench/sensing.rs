@@ -8,7 +8,7 @@
 //! way — 101 parry ray casts per whisker per cycle against the object's BVH — measured
 //! in the same run as the baseline. Timing is a benchmark, never a test.
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use nalgebra::{Isometry3, Vector3};
 use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::query::Ray;
@@ -59,11 +59,11 @@ fn time_case(
     cycles: usize,
     poses: &[Isometry3<f64>],
     sweep: &(dyn Fn(&Isometry3<f64>) -> usize + Sync),
-) -> CliResult<(f64, f64)> {
+) -> Result<(f64, f64)> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| CliError::Failure(format!("cannot start {threads} threads: {e}")))?;
+        .map_err(|e| Error::Failure(format!("cannot start {threads} threads: {e}")))?;
     let start = Instant::now();
     let contacts: usize = pool.install(|| {
         (0..cycles)
@@ -77,26 +77,26 @@ fn time_case(
 }
 
 /// `whisker bench sensing`.
-pub fn sensing(o: &Settings) -> CliResult<Report> {
+pub fn sensing(o: &Settings) -> Result<Report> {
     let asset = CATALOGUE
         .iter()
         .find(|a| a.name == o.object)
         .ok_or_else(|| {
             let names: Vec<&str> = CATALOGUE.iter().map(|a| a.name).collect();
-            CliError::Input(format!(
+            Error::Input(format!(
                 "--object {:?}: expected one of {}",
                 o.object,
                 names.join(", ")
             ))
         })?;
     if o.cycles == 0 {
-        return Err(CliError::Input("--cycles: expected at least 1".into()));
+        return Err(Error::Input("--cycles: expected at least 1".into()));
     }
     let mesh = generate(asset);
     let triangles = mesh.triangles.len();
     let shape = mesh
         .shape()
-        .map_err(|e| CliError::Failure(format!("{}: {e}", asset.name)))?;
+        .map_err(|e| Error::Failure(format!("{}: {e}", asset.name)))?;
     let target = SweepTarget::new(mesh);
     let whiskers: Vec<RigidWhisker> = array::modules()
         .into_iter()

@@ -12,7 +12,7 @@
 //!
 //! Timing is a benchmark, never a test.
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use nalgebra::{Point3, Vector3};
 use rand::RngExt;
 use serde::Serialize;
@@ -50,9 +50,9 @@ fn time_ms(n: usize, mut f: impl FnMut()) -> f64 {
 }
 
 /// `whisker bench slam` over `updates` pose-cell updates.
-pub fn slam(updates: usize) -> CliResult<Report> {
+pub fn slam(updates: usize) -> Result<Report> {
     if updates == 0 {
-        return Err(CliError::Input("--updates: expected at least 1".into()));
+        return Err(Error::Input("--updates: expected at least 1".into()));
     }
     let params = PoseCellParams::default();
     let mut cells = PoseCells6::new(params, &[2.0; 6]);

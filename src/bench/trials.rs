@@ -1,7 +1,7 @@
 //! `whisker bench trials`: the first trials of a batch on 1 and then on 2 workers, side by
 //! side in one process; both must give the same `trials.csv`.
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use crate::record::Context;
 use crate::trials::batch::{self, Progress};
 use crate::trials::{Batch, journal};
@@ -32,7 +32,7 @@ pub struct Report {
 }
 
 /// Runs the batch twice; an error if the two `trials.csv` differ or a trial failed.
-pub fn run(o: &Settings, ctx: Context, progress: &dyn Progress) -> CliResult<Report> {
+pub fn run(o: &Settings, ctx: Context, progress: &dyn Progress) -> Result<Report> {
     let mut batch = Batch::load(&o.scenario)?;
     batch.trials.truncate(o.trials.max(1));
     let scratch = match &o.out {
@@ -45,7 +45,7 @@ pub fn run(o: &Settings, ctx: Context, progress: &dyn Progress) -> CliResult<Rep
         let dir = scratch.join(format!("jobs-{jobs}"));
         if dir.exists() {
             std::fs::remove_dir_all(&dir)
-                .map_err(|e| CliError::Failure(format!("{}: {e}", dir.display())))?;
+                .map_err(|e| Error::Failure(format!("{}: {e}", dir.display())))?;
         }
         let settings = batch::Settings {
             out: dir.clone(),
@@ -61,7 +61,7 @@ pub fn run(o: &Settings, ctx: Context, progress: &dyn Progress) -> CliResult<Rep
         seconds.push(started.elapsed().as_secs_f64());
         tables.push(std::fs::read(dir.join(journal::CSV)).unwrap_or_default());
         if outcome.failed > 0 {
-            return Err(CliError::Failure(format!(
+            return Err(Error::Failure(format!(
                 "{} trials failed on {jobs} job(s)",
                 outcome.failed
             )));

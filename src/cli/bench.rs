@@ -3,7 +3,7 @@
 use super::{choice, print_json, trials::Lines};
 use std::path::PathBuf;
 use whisker::bench::{physics, recording, sensing, slam, trials};
-use whisker::error::CliResult;
+use whisker::error::Result;
 use whisker::record::{Context, Silent};
 use whisker::scenario::overrides::Override;
 use whisker_sim::sensing::physics::SolverPath;
@@ -126,7 +126,7 @@ fn show<R: serde::Serialize + std::fmt::Display>(report: &R, json: Option<bool>)
 }
 
 /// Runs one.
-pub fn run(command: &Command, ctx: Context) -> CliResult {
+pub fn run(command: &Command, ctx: Context) -> Result {
     match command {
         Command::Physics(a) => {
             let settings = physics::Settings {
@@ -175,7 +175,7 @@ pub fn run(command: &Command, ctx: Context) -> CliResult {
             let report = trials::run(&settings, ctx, &Lines::new())?;
             show(&report, None);
             if !report.identical {
-                return Err(whisker::error::CliError::Failure(
+                return Err(whisker::error::Error::Failure(
                     "trials.csv differs between 1 and 2 jobs".into(),
                 ));
             }

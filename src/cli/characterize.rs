@@ -2,7 +2,7 @@
 
 use super::{choice, print_json};
 use whisker::characterize::{self, Settings};
-use whisker::error::CliResult;
+use whisker::error::Result;
 use whisker_sim::whisker::BeamDesign;
 use whisker_sim::whisker::beam::Bending;
 
@@ -49,7 +49,7 @@ pub struct Args {
 }
 
 /// Runs it.
-pub fn run(a: &Args) -> CliResult {
+pub fn run(a: &Args) -> Result {
     let settings = Settings {
         beam: BeamDesign {
             length: a.length,

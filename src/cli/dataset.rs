@@ -2,11 +2,11 @@
 
 use super::{choice, print_json};
 use std::path::PathBuf;
-use whisker::dataset::noise::Settings as NoiseSettings;
-use whisker::dataset::object::ObjectDataset;
-use whisker::dataset::{self, ScenarioDataset};
-use whisker::error::{CliError, CliResult};
+use whisker::datasets::noise::Settings as NoiseSettings;
+use whisker::datasets::{self, ScenarioDataset};
+use whisker::error::{Error, Result};
 use whisker::object_slam::Placement;
+use whisker::object_slam::dataset::ObjectDataset;
 use whisker::record::Context;
 use whisker::scenario::SensingMode;
 use whisker::scenario::overrides::Override;
@@ -126,9 +126,9 @@ pub struct SlamArgs {
 }
 
 /// `whisker dataset …`.
-pub fn run(a: &Args, ctx: Context) -> CliResult {
+pub fn run(a: &Args, ctx: Context) -> Result {
     let written = match &a.command {
-        Some(Command::Noise(n)) => dataset::noise::run(&NoiseSettings {
+        Some(Command::Noise(n)) => datasets::noise::run(&NoiseSettings {
             input: n.input.clone(),
             seed: n.seed,
             out: n.out.clone(),
@@ -148,12 +148,12 @@ pub fn run(a: &Args, ctx: Context) -> CliResult {
                 radial_model: o.radial_model.clone(),
                 placement: o.placement,
             };
-            dataset::write_objects(&settings, ctx)?
+            datasets::write_objects(&settings, ctx)?
         }
         None => {
             let w = &a.write;
             let (Some(scenario), Some(out)) = (&w.scenario, &w.out) else {
-                return Err(CliError::Input(
+                return Err(Error::Input(
                     "whisker dataset: expected SCENARIO and --out DIR".into(),
                 ));
             };
@@ -164,7 +164,7 @@ pub fn run(a: &Args, ctx: Context) -> CliResult {
                 clean: w.clean,
                 set: w.set.clone(),
             };
-            dataset::write_scenario(&settings, ctx)?
+            datasets::write_scenario(&settings, ctx)?
         }
     };
     eprint!("{written}");
@@ -172,8 +172,8 @@ pub fn run(a: &Args, ctx: Context) -> CliResult {
 }
 
 /// `whisker slam DIR`.
-pub fn slam(a: &SlamArgs, ctx: Context) -> CliResult {
-    let report = dataset::slam(&a.dataset, a.out.as_deref(), ctx)?;
+pub fn slam(a: &SlamArgs, ctx: Context) -> Result {
+    let report = datasets::slam(&a.dataset, a.out.as_deref(), ctx)?;
     match a.json {
         true => print_json(&report, false),
         false => print!("{report}"),

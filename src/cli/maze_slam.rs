@@ -3,7 +3,7 @@
 use super::{RrdArgs, choice, print_json};
 use std::path::PathBuf;
 use whisker::dataset::manifest::Manifest;
-use whisker::error::CliResult;
+use whisker::error::Result;
 use whisker::maze_slam::{self, Settings};
 use whisker::record::Context;
 use whisker::scenario::SensingMode;
@@ -74,7 +74,7 @@ pub struct Args {
 }
 
 /// Runs it.
-pub fn run(a: &Args, ctx: Context) -> CliResult {
+pub fn run(a: &Args, ctx: Context) -> Result {
     let settings = Settings {
         scenario: a.scenario.clone(),
         seeds: a.seeds.clone(),

@@ -2,7 +2,7 @@
 
 use super::{RrdArgs, choice, print_json};
 use std::path::PathBuf;
-use whisker::error::CliResult;
+use whisker::error::Result;
 use whisker::object_slam::{self, Placement, Settings, SlamVersion};
 use whisker::record::Context;
 use whisker::scenario::SensingMode;
@@ -49,7 +49,7 @@ pub struct Args {
 }
 
 /// Runs it.
-pub fn run(a: &Args, ctx: Context) -> CliResult {
+pub fn run(a: &Args, ctx: Context) -> Result {
     let settings = Settings {
         objects: a.objects.clone(),
         seed: a.seed,

@@ -2,7 +2,7 @@
 
 use super::{RrdArgs, choice, print_json};
 use std::path::PathBuf;
-use whisker::error::CliResult;
+use whisker::error::Result;
 use whisker::radial::eval::{self, EvalSettings};
 use whisker::radial::generate::{self, GenerateSettings, Set};
 use whisker::radial::train::{self, TrainSettings};
@@ -89,7 +89,7 @@ pub struct EvalArgs {
 }
 
 /// Runs a `whisker radial` subcommand.
-pub fn run(command: &Command, ctx: Context) -> CliResult {
+pub fn run(command: &Command, ctx: Context) -> Result {
     match command {
         Command::Generate(a) => {
             let settings = GenerateSettings {

@@ -2,7 +2,7 @@
 
 use super::RrdArgs;
 use std::path::PathBuf;
-use whisker::error::CliResult;
+use whisker::error::Result;
 use whisker::record::Context;
 use whisker::scenario::overrides::Override;
 
@@ -37,7 +37,7 @@ pub struct CheckArgs {
 }
 
 /// `whisker run`.
-pub fn run(a: &RunArgs, ctx: Context) -> CliResult {
+pub fn run(a: &RunArgs, ctx: Context) -> Result {
     whisker::run::run(
         &a.scenario,
         a.out.clone(),
@@ -49,6 +49,6 @@ pub fn run(a: &RunArgs, ctx: Context) -> CliResult {
 }
 
 /// `whisker check`.
-pub fn check(a: &CheckArgs, ctx: Context) -> CliResult {
-    whisker::run::check(&a.scenario, a.meshes.as_deref(), ctx)
+pub fn check(a: &CheckArgs, ctx: Context) -> Result {
+    whisker::check::check(&a.scenario, a.meshes.as_deref(), ctx)
 }

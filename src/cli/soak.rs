@@ -2,7 +2,7 @@
 
 use super::{choice, print_json};
 use std::path::PathBuf;
-use whisker::error::{CliError, CliResult};
+use whisker::error::{Error, Result};
 use whisker::record::{Context, Silent};
 use whisker::soak::{self, Settings};
 use whisker_sim::sensing::physics::{DEFAULT_SUBSTEPS, SolverPath};
@@ -58,7 +58,7 @@ pub struct Args {
 }
 
 /// Runs it; exit code 1 if a case tunnels or breaks.
-pub fn run(a: &Args, ctx: Context) -> CliResult {
+pub fn run(a: &Args, ctx: Context) -> Result {
     let settings = Settings {
         duration: a.duration,
         objects: a.objects.clone(),
@@ -83,7 +83,7 @@ pub fn run(a: &Args, ctx: Context) -> CliResult {
     if runs.iter().all(|r| r.passed) {
         Ok(())
     } else {
-        Err(CliError::Failure(
+        Err(Error::Failure(
             "soak: a whisker tunnelled or went non-finite (see above)".into(),
         ))
     }

@@ -2,7 +2,7 @@
 
 use super::print_json;
 use std::path::PathBuf;
-use whisker::error::CliResult;
+use whisker::error::Result;
 use whisker::record::Context;
 
 /// `whisker assets …`.
@@ -50,14 +50,14 @@ pub enum UrdfCommand {
 }
 
 /// `whisker assets generate`.
-pub fn assets(command: &AssetsCommand, ctx: Context) -> CliResult {
+pub fn assets(command: &AssetsCommand, ctx: Context) -> Result {
     match command {
         AssetsCommand::Generate { out } => whisker::assets::generate_all(out, ctx),
     }
 }
 
 /// `whisker urdf info|fk`.
-pub fn urdf(command: &UrdfCommand, ctx: Context) -> CliResult {
+pub fn urdf(command: &UrdfCommand, ctx: Context) -> Result {
     match command {
         UrdfCommand::Info {
             urdf,

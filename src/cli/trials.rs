@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
-use whisker::error::{CliError, CliResult};
+use whisker::error::{Error, Result};
 use whisker::record::Context;
 use whisker::trials::batch::{self, Progress};
 use whisker::trials::journal::{self, Entry, Status};
@@ -97,7 +97,7 @@ pub struct SlurmArgs {
 }
 
 /// Runs `whisker trials …`.
-pub fn run(args: &Args, ctx: Context) -> CliResult {
+pub fn run(args: &Args, ctx: Context) -> Result {
     match (&args.command, &args.scenario, &args.run) {
         (Some(Command::Merge { dirs, out }), _, _) => {
             let n = merge::merge(dirs, out)?;
@@ -148,7 +148,7 @@ pub fn run(args: &Args, ctx: Context) -> CliResult {
                 csv.display()
             );
             if outcome.failed > 0 {
-                return Err(CliError::Failure(format!(
+                return Err(Error::Failure(format!(
                     "{} trial(s) failed: their errors are in {}",
                     outcome.failed,
                     csv.display()
@@ -156,7 +156,7 @@ pub fn run(args: &Args, ctx: Context) -> CliResult {
             }
             Ok(())
         }
-        _ => Err(CliError::Input(
+        _ => Err(Error::Input(
             "whisker trials: expected SCENARIO --out DIR, or one of merge, slurm, report".into(),
         )),
     }

@@ -3,7 +3,7 @@
 //! every file with its size and SHA-256. Read strictly: unknown fields, a newer version,
 //! a missing log file or a checksum mismatch exit with code 2 naming the file.
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
@@ -339,15 +339,15 @@ impl Manifest {
     /// Reads and checks `dir/dataset.json`: the format, the version, the fields; then
     /// every listed file: log files must exist, and every file present must have its
     /// size and checksum (truth files may be missing: ground truth is then unavailable).
-    pub fn read(dir: &Path) -> CliResult<Self> {
+    pub fn read(dir: &Path) -> Result<Self> {
         let path = dir.join(FILE);
         let text = std::fs::read_to_string(&path).map_err(|e| {
-            CliError::Input(format!(
+            Error::Input(format!(
                 "{}: cannot read the dataset's manifest: {e}",
                 path.display()
             ))
         })?;
-        let bad = |m: String| CliError::Input(format!("{}: {m}", path.display()));
+        let bad = |m: String| Error::Input(format!("{}: {m}", path.display()));
         let value: serde_json::Value =
             serde_json::from_str(&text).map_err(|e| bad(format!("not JSON: {e}")))?;
         if value.get("format").and_then(|f| f.as_str()) != Some(FORMAT) {
@@ -373,8 +373,8 @@ impl Manifest {
 
     /// Internal consistency: one label, length and offset per whisker; the experiment's
     /// section present.
-    fn check(&self, path: &Path) -> CliResult {
-        let bad = |field: &str, m: &str| CliError::field(path, field, m);
+    fn check(&self, path: &Path) -> Result {
+        let bad = |field: &str, m: &str| Error::field(path, field, m);
         let n = self.array.labels.len();
         if n == 0 || self.array.lengths_m.len() != n || self.array.base_offsets_m.len() != n {
             return Err(bad(
@@ -415,10 +415,10 @@ impl Manifest {
     }
 
     /// `dir/path` for a listed file; an error naming the manifest if it is not listed.
-    pub fn file(&self, dir: &Path, path: &str) -> CliResult<PathBuf> {
+    pub fn file(&self, dir: &Path, path: &str) -> Result<PathBuf> {
         match self.entry(path) {
             Some(_) => Ok(dir.join(path)),
-            None => Err(CliError::Input(format!(
+            None => Err(Error::Input(format!(
                 "{}: field `files`: {path} is not listed",
                 dir.join(FILE).display()
             ))),
@@ -428,9 +428,9 @@ impl Manifest {
 
 impl FileEntry {
     /// Checks the file under `dir`: present (unless ground truth), its size and checksum.
-    fn verify(&self, dir: &Path) -> CliResult {
+    fn verify(&self, dir: &Path) -> Result {
         if self.path.split('/').any(|p| p == ".." || p.is_empty()) || self.path.starts_with('/') {
-            return Err(CliError::Input(format!(
+            return Err(Error::Input(format!(
                 "{}: field `files`: {:?} is not a relative path inside the dataset",
                 dir.join(FILE).display(),
                 self.path
@@ -441,14 +441,14 @@ impl FileEntry {
             Ok(b) => b,
             Err(_) if self.role == Role::Truth && !path.exists() => return Ok(()),
             Err(e) => {
-                return Err(CliError::Input(format!(
+                return Err(Error::Input(format!(
                     "{}: cannot read (listed in {FILE} as a log file): {e}",
                     path.display()
                 )));
             }
         };
         if bytes.len() as u64 != self.bytes || sha256(&bytes) != self.sha256 {
-            return Err(CliError::Input(format!(
+            return Err(Error::Input(format!(
                 "{}: checksum mismatch: {} bytes, SHA-256 {}; {FILE} lists {} bytes, {} \
                  (the file was changed after the dataset was written)",
                 path.display(),

@@ -22,35 +22,13 @@
 //! existing `--out` is never overwritten.
 
 pub mod manifest;
-pub mod maze;
-pub mod noise;
-pub mod object;
-pub mod recognition;
 pub mod records;
 pub mod table;
 pub mod whisks;
 
-use crate::error::{CliError, CliResult};
-use crate::scenario::Scenario;
+use crate::error::{Error, Result};
 use manifest::{FileEntry, Manifest, Role};
 use std::path::{Path, PathBuf};
-
-/// What `whisker dataset SCENARIO --seed N --out DIR` writes.
-#[derive(Debug, Clone)]
-pub struct ScenarioDataset {
-    /// A maze scenario (`[maze]`, run as `whisker maze-slam` runs it) or a closed loop
-    /// (`[explore]`, run as `whisker run` runs it: the path it took).
-    pub scenario: PathBuf,
-    /// Seed [default: the scenario's `seed`].
-    pub seed: Option<u64>,
-    /// The dataset's directory (must not exist).
-    pub out: PathBuf,
-    /// Without noise (no sensor noise, odometry error or contact noise), to be noised
-    /// later by [`noise::run`].
-    pub clean: bool,
-    /// Changes to scenario fields, as `whisker run --set`.
-    pub set: Vec<crate::scenario::overrides::Override>,
-}
 
 /// What was written: a dataset's directory, its manifest and the time it took.
 #[derive(Debug, Clone)]
@@ -77,50 +55,8 @@ impl std::fmt::Display for Written {
     }
 }
 
-/// `whisker dataset SCENARIO`: a maze run or a closed loop written as a dataset.
-pub fn write_scenario(w: &ScenarioDataset, ctx: crate::record::Context) -> CliResult<Written> {
-    let file = &w.scenario;
-    let mut scenario = Scenario::load_with(file, &w.set)?;
-    let seed = w.seed.unwrap_or(scenario.seed);
-    scenario.seed = seed;
-    // The scenario as run, for truth/scenario.toml: its base merged, --set applied (the
-    // seed is the manifest's: the truth does not change with it).
-    let mut table = Scenario::resolved_table(file)?;
-    for o in &w.set {
-        o.apply(&mut table)
-            .map_err(|e| CliError::Input(format!("--set {}: {e}", o.dotted())))?;
-    }
-    let text = toml::to_string(&table).map_err(|e| CliError::Failure(e.to_string()))?;
-    timed(&w.out, |staging| {
-        if scenario.explore.is_some() {
-            if w.clean {
-                return Err(CliError::Input(format!(
-                    "{}: --clean: a closed loop's path depends on its noise; write \
-                     it with the noise it runs with",
-                    file.display()
-                )));
-            }
-            recognition::write(file, &scenario, &text, staging, ctx.reporter)
-        } else if scenario.maze.is_some() {
-            maze::write(file, &scenario, &text, w.clean, staging, ctx.reporter)
-        } else {
-            Err(CliError::field(
-                file,
-                "maze",
-                "whisker dataset writes maze scenarios ([maze]) and closed loops \
-                 ([explore]); object walks: `whisker dataset object-slam`",
-            ))
-        }
-    })
-}
-
-/// `whisker dataset object-slam`: the walks of `whisker object-slam` as a dataset.
-pub fn write_objects(o: &object::ObjectDataset, ctx: crate::record::Context) -> CliResult<Written> {
-    timed(&o.out, |staging| object::write(o, staging, ctx))
-}
-
 /// [`write`], timed.
-fn timed(out: &Path, fill: impl FnOnce(&mut Staging) -> CliResult<Manifest>) -> CliResult<Written> {
+pub fn timed(out: &Path, fill: impl FnOnce(&mut Staging) -> Result<Manifest>) -> Result<Written> {
     let started = std::time::Instant::now();
     let manifest = write(out, fill)?;
     Ok(Written {
@@ -138,13 +74,13 @@ pub struct Staging {
 
 impl Staging {
     /// Writes `bytes` to `path` (relative, `/`-separated) and lists it with its checksum.
-    pub fn put(&mut self, path: &str, role: Role, bytes: &[u8]) -> CliResult {
+    pub fn put(&mut self, path: &str, role: Role, bytes: &[u8]) -> Result {
         let full = self.dir.join(path);
         if let Some(parent) = full.parent() {
             crate::output::create_dir(parent)?;
         }
         std::fs::write(&full, bytes)
-            .map_err(|e| CliError::Failure(format!("cannot write {}: {e}", full.display())))?;
+            .map_err(|e| Error::Failure(format!("cannot write {}: {e}", full.display())))?;
         self.files.push(FileEntry::of(path, role, bytes));
         Ok(())
     }
@@ -155,9 +91,9 @@ impl Staging {
     }
 
     /// Lists a file already written at `path` (relative) with its checksum.
-    pub fn register(&mut self, path: &str, role: Role) -> CliResult {
+    pub fn register(&mut self, path: &str, role: Role) -> Result {
         let bytes = std::fs::read(self.dir.join(path))
-            .map_err(|e| CliError::Failure(format!("cannot read back {path}: {e}")))?;
+            .map_err(|e| Error::Failure(format!("cannot read back {path}: {e}")))?;
         self.files.push(FileEntry::of(path, role, &bytes));
         Ok(())
     }
@@ -167,12 +103,9 @@ impl Staging {
 /// staging directory and returns the manifest (its file list is filled in here); the
 /// staging directory is renamed to `out` once `dataset.json` is written, and removed on
 /// any error.
-pub fn write(
-    out: &Path,
-    fill: impl FnOnce(&mut Staging) -> CliResult<Manifest>,
-) -> CliResult<Manifest> {
+pub fn write(out: &Path, fill: impl FnOnce(&mut Staging) -> Result<Manifest>) -> Result<Manifest> {
     if out.exists() {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "{}: already exists; a dataset is never written over another (choose a new --out)",
             out.display()
         )));
@@ -193,7 +126,7 @@ pub fn write(
         let text = serde_json::to_string_pretty(&manifest).expect("plain JSON") + "\n";
         crate::output::write_atomic(&staging.join(manifest::FILE), text.as_bytes())?;
         std::fs::rename(&staging, out).map_err(|e| {
-            CliError::Failure(format!("cannot move the dataset to {}: {e}", out.display()))
+            Error::Failure(format!("cannot move the dataset to {}: {e}", out.display()))
         })?;
         Ok(manifest)
     });
@@ -219,14 +152,14 @@ pub fn array_info(
 pub fn rigid_whiskers(
     dir: &Path,
     array: &manifest::ArrayInfo,
-) -> CliResult<Vec<whisker_sim::sensing::kinematic::RigidWhisker>> {
+) -> Result<Vec<whisker_sim::sensing::kinematic::RigidWhisker>> {
     let modules = whisker_sim::whisker::array::modules();
     let same = modules.len() == array.labels.len()
         && modules.iter().enumerate().all(|(i, m)| {
             m.pixel() == array.labels[i] && (m.beam.length - array.lengths_m[i]).abs() < 1e-9
         });
     if !same {
-        return Err(CliError::field(
+        return Err(Error::field(
             &dir.join(manifest::FILE),
             "array",
             "expected the standard 18-whisker array (labels A1…F3 and their lengths in order)",
@@ -246,9 +179,9 @@ pub fn whisk_streams(
     m: &Manifest,
     folder: &str,
     k: usize,
-) -> CliResult<Vec<Vec<whisker_slam::sensor::Sample>>> {
+) -> Result<Vec<Vec<whisker_slam::sensor::Sample>>> {
     let sensor = m.sensor.ok_or_else(|| {
-        CliError::field(
+        Error::field(
             &dir.join(manifest::FILE),
             "sensor",
             "level streams needs it",
@@ -261,48 +194,4 @@ pub fn whisk_streams(
         sensor.samples_per_whisk,
         sensor.angle_resolution_rad,
     )
-}
-
-/// What `whisker slam DIR` found: the report of the experiment the manifest names.
-#[derive(Debug, Clone, serde::Serialize)]
-#[serde(untagged)]
-pub enum SlamReport {
-    Maze(crate::maze_slam::Report),
-    Object(crate::object_slam::Report),
-    ClosedLoop(recognition::ReplaySummary),
-}
-
-impl std::fmt::Display for SlamReport {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            SlamReport::Maze(r) => r.fmt(f),
-            SlamReport::Object(r) => r.fmt(f),
-            SlamReport::ClosedLoop(r) => r.fmt(f),
-        }
-    }
-}
-
-/// `whisker slam DIR`: the front end and the SLAM the manifest of the dataset in `dir`
-/// names, results into `out` as the experiment's own command writes them.
-pub fn slam(dir: &Path, out: Option<&Path>, ctx: crate::record::Context) -> CliResult<SlamReport> {
-    let manifest = Manifest::read(dir)?;
-    match manifest.experiment {
-        manifest::Experiment::MazeSlam => {
-            let mut settings = crate::maze_slam::Settings::of(Path::new(""));
-            settings.out = out.map(Path::to_path_buf);
-            crate::maze_slam::replay(&settings, dir, &manifest, ctx).map(SlamReport::Maze)
-        }
-        manifest::Experiment::ObjectSlam => {
-            let data = object::read(dir, &manifest)?;
-            let settings = crate::object_slam::Settings {
-                seed: manifest.seed,
-                out: out.map(Path::to_path_buf),
-                ..Default::default()
-            };
-            crate::object_slam::analyse(&settings, &data, ctx).map(SlamReport::Object)
-        }
-        manifest::Experiment::ClosedLoop => {
-            recognition::replay(dir, &manifest, out).map(SlamReport::ClosedLoop)
-        }
-    }
 }

@@ -3,7 +3,7 @@
 //! files (the contacts of every whisk) and the 1 Hz pose log (§3.1.2).
 
 use super::table::{Row, Table, columns};
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use nalgebra::{Isometry3, Point3};
 use std::fmt::Write;
 use std::path::Path;
@@ -31,17 +31,17 @@ pub fn whisk_csv(
     labels: &[String],
     streams: &[Vec<Reading>],
     angle_resolution: f64,
-) -> CliResult<String> {
+) -> Result<String> {
     let n = streams.first().map_or(0, Vec::len);
     let mut csv = whisk_columns(labels).join(",");
     csv.reserve(n * streams.len() * 14);
     csv.push('\n');
-    let count = |v: f64| -> CliResult<i64> {
+    let count = |v: f64| -> Result<i64> {
         let k = v.round();
         if k == v && k.abs() < 9.0e15 {
             Ok(k as i64)
         } else {
-            Err(CliError::Failure(format!(
+            Err(Error::Failure(format!(
                 "a reading of {v} is not a whole number of counts"
             )))
         }
@@ -51,7 +51,7 @@ pub fn whisk_csv(
             let r = s[i];
             let k = (r.angle_rad / angle_resolution).round();
             if k * angle_resolution != r.angle_rad {
-                return Err(CliError::Failure(format!(
+                return Err(Error::Failure(format!(
                     "angle {} rad is not a whole number of {angle_resolution} rad counts",
                     r.angle_rad
                 )));
@@ -70,7 +70,7 @@ pub fn read_whisk(
     labels: &[String],
     samples: usize,
     angle_resolution: f64,
-) -> CliResult<Vec<Vec<Reading>>> {
+) -> Result<Vec<Vec<Reading>>> {
     let table = Table::read(path, &whisk_columns(labels))?;
     if table.len() != samples {
         return Err(table.error(
@@ -129,11 +129,7 @@ pub fn contacts_csv(cycles: &[ContactCycle], labels: &[String]) -> String {
 
 /// Reads a contacts file of `whisks` whisks of `whiskers` whiskers: whisks in
 /// non-decreasing order, at most one contact per whisker and whisk, in whisker order.
-pub fn read_contacts(
-    path: &Path,
-    whisks: usize,
-    labels: &[String],
-) -> CliResult<Vec<ContactCycle>> {
+pub fn read_contacts(path: &Path, whisks: usize, labels: &[String]) -> Result<Vec<ContactCycle>> {
     let table = Table::read(path, &columns(CONTACT_COLUMNS))?;
     let mut cycles: Vec<ContactCycle> = (0..whisks)
         .map(|k| ContactCycle {
@@ -165,7 +161,7 @@ pub fn read_contacts(
     Ok(cycles)
 }
 
-fn contact(row: &Row, w: usize) -> CliResult<Contact> {
+fn contact(row: &Row, w: usize) -> Result<Contact> {
     Ok(Contact {
         whisker: w,
         time_s: row.f64(1)?,
@@ -207,12 +203,12 @@ pub fn pose_row(time_s: f64, pose: &Isometry3<f64>, whisk: &str) -> String {
 
 /// Reads the pose log: (time, pose, whisk file) per row, times increasing, quaternions
 /// of unit norm (within 1e-6).
-pub fn read_poses(path: &Path) -> CliResult<Vec<(f64, Isometry3<f64>, String)>> {
+pub fn read_poses(path: &Path) -> Result<Vec<(f64, Isometry3<f64>, String)>> {
     let table = Table::read(path, &columns(POSE_COLUMNS))?;
     let mut out: Vec<(f64, Isometry3<f64>, String)> = Vec::with_capacity(table.len());
     for row in table.rows() {
         let row = row?;
-        let v: Vec<f64> = (0..8).map(|i| row.f64(i)).collect::<CliResult<_>>()?;
+        let v: Vec<f64> = (0..8).map(|i| row.f64(i)).collect::<Result<_>>()?;
         if out.last().is_some_and(|p| p.0 >= v[0]) {
             return Err(row.error("column 1 (time_s): times must increase"));
         }

@@ -2,7 +2,7 @@
 //! on every line, numbers that parse; every error names the file, the line (1-based, the
 //! header is line 1) and what was expected, and exits with code 2.
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
 
 /// A CSV file of a dataset, read whole, its header checked.
@@ -23,13 +23,13 @@ pub struct Row<'a> {
 
 impl Table {
     /// Reads `path` and checks that its first line is exactly `columns` joined by commas.
-    pub fn read(path: &Path, columns: &[String]) -> CliResult<Self> {
+    pub fn read(path: &Path, columns: &[String]) -> Result<Self> {
         let text = std::fs::read_to_string(path)
-            .map_err(|e| CliError::Input(format!("{}: cannot read: {e}", path.display())))?;
+            .map_err(|e| Error::Input(format!("{}: cannot read: {e}", path.display())))?;
         let header = columns.join(",");
         if text.lines().next() != Some(header.as_str()) {
             let shown: String = header.chars().take(120).collect();
-            return Err(CliError::Input(format!(
+            return Err(Error::Input(format!(
                 "{}: line 1: expected the header {shown}{}",
                 path.display(),
                 if shown.len() < header.len() {
@@ -40,7 +40,7 @@ impl Table {
             )));
         }
         if !text.ends_with('\n') {
-            return Err(CliError::Input(format!(
+            return Err(Error::Input(format!(
                 "{}: line {}: the last line does not end with a newline (truncated file?)",
                 path.display(),
                 text.lines().count()
@@ -54,11 +54,11 @@ impl Table {
     }
 
     /// The data lines, each checked for its number of fields.
-    pub fn rows(&self) -> impl Iterator<Item = CliResult<Row<'_>>> {
+    pub fn rows(&self) -> impl Iterator<Item = Result<Row<'_>>> {
         self.text.lines().enumerate().skip(1).map(|(i, line)| {
             let fields: Vec<&str> = line.split(',').collect();
             if fields.len() != self.columns.len() {
-                return Err(CliError::Input(format!(
+                return Err(Error::Input(format!(
                     "{}: line {}: expected {} fields, got {}",
                     self.path.display(),
                     i + 1,
@@ -86,15 +86,15 @@ impl Table {
     }
 
     /// An error about line `line` of this file.
-    pub fn error(&self, line: usize, message: impl std::fmt::Display) -> CliError {
-        CliError::Input(format!("{}: line {line}: {message}", self.path.display()))
+    pub fn error(&self, line: usize, message: impl std::fmt::Display) -> Error {
+        Error::Input(format!("{}: line {line}: {message}", self.path.display()))
     }
 }
 
 impl Row<'_> {
     /// An error about this line.
-    pub fn error(&self, message: impl std::fmt::Display) -> CliError {
-        CliError::Input(format!(
+    pub fn error(&self, message: impl std::fmt::Display) -> Error {
+        Error::Input(format!(
             "{}: line {}: {message}",
             self.path.display(),
             self.line
@@ -107,7 +107,7 @@ impl Row<'_> {
     }
 
     /// Field `i` as a finite number.
-    pub fn f64(&self, i: usize) -> CliResult<f64> {
+    pub fn f64(&self, i: usize) -> Result<f64> {
         match self.fields[i].parse::<f64>() {
             Ok(v) if v.is_finite() => Ok(v),
             _ => Err(self.error(format!(
@@ -120,7 +120,7 @@ impl Row<'_> {
     }
 
     /// Field `i` as a number, ±infinity allowed (`inf`, `-inf`), NaN not.
-    pub fn extended(&self, i: usize) -> CliResult<f64> {
+    pub fn extended(&self, i: usize) -> Result<f64> {
         match self.fields[i].parse::<f64>() {
             Ok(v) if !v.is_nan() => Ok(v),
             _ => Err(self.error(format!(
@@ -133,7 +133,7 @@ impl Row<'_> {
     }
 
     /// Field `i` as an integer.
-    pub fn i64(&self, i: usize) -> CliResult<i64> {
+    pub fn i64(&self, i: usize) -> Result<i64> {
         self.fields[i].parse::<i64>().map_err(|_| {
             self.error(format!(
                 "column {} ({}): expected an integer, got {:?}",
@@ -145,7 +145,7 @@ impl Row<'_> {
     }
 
     /// Field `i` as an index below `limit`.
-    pub fn index(&self, i: usize, limit: usize) -> CliResult<usize> {
+    pub fn index(&self, i: usize, limit: usize) -> Result<usize> {
         match self.fields[i].parse::<usize>() {
             Ok(v) if v < limit => Ok(v),
             _ => Err(self.error(format!(
@@ -159,7 +159,7 @@ impl Row<'_> {
     }
 
     /// Field `i` must be the integer `expected` (e.g. a running index).
-    pub fn expect(&self, i: usize, expected: usize) -> CliResult {
+    pub fn expect(&self, i: usize, expected: usize) -> Result {
         if self.fields[i].parse::<usize>() == Ok(expected) {
             Ok(())
         } else {

@@ -5,8 +5,8 @@
 
 use super::manifest::{Manifest, Role};
 use super::{Staging, records};
-use crate::error::{CliError, CliResult};
-use crate::object_slam::physics::{PhysicsSensing, WhiskLog};
+use crate::error::{Error, Result};
+use crate::sensing::held::{PhysicsSensing, WhiskLog};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use whisker_slam::radial::RadialEstimator;
@@ -47,9 +47,9 @@ impl WhiskFiles {
     }
 
     /// The first failure to write, if any.
-    pub fn finish(&self) -> CliResult {
+    pub fn finish(&self) -> Result {
         match self.failure.lock().expect("not poisoned").take() {
-            Some(e) => Err(CliError::Failure(e)),
+            Some(e) => Err(Error::Failure(e)),
             None => Ok(()),
         }
     }
@@ -59,15 +59,15 @@ impl WhiskFiles {
 const MODEL: &str = "log/radial_model.json";
 
 /// Writes `model` to `log/radial_model.json` (the format of `whisker radial train`).
-pub fn put_model(s: &mut Staging, model: &RadialEstimator) -> CliResult {
+pub fn put_model(s: &mut Staging, model: &RadialEstimator) -> Result {
     let text = serde_json::to_string_pretty(model).expect("plain JSON") + "\n";
     s.put(MODEL, Role::Log, text.as_bytes())
 }
 
 /// The front end of held-still physics whisks as the dataset in `dir` (manifest `m`) was
 /// sensed: its radial-distance model, its array's shafts, the default detection levels.
-pub fn replay_sensing(dir: &Path, m: &Manifest) -> CliResult<PhysicsSensing> {
-    let model = crate::frontend::radial_model(Some(&m.file(dir, MODEL)?))?;
+pub fn replay_sensing(dir: &Path, m: &Manifest) -> Result<PhysicsSensing> {
+    let model = crate::radial_model::load_or_default(Some(&m.file(dir, MODEL)?))?;
     let configs = whisker_sim::whisker::array::modules()
         .into_iter()
         .map(whisker_sim::sensing::physics::WhiskerConfig::with_defaults)

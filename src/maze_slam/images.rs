@@ -3,7 +3,7 @@
 //! intensity 0–255, 0 = no contact; thesis §3.1.1, Fig 3.2). Written by `--out`, read
 //! back by `--images` to re-run RatSLAM on recorded images without sensing again.
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
 use whisker_slam::ratslam::local_view::{COLUMNS, ROWS, TactileImage};
 
@@ -39,12 +39,11 @@ pub fn to_csv(images: &[TactileImage]) -> String {
 
 /// Reads a file of `updates` images; errors name the file, the line and what was
 /// expected.
-pub fn read(path: &Path, updates: usize) -> CliResult<Vec<TactileImage>> {
-    let bad = |line: usize, msg: String| {
-        CliError::Input(format!("{}: line {line}: {msg}", path.display()))
-    };
+pub fn read(path: &Path, updates: usize) -> Result<Vec<TactileImage>> {
+    let bad =
+        |line: usize, msg: String| Error::Input(format!("{}: line {line}: {msg}", path.display()));
     let text = std::fs::read_to_string(path)
-        .map_err(|e| CliError::Input(format!("{}: cannot read images: {e}", path.display())))?;
+        .map_err(|e| Error::Input(format!("{}: cannot read images: {e}", path.display())))?;
     let mut lines = text.lines();
     if lines.next() != Some(header().as_str()) {
         return Err(bad(1, format!("expected the header {}", header())));
@@ -79,7 +78,7 @@ pub fn read(path: &Path, updates: usize) -> CliResult<Vec<TactileImage>> {
         images.push(image);
     }
     if images.len() != updates {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "{}: expected {updates} updates (the scenario's path), got {}",
             path.display(),
             images.len()

@@ -25,12 +25,12 @@
 //! `--dataset DIR` runs RatSLAM from a dataset (`whisker dataset`, docs/dataset.md) instead
 //! of sensing: the same [`Sensed`] input, so the same bytes out.
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use crate::record::{Context, Layout, Recorder, Target};
 use crate::scenario::overrides::Override;
 use crate::scenario::{Scenario, SensingMode};
 use path::Sample;
-use record::RunRecording;
+use run_recording::RunRecording;
 use serde::Serialize;
 use serde_json::json;
 use std::fmt;
@@ -43,13 +43,14 @@ use whisker_slam::ratslam::metrics::{
 };
 use whisker_slam::ratslam::{RatSlam, RatSlamParams};
 
+pub mod dataset;
 pub mod images;
 pub mod path;
-pub mod physics;
-pub mod record;
-mod sensing;
+pub mod physics_images;
+pub mod run_recording;
+mod sensed;
 
-pub use sensing::{
+pub use sensed::{
     Geometry, ImageSet, Sensed, Setup, UPDATE_HZ, image_set_names, kinematic_contacts,
     kinematic_whiskers, physics_sets,
 };
@@ -170,7 +171,7 @@ impl Evaluation {
         truth: Option<&[Sample]>,
         base_end: usize,
         mut record: Option<&mut RunRecording>,
-    ) -> CliResult<Self> {
+    ) -> Result<Self> {
         let mut slam = RatSlam::new(params);
         let mut log: Vec<usize> = Vec::with_capacity(images.len());
         for (k, (img, &(d, t))) in images.iter().zip(steps).enumerate() {
@@ -223,7 +224,7 @@ impl Evaluation {
 
 /// The RatSLAM parameter sets to run: the scenario's, or one per pair of the
 /// command line's lists.
-fn tunings(base: RatSlamParams, o: &Settings) -> CliResult<Vec<RatSlamParams>> {
+fn tunings(base: RatSlamParams, o: &Settings) -> Result<Vec<RatSlamParams>> {
     let lv = base.local_view;
     let thresholds = o
         .match_threshold
@@ -235,7 +236,7 @@ fn tunings(base: RatSlamParams, o: &Settings) -> CliResult<Vec<RatSlamParams>> {
         .chain(&energies)
         .find(|v| !(v.is_finite() && **v > 0.0))
     {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "--match-threshold / --inject-energy: expected positive numbers, got {bad}"
         )));
     }
@@ -260,7 +261,7 @@ fn without<T: Copy>(v: &[T], cut: &std::ops::Range<usize>) -> Vec<T> {
 }
 
 /// `whisker maze-slam`.
-pub fn run(o: &Settings, ctx: Context) -> CliResult<Report> {
+pub fn run(o: &Settings, ctx: Context) -> Result<Report> {
     let scenario = Scenario::load_with(&o.scenario, &o.set)?;
     let runs = evaluate(o, &scenario, ctx)?;
     Ok(Report { runs })
@@ -273,16 +274,16 @@ pub fn replay(
     dir: &Path,
     manifest: &crate::dataset::manifest::Manifest,
     ctx: Context,
-) -> CliResult<Report> {
+) -> Result<Report> {
     if manifest.experiment != crate::dataset::manifest::Experiment::MazeSlam {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "{}: not a maze-slam dataset",
             dir.join(crate::dataset::manifest::FILE).display()
         )));
     }
-    let (sensed, params, kidnap) = crate::dataset::maze::read(dir, manifest)?;
+    let (sensed, params, kidnap) = crate::maze_slam::dataset::read(dir, manifest)?;
     if o.kidnap && sensed.starts.len() < 4 {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "--kidnap: the dataset {} has {} circuits; the kidnapped variant needs 4",
             dir.display(),
             sensed.starts.len()
@@ -330,7 +331,7 @@ fn run_names(
         for variant in variants {
             for set in sets {
                 for params in tunings {
-                    names.push(record::run_name(
+                    names.push(run_recording::run_name(
                         set,
                         variant,
                         &tuning_tag(params, tunings.len() > 1),
@@ -361,7 +362,7 @@ fn open_recording(
     stem: &str,
     seeds: &[u64],
     runs: Vec<String>,
-) -> CliResult<Option<Box<dyn Recorder>>> {
+) -> Result<Option<Box<dyn Recorder>>> {
     let Some(path) = o.rrd.path(o.out.as_deref(), default_on) else {
         return Ok(None);
     };
@@ -382,13 +383,7 @@ fn open_recording(
 /// One trial of a batch (`trials.experiment = "maze-slam"`): `whisker maze-slam` of the
 /// scenario's seed with `--out dir` (the recording as `rrd` says), and `summary.json`: each run's figures under
 /// `<variant>.<images>` (e.g. `normal.kinematic.arr`).
-pub fn trial(
-    file: &Path,
-    scenario: &Scenario,
-    dir: &Path,
-    rrd: &Target,
-    ctx: Context,
-) -> CliResult {
+pub fn trial(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: Context) -> Result {
     let mut o = Settings::of(file);
     o.rrd = rrd.clone();
     o.seeds = Some(vec![scenario.seed]);
@@ -411,14 +406,14 @@ pub fn trial(
     }
     let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
     crate::output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
-    let line = serde_json::to_value(&report).map_err(|e| CliError::Failure(e.to_string()))?;
+    let line = serde_json::to_value(&report).map_err(|e| Error::Failure(e.to_string()))?;
     ctx.say(&line.to_string());
     Ok(())
 }
 
 /// The runs of `whisker maze-slam` with settings `o` on `scenario` (read from
 /// `o.scenario`): one per seed, variant, image set and tuning.
-pub fn evaluate(o: &Settings, scenario: &Scenario, ctx: Context) -> CliResult<Vec<RunResult>> {
+pub fn evaluate(o: &Settings, scenario: &Scenario, ctx: Context) -> Result<Vec<RunResult>> {
     let setup = Setup::new(o, scenario)?;
     let environment = scenario.environment(&o.scenario)?.environment;
     let tunings = tunings(scenario.maze_slam.ratslam, o)?;
@@ -438,7 +433,7 @@ pub fn evaluate(o: &Settings, scenario: &Scenario, ctx: Context) -> CliResult<Ve
     let target = std::cell::OnceCell::new();
     let mut results = Vec::new();
     for &seed in &seeds {
-        let sensed = sensing::sense(o, scenario, &setup, &environment, &target, seed, ctx)?;
+        let sensed = sensed::sense(o, scenario, &setup, &environment, &target, seed, ctx)?;
         results.extend(run_sensed(
             &sensed,
             &tunings,
@@ -462,7 +457,7 @@ fn run_sensed(
     out: Option<&Path>,
     plane: &Plane,
     ctx: Context,
-) -> CliResult<Vec<RunResult>> {
+) -> Result<Vec<RunResult>> {
     if let Some(dir) = out {
         crate::output::create_dir(dir)?;
         for (images_name, images) in &sensed.image_sets {
@@ -484,7 +479,7 @@ pub fn slam_runs(
     out: Option<&Path>,
     plane: &Plane,
     ctx: Context,
-) -> CliResult<Vec<RunResult>> {
+) -> Result<Vec<RunResult>> {
     let seed = sensed.seed;
     let sweep = tunings.len() > 1;
     let starts = &sensed.starts;
@@ -508,7 +503,7 @@ pub fn slam_runs(
                 let tuning = tuning_tag(params, sweep);
                 let mut record = plane.recording.map(|rec| RunRecording {
                     rec,
-                    name: record::run_name(images_name, name, &tuning, seed),
+                    name: run_recording::run_name(images_name, name, &tuning, seed),
                     z: plane.z,
                     graph: Default::default(),
                 });

@@ -45,9 +45,7 @@ fn circuit(corners: &[(f64, f64)], reverse: bool, from: &mut Sample) -> Vec<Samp
     out
 }
 
-/// The circuits of the run (§3.2): 3 clockwise, 3 anticlockwise, one of each (`true` =
-/// anticlockwise, i.e. the corners reversed).
-pub const CIRCUITS: [bool; 8] = [false, false, false, true, true, true, false, true];
+use crate::scenario::maze_slam::CIRCUITS;
 
 /// The whole run: the first `circuits` of [`CIRCUITS`] (all 8 by default, §3.2); the
 /// index where each circuit starts.

@@ -31,17 +31,17 @@
 //! for one lap of A and of B while a leaky integrator per mapped object (decay 0.9 per
 //! whisk) is fed by re-localisations.
 
-pub mod physics;
-mod record;
+pub mod dataset;
 mod trajectory;
+mod walk_recording;
 pub use trajectory::{Placement, Trajectory, mean_step};
 
 use crate::choice::Choice;
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use crate::record::{Context, Reporter, Target};
 use crate::scenario::SensingMode;
+use crate::sensing::held::{self as physics, PhysicsSensing};
 use nalgebra::{Isometry3, Point3};
-use physics::PhysicsSensing;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use whisker_sim::environment::assets::{Asset, CATALOGUE, generate};
@@ -384,16 +384,16 @@ fn params(combo: Combo, slam: SlamVersion) -> Params {
 }
 
 /// `whisker object-slam`: senses the walks of `o`, then [`analyse`].
-pub fn run(o: &Settings, ctx: Context) -> CliResult<Report> {
+pub fn run(o: &Settings, ctx: Context) -> Result<Report> {
     let data = sense(o, true, None, ctx)?;
     analyse(o, &data, ctx)
 }
 
 /// `whisker object-slam --dataset DIR`: the walks of the dataset in `dir` (its objects and
 /// seed), then [`analyse`] with the settings of `o` that do not sense.
-pub fn replay(o: &Settings, dir: &Path, ctx: Context) -> CliResult<Report> {
+pub fn replay(o: &Settings, dir: &Path, ctx: Context) -> Result<Report> {
     let manifest = crate::dataset::manifest::Manifest::read(dir)?;
-    let data = crate::dataset::object::read(dir, &manifest)?;
+    let data = crate::object_slam::dataset::read(dir, &manifest)?;
     let o = Settings {
         seed: manifest.seed,
         ..o.clone()
@@ -402,7 +402,7 @@ pub fn replay(o: &Settings, dir: &Path, ctx: Context) -> CliResult<Report> {
 }
 
 /// The catalogue objects named by `--objects` (all eight when none).
-pub fn objects(names: &[String]) -> CliResult<Vec<&'static Asset>> {
+pub fn objects(names: &[String]) -> Result<Vec<&'static Asset>> {
     if names.is_empty() {
         return Ok(CATALOGUE.iter().collect());
     }
@@ -411,7 +411,7 @@ pub fn objects(names: &[String]) -> CliResult<Vec<&'static Asset>> {
         .map(|n| {
             CATALOGUE.iter().find(|a| a.name == n).ok_or_else(|| {
                 let names: Vec<&str> = CATALOGUE.iter().map(|a| a.name).collect();
-                CliError::Input(format!(
+                Error::Input(format!(
                     "--objects: unknown object {n:?}; expected some of {}",
                     names.join(", ")
                 ))
@@ -427,16 +427,18 @@ pub fn sense(
     noise: bool,
     log: Option<physics::WhiskLog>,
     ctx: Context,
-) -> CliResult<Vec<Sensed<'static>>> {
+) -> Result<Vec<Sensed<'static>>> {
     let assets = objects(&o.objects)?;
     let model: Option<RadialEstimator> = match (o.sensing, &o.radial_model) {
         (SensingMode::Kinematic, None) => None,
         (SensingMode::Kinematic, Some(_)) => {
-            return Err(CliError::Input(
+            return Err(Error::Input(
                 "--radial-model: only used with --sensing physics".into(),
             ));
         }
-        (SensingMode::Physics, path) => Some(crate::frontend::radial_model(path.as_deref())?),
+        (SensingMode::Physics, path) => {
+            Some(crate::radial_model::load_or_default(path.as_deref())?)
+        }
     };
     assets
         .par_iter()
@@ -444,7 +446,7 @@ pub fn sense(
             let mesh = generate(asset);
             let shape = mesh
                 .shape()
-                .map_err(|e| CliError::Failure(format!("{}: {e}", asset.name)))?;
+                .map_err(|e| Error::Failure(format!("{}: {e}", asset.name)))?;
             let target = SweepTarget::new(mesh);
             let physics = model.clone().map(|m| {
                 let mut p = PhysicsSensing::new(vec![(shape.clone(), Isometry3::identity())], m);
@@ -478,7 +480,7 @@ pub fn sense(
 }
 
 /// Localisation and identification on sensed walks (§5.2.2): reports and `--out` files.
-pub fn analyse(o: &Settings, data: &[Sensed], ctx: Context) -> CliResult<Report> {
+pub fn analyse(o: &Settings, data: &[Sensed], ctx: Context) -> Result<Report> {
     if let Some(dir) = &o.out {
         crate::output::create_dir(dir)?;
     }
@@ -504,7 +506,7 @@ pub fn analyse(o: &Settings, data: &[Sensed], ctx: Context) -> CliResult<Report>
         })
         .collect();
     ctx.note(&format!("localisation: {} runs done", results.len()));
-    let localisation = report::localisation(o, data, &results)?;
+    let localisation = results::localisation(o, data, &results)?;
     // Identification with the best set's maps, the unmapped object left out.
     let mut appended = ObjectMap::default();
     let mut mapped = Vec::new();
@@ -549,8 +551,8 @@ pub fn analyse(o: &Settings, data: &[Sensed], ctx: Context) -> CliResult<Report>
             (i, which, events, series)
         })
         .collect();
-    let identification = report::identification(o, data, &mapped, &id_results)?;
-    record::write(o, data, &id_results, ctx)?;
+    let identification = results::identification(o, data, &mapped, &id_results)?;
+    walk_recording::write(o, data, &id_results, ctx)?;
     Ok(Report {
         seed: o.seed,
         localisation,
@@ -559,5 +561,5 @@ pub fn analyse(o: &Settings, data: &[Sensed], ctx: Context) -> CliResult<Report>
     })
 }
 
-mod report;
-pub use report::{IdentificationRow, LocalisationRow, Report, Summary, WalkStats};
+mod results;
+pub use results::{IdentificationRow, LocalisationRow, Report, Summary, WalkStats};

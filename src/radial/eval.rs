@@ -9,8 +9,9 @@
 //! - two-sample Kolmogorov–Smirnov p-values of each distribution against the tip's and the
 //!   random guess's.
 
-use super::{Label, feature_names, load_model, read_set};
-use crate::error::{CliError, CliResult};
+use super::{Label, feature_names, read_set};
+use crate::error::{Error, Result};
+use crate::radial_model::load as load_model;
 use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::shape::SharedShape;
 use serde::Serialize;
@@ -111,9 +112,9 @@ fn score(
 }
 
 /// Runs `whisker radial eval`.
-pub fn run(o: &EvalSettings) -> CliResult<EvalReport> {
+pub fn run(o: &EvalSettings) -> Result<EvalReport> {
     if !(o.max_fraction > 0.0 && o.max_fraction <= 1.0) {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "--max-fraction: expected 0 < f ≤ 1, got {}",
             o.max_fraction
         )));
@@ -125,7 +126,7 @@ pub fn run(o: &EvalSettings) -> CliResult<EvalReport> {
         .cloned()
         .collect();
     if set.is_empty() {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "{}: no contact with ground truth ≤ {} L",
             o.data.display(),
             o.max_fraction
@@ -138,7 +139,7 @@ pub fn run(o: &EvalSettings) -> CliResult<EvalReport> {
         {
             let shape = generate(asset)
                 .shape()
-                .map_err(|e| CliError::Failure(format!("{}: {e}", asset.name)))?;
+                .map_err(|e| Error::Failure(format!("{}: {e}", asset.name)))?;
             objects.insert(s.object.clone(), shape);
         }
     }
@@ -159,7 +160,7 @@ pub fn run(o: &EvalSettings) -> CliResult<EvalReport> {
         }
     }
     if scored.len() == 2 {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "{}: no model files (nn1.json … svr12.json; see `whisker radial train`)",
             o.models.display()
         )));

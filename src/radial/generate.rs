@@ -18,9 +18,10 @@
 //! of its own with sensor noise from the sub-stream `radial/<case>` of the seed, so the
 //! file does not depend on the number of threads.
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use crate::output::write_atomic;
 use crate::record::Context;
+use crate::sensing::contact::detect_on;
 use nalgebra::{Isometry3, Point3, Vector3};
 use rand::RngExt;
 use rayon::prelude::*;
@@ -37,7 +38,7 @@ use whisker_sim::sensing::viewpoints;
 use whisker_sim::whisker::array::{self, Module};
 use whisker_sim::whisker::beam::BeamDesign;
 use whisker_sim::whisker::control::WhiskingPattern;
-use whisker_slam::frontend::contact::{FrontEndParams, detect};
+use whisker_slam::frontend::contact::FrontEndParams;
 use whisker_slam::radial::dataset::{RadialSample, to_csv};
 use whisker_slam::rng::{substream, substream_key};
 use whisker_slam::sensor::Sample;
@@ -177,19 +178,19 @@ fn rod(whisker: &RigidWhisker, r: f64, theta: f64) -> Piece {
     Piece::cylinder("rod".into(), ROD_RADIUS, 0.06, pose)
 }
 
-fn training_jobs(o: &GenerateSettings) -> CliResult<Vec<Job>> {
+fn training_jobs(o: &GenerateSettings) -> Result<Vec<Job>> {
     let lengths: Vec<f64> = if o.lengths.is_empty() {
         TRAINING_LENGTHS_MM.to_vec()
     } else {
         o.lengths.clone()
     };
     if let Some(bad) = lengths.iter().find(|&&l| !(l > 30.0 && l <= 400.0)) {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "--lengths: expected whisker lengths in mm, 30 < L ≤ 400, got {bad}"
         )));
     }
     if o.frequencies == 0 {
-        return Err(CliError::Input("--frequencies: expected at least 1".into()));
+        return Err(Error::Input("--frequencies: expected at least 1".into()));
     }
     let module = array::modules().remove(0);
     let mut jobs = Vec::new();
@@ -236,9 +237,9 @@ fn piece_mesh(piece: &Piece) -> whisker_sim::environment::Mesh {
     .world_mesh()
 }
 
-fn validation_jobs(o: &GenerateSettings) -> CliResult<Vec<Job>> {
+fn validation_jobs(o: &GenerateSettings) -> Result<Vec<Job>> {
     if o.waypoints == 0 || o.whisks == 0 {
-        return Err(CliError::Input(
+        return Err(Error::Input(
             "--waypoints and --whisks: expected at least 1".into(),
         ));
     }
@@ -246,7 +247,7 @@ fn validation_jobs(o: &GenerateSettings) -> CliResult<Vec<Job>> {
         .iter()
         .find(|a| a.name == "box")
         .expect("the catalogue has a box");
-    let (environment, shape) = placed(asset).map_err(|e| CliError::Failure(format!("box: {e}")))?;
+    let (environment, shape) = placed(asset).map_err(|e| Error::Failure(format!("box: {e}")))?;
     let piece = environment.pieces[0].clone();
     let configs: Vec<WhiskerConfig> = array::modules()
         .into_iter()
@@ -315,7 +316,6 @@ fn run_job(job: &Job, seed: u64, params: &FrontEndParams, keep: bool) -> Outcome
         noise_seed,
         DT,
     );
-    let length = job.config.module.beam.length;
     let rigid = job.config.rigid();
     let mut outcome = Outcome {
         samples: Vec::new(),
@@ -327,7 +327,7 @@ fn run_job(job: &Job, seed: u64, params: &FrontEndParams, keep: bool) -> Outcome
         if keep {
             outcome.streams.extend(&cycle.samples[0]);
         }
-        let Some(event) = detect(&cycle.samples[0], cycle.rate_hz, length, params) else {
+        let Some(event) = detect_on(&rigid, &cycle.samples[0], cycle.rate_hz, params) else {
             outcome.missed += 1;
             continue;
         };
@@ -355,7 +355,7 @@ fn run_job(job: &Job, seed: u64, params: &FrontEndParams, keep: bool) -> Outcome
 }
 
 /// Runs `whisker radial generate`.
-pub fn run(o: &GenerateSettings, ctx: Context) -> CliResult<Generated> {
+pub fn run(o: &GenerateSettings, ctx: Context) -> Result<Generated> {
     let jobs = match o.set {
         Set::Training => training_jobs(o)?,
         Set::Validation => validation_jobs(o)?,
@@ -428,7 +428,7 @@ fn record(
     jobs: &[Job],
     outcomes: &[Outcome],
     ctx: Context,
-) -> CliResult {
+) -> Result {
     use crate::record::{Contact, ContactKind, Layout, SensorColumns, entity_name, id};
     let rec = ctx.recordings.create(
         path,

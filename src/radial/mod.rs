@@ -6,11 +6,11 @@ pub mod eval;
 pub mod generate;
 pub mod train;
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use std::path::Path;
 use whisker_slam::frontend::features::Feature;
 use whisker_slam::radial::dataset::{RadialSample, from_csv};
-use whisker_slam::radial::{RadialEstimator, table_4_1_features};
+use whisker_slam::radial::table_4_1_features;
 
 /// A model label of Table 4.1: nn1–nn4, poly5–poly8, svr9–svr12.
 #[derive(Debug, Clone, PartialEq)]
@@ -25,7 +25,7 @@ pub struct Label {
 
 impl Label {
     /// The label `name`, or an input error listing the valid ones.
-    pub fn parse(name: &str) -> CliResult<Self> {
+    pub fn parse(name: &str) -> Result<Self> {
         let split = name
             .find(|c: char| c.is_ascii_digit())
             .unwrap_or(name.len());
@@ -46,7 +46,7 @@ impl Label {
                 },
                 features: table_4_1_features(k),
             }),
-            _ => Err(CliError::Input(format!(
+            _ => Err(Error::Input(format!(
                 "unknown model `{name}`: expected one of nn1–nn4, poly5–poly8, svr9–svr12 (Table 4.1)"
             ))),
         }
@@ -63,7 +63,7 @@ impl Label {
     }
 
     /// `names`, or all twelve if empty.
-    pub fn parse_list(names: &[String]) -> CliResult<Vec<Self>> {
+    pub fn parse_list(names: &[String]) -> Result<Vec<Self>> {
         if names.is_empty() {
             Ok(Self::all())
         } else {
@@ -87,23 +87,8 @@ pub fn feature_names(features: &[Feature]) -> String {
 }
 
 /// Reads a data set; a malformed file is an input error naming it, the line and column.
-pub fn read_set(path: &Path) -> CliResult<Vec<RadialSample>> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        CliError::Input(format!("{}: cannot read the data set: {e}", path.display()))
-    })?;
-    from_csv(&text).map_err(|e| CliError::Input(format!("{}: {e}", path.display())))
-}
-
-/// Reads a model file (a serialised [`RadialEstimator`]); errors name the file.
-pub fn load_model(path: &Path) -> CliResult<RadialEstimator> {
+pub fn read_set(path: &Path) -> Result<Vec<RadialSample>> {
     let text = std::fs::read_to_string(path)
-        .map_err(|e| CliError::Input(format!("{}: cannot read the model: {e}", path.display())))?;
-    serde_json::from_str(&text).map_err(|e| {
-        CliError::Input(format!(
-            "{}: not a radial-distance model (line {}, column {}): {e}",
-            path.display(),
-            e.line(),
-            e.column()
-        ))
-    })
+        .map_err(|e| Error::Input(format!("{}: cannot read the data set: {e}", path.display())))?;
+    from_csv(&text).map_err(|e| Error::Input(format!("{}: {e}", path.display())))
 }

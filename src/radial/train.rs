@@ -11,7 +11,7 @@
 //! γ over [`Svr::default_grid`].
 
 use super::{Label, read_set};
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use crate::output::{create_dir, write_atomic};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -65,12 +65,7 @@ pub struct TrainReport {
 /// Folds of the cross-validation (§4.1.3).
 const FOLDS: usize = 10;
 
-fn train(
-    label: &Label,
-    x: &[Vec<f64>],
-    y: &[f64],
-    seed: u64,
-) -> CliResult<(RadialEstimator, String)> {
+fn train(label: &Label, x: &[Vec<f64>], y: &[f64], seed: u64) -> Result<(RadialEstimator, String)> {
     let features = label.features.clone();
     Ok(match label.family {
         "poly" => {
@@ -98,9 +93,8 @@ fn train(
         }
         _ => {
             let grid = Svr::default_grid(features.len());
-            let (model, _) = Svr::fit_search(x, y, &grid, FOLDS, seed).map_err(|e| {
-                CliError::Failure(format!("{}: SVR training failed: {e}", label.name))
-            })?;
+            let (model, _) = Svr::fit_search(x, y, &grid, FOLDS, seed)
+                .map_err(|e| Error::Failure(format!("{}: SVR training failed: {e}", label.name)))?;
             let p = model.params;
             let note = format!(
                 "C {} ε {} γ {:.3}, {} support vectors",
@@ -115,10 +109,10 @@ fn train(
 }
 
 /// Runs `whisker radial train`.
-pub fn run(o: &TrainSettings) -> CliResult<TrainReport> {
+pub fn run(o: &TrainSettings) -> Result<TrainReport> {
     let set = read_set(&o.data)?;
     if set.len() < 2 * FOLDS {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "{}: {} contacts; training needs at least {}",
             o.data.display(),
             set.len(),
@@ -151,7 +145,7 @@ pub fn run(o: &TrainSettings) -> CliResult<TrainReport> {
         .collect();
     let y: Vec<f64> = set.iter().map(|s| s.truth_radial_m).collect();
     let start = Instant::now();
-    let trained: Vec<CliResult<(RadialEstimator, String)>> = labels
+    let trained: Vec<Result<(RadialEstimator, String)>> = labels
         .par_iter()
         .map(|label| {
             let x: Vec<Vec<f64>> = set
@@ -178,7 +172,7 @@ pub fn run(o: &TrainSettings) -> CliResult<TrainReport> {
             chosen: note,
         });
         let json = serde_json::to_string_pretty(&model)
-            .map_err(|e| CliError::Failure(format!("{name}: {e}")))?;
+            .map_err(|e| Error::Failure(format!("{name}: {e}")))?;
         write_atomic(&o.out.join(format!("{name}.json")), json.as_bytes())?;
     }
     Ok(TrainReport {

@@ -21,7 +21,7 @@ pub mod sensors;
 pub mod slam;
 pub mod world;
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use crate::output;
 use std::path::{Path, PathBuf};
 
@@ -36,7 +36,7 @@ use whisker_slam::ratslam::local_view::TactileImage;
 pub struct Rerun;
 
 impl Recordings for Rerun {
-    fn create(&self, path: &Path, id: &str, layout: Layout) -> CliResult<Box<dyn Recorder>> {
+    fn create(&self, path: &Path, id: &str, layout: Layout) -> Result<Box<dyn Recorder>> {
         Ok(Box::new(Recording::create(
             path,
             id,
@@ -57,8 +57,8 @@ pub struct Recording {
     links: std::cell::Cell<usize>,
 }
 
-pub(crate) fn fail(path: &Path, e: impl std::fmt::Display) -> CliError {
-    CliError::Failure(format!("cannot write recording {}: {e}", path.display()))
+pub(crate) fn fail(path: &Path, e: impl std::fmt::Display) -> Error {
+    Error::Failure(format!("cannot write recording {}: {e}", path.display()))
 }
 
 impl Recording {
@@ -68,7 +68,7 @@ impl Recording {
         path: &Path,
         recording_id: &str,
         layout: rerun::blueprint::Blueprint,
-    ) -> CliResult<Self> {
+    ) -> Result<Self> {
         if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
             output::create_dir(parent)?;
         }
@@ -130,7 +130,7 @@ impl Recording {
         &self,
         entity: impl Into<rerun::EntityPath>,
         what: &impl rerun::AsComponents,
-    ) -> CliResult {
+    ) -> Result {
         self.stream
             .log(entity, what)
             .map_err(|e| fail(&self.path, e))
@@ -141,7 +141,7 @@ impl Recording {
         &self,
         entity: impl Into<rerun::EntityPath>,
         what: &impl rerun::AsComponents,
-    ) -> CliResult {
+    ) -> Result {
         self.stream
             .log_static(entity, what)
             .map_err(|e| fail(&self.path, e))
@@ -153,14 +153,14 @@ impl Recording {
         entity: impl Into<rerun::EntityPath>,
         times: impl IntoIterator<Item = rerun::TimeColumn>,
         columns: impl IntoIterator<Item = rerun::SerializedComponentColumn>,
-    ) -> CliResult {
+    ) -> Result {
         self.stream
             .send_columns(entity, times, columns)
             .map_err(|e| fail(&self.path, e))
     }
 
     /// Logs a line of the run's event log (`events`, a text log) at the current time.
-    pub fn event(&self, text: &str) -> CliResult {
+    pub fn event(&self, text: &str) -> Result {
         self.log(
             "events",
             &rerun::TextLog::new(text).with_level(rerun::TextLogLevel::INFO),
@@ -168,14 +168,14 @@ impl Recording {
     }
 
     /// Writes what has been logged so far (a fixed point of the simulation).
-    pub fn checkpoint(&self) -> CliResult {
+    pub fn checkpoint(&self) -> Result {
         self.stream
             .flush_blocking()
             .map_err(|e| fail(&self.path, e))
     }
 
     /// Completes the file and moves it into place.
-    pub fn finish_file(mut self) -> CliResult {
+    pub fn finish_file(mut self) -> Result {
         self.checkpoint()?;
         self.stream.disconnect();
         self.finished = true;
@@ -206,22 +206,22 @@ impl Recorder for Recording {
     fn at_step(&self, timeline: &'static str, k: u64) {
         Recording::at_step(self, timeline, k)
     }
-    fn checkpoint(&self) -> CliResult {
+    fn checkpoint(&self) -> Result {
         Recording::checkpoint(self)
     }
-    fn finish(self: Box<Self>) -> CliResult {
+    fn finish(self: Box<Self>) -> Result {
         self.finish_file()
     }
-    fn event(&self, text: &str) -> CliResult {
+    fn event(&self, text: &str) -> Result {
         Recording::event(self, text)
     }
-    fn frame(&self, entity: &str, translation: [f64; 3]) -> CliResult {
+    fn frame(&self, entity: &str, translation: [f64; 3]) -> Result {
         self.log_static(
             entity,
             &rerun::Transform3D::from_translation(translation.map(|v| v as f32)),
         )
     }
-    fn mesh(&self, entity: &str, mesh: &Mesh, colour: [u8; 3]) -> CliResult {
+    fn mesh(&self, entity: &str, mesh: &Mesh, colour: [u8; 3]) -> Result {
         let positions: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| f32x3(&v.coords)).collect();
         let [r, g, b] = colour;
         self.log_static(
@@ -231,22 +231,22 @@ impl Recorder for Recording {
                 .with_albedo_factor(rerun::Rgba32::from_unmultiplied_rgba(r, g, b, 255)),
         )
     }
-    fn environment_in(&self, prefix: &str, environment: &Environment) -> CliResult {
+    fn environment_in(&self, prefix: &str, environment: &Environment) -> Result {
         Recording::environment_in(self, prefix, environment)
     }
-    fn waypoints(&self, tips: &[Isometry3<f64>]) -> CliResult {
+    fn waypoints(&self, tips: &[Isometry3<f64>]) -> Result {
         Recording::waypoints(self, tips)
     }
-    fn arm(&self, t: f64, links: &[Isometry3<f64>], tip: &Isometry3<f64>) -> CliResult {
+    fn arm(&self, t: f64, links: &[Isometry3<f64>], tip: &Isometry3<f64>) -> Result {
         Recording::arm(self, t, links, tip)
     }
-    fn pose(&self, entity: &str, pose: &Isometry3<f64>) -> CliResult {
+    fn pose(&self, entity: &str, pose: &Isometry3<f64>) -> Result {
         self.log(entity, &world::transform(pose))
     }
-    fn tip_path(&self, path: &[Isometry3<f64>]) -> CliResult {
+    fn tip_path(&self, path: &[Isometry3<f64>]) -> Result {
         Recording::tip_path(self, path)
     }
-    fn shafts_at(&self, entity: &str, t: f64, shafts: &[Vec<[f64; 3]>]) -> CliResult {
+    fn shafts_at(&self, entity: &str, t: f64, shafts: &[Vec<[f64; 3]>]) -> Result {
         Recording::shafts_at(self, entity, t, shafts)
     }
     fn contacts_in(
@@ -255,7 +255,7 @@ impl Recorder for Recording {
         kind: ContactKind,
         cycle: u64,
         contacts: &[Contact],
-    ) -> CliResult {
+    ) -> Result {
         Recording::contacts_in(self, prefix, kind, cycle, contacts)
     }
     fn marker(
@@ -264,7 +264,7 @@ impl Recorder for Recording {
         point: [f64; 3],
         radius: f64,
         colour: Option<[u8; 3]>,
-    ) -> CliResult {
+    ) -> Result {
         let points = rerun::Points3D::new([point.map(|v| v as f32)]).with_radii([radius as f32]);
         match colour {
             Some([r, g, b]) => self.log(
@@ -274,31 +274,31 @@ impl Recorder for Recording {
             None => self.log(entity, &points),
         }
     }
-    fn trajectory(&self, entity: &str, points: &[[f64; 3]], colour: [u8; 3]) -> CliResult {
+    fn trajectory(&self, entity: &str, points: &[[f64; 3]], colour: [u8; 3]) -> Result {
         Recording::trajectory(self, entity, points, colour)
     }
-    fn relocalisation(&self, entity: &str, at: &Isometry3<f64>, text: &str) -> CliResult {
+    fn relocalisation(&self, entity: &str, at: &Isometry3<f64>, text: &str) -> Result {
         Recording::relocalisation(self, entity, at, text)
     }
-    fn goal(&self, pose: &Isometry3<f64>, kind: &str) -> CliResult {
+    fn goal(&self, pose: &Isometry3<f64>, kind: &str) -> Result {
         Recording::goal(self, pose, kind)
     }
-    fn tactile_image(&self, entity: &str, image: &TactileImage) -> CliResult {
+    fn tactile_image(&self, entity: &str, image: &TactileImage) -> Result {
         Recording::tactile_image(self, entity, image)
     }
-    fn pose_cells(&self, entity: &str, grid: &PoseGrid) -> CliResult {
+    fn pose_cells(&self, entity: &str, grid: &PoseGrid) -> Result {
         Recording::pose_cells(self, entity, grid)
     }
-    fn graph(&self, entity: &str, graph: &Graph) -> CliResult {
+    fn graph(&self, entity: &str, graph: &Graph) -> Result {
         Recording::graph(self, entity, graph)
     }
-    fn scalar(&self, entity: &str, value: f64) -> CliResult {
+    fn scalar(&self, entity: &str, value: f64) -> Result {
         Recording::scalar(self, entity, value)
     }
-    fn sensor_series(&self, entity: &str) -> CliResult {
+    fn sensor_series(&self, entity: &str) -> Result {
         Recording::sensor_series(self, entity)
     }
-    fn sensor_columns(&self, entity: &str, times: &[f64], values: Vec<f64>) -> CliResult {
+    fn sensor_columns(&self, entity: &str, times: &[f64], values: Vec<f64>) -> Result {
         Recording::sensor_columns(self, entity, times, values)
     }
 }

@@ -5,18 +5,18 @@
 //! not a call per sample.
 
 use super::{Recording, SIM_TIME};
-use crate::error::CliResult;
+use crate::error::Result;
 use crate::record::{SENSOR_SERIES, SENSOR_VALUES};
 
 impl Recording {
     /// Names the series of the stream at `entity` (static).
-    pub fn sensor_series(&self, entity: &str) -> CliResult {
+    pub fn sensor_series(&self, entity: &str) -> Result {
         self.log_static(entity, &rerun::SeriesLines::new().with_names(SENSOR_SERIES))
     }
 
     /// Sends the rows of `times` (s) at `entity`, [`SENSOR_VALUES`] of `values` each, as
     /// one chunk.
-    pub fn sensor_columns(&self, entity: &str, times: &[f64], values: Vec<f64>) -> CliResult {
+    pub fn sensor_columns(&self, entity: &str, times: &[f64], values: Vec<f64>) -> Result {
         let column = rerun::Scalars::new(values)
             .columns(std::iter::repeat_n(SENSOR_VALUES, times.len()))
             .map_err(|e| super::fail(self.path(), e))?;

@@ -9,7 +9,7 @@
 //! integrated confidence in each object (§6.2) and the outcome.
 
 use super::Recording;
-use crate::error::CliResult;
+use crate::error::Result;
 use crate::record::Graph;
 use nalgebra::Isometry3;
 use whisker_slam::pose_grid::PoseGrid;
@@ -76,7 +76,7 @@ pub fn tiles6(grid: &PoseGrid) -> (usize, usize, Vec<f32>) {
 
 impl Recording {
     /// Logs a tactile image (6 × 3, intensities 0–255) at `entity`.
-    pub fn tactile_image(&self, entity: &str, image: &TactileImage) -> CliResult {
+    pub fn tactile_image(&self, entity: &str, image: &TactileImage) -> Result {
         self.log(
             entity,
             &rerun::Image::from_elements(
@@ -89,7 +89,7 @@ impl Recording {
 
     /// Logs the pose cells of `grid` at `entity` as an image: planar (3-D) grids the
     /// maximum over θ, 6-D grids the six projections onto pairs of axes ([`tiles6`]).
-    pub fn pose_cells(&self, entity: &str, grid: &PoseGrid) -> CliResult {
+    pub fn pose_cells(&self, entity: &str, grid: &PoseGrid) -> Result {
         let (w, h, v) = match grid.dims().len() {
             6 => tiles6(grid),
             _ => max_projection(grid, 0, 1),
@@ -104,7 +104,7 @@ impl Recording {
     /// `<entity>/experiences` (points labelled with their index, and object in appended
     /// maps; the current experience red and large, the strategy's target blue) and
     /// `<entity>/links` (a 2-point strip per link).
-    pub fn graph(&self, entity: &str, g: &Graph) -> CliResult {
+    pub fn graph(&self, entity: &str, g: &Graph) -> Result {
         let n = g.positions.len();
         let colours = (0..n).map(|k| {
             if Some(k) == g.current {
@@ -148,7 +148,7 @@ impl Recording {
     }
 
     /// Logs a whole path (world) as a static line strip at `entity`.
-    pub fn trajectory(&self, entity: &str, points: &[[f64; 3]], colour: [u8; 3]) -> CliResult {
+    pub fn trajectory(&self, entity: &str, points: &[[f64; 3]], colour: [u8; 3]) -> Result {
         let strip: Vec<[f32; 3]> = points.iter().map(|p| p.map(|v| v as f32)).collect();
         let [r, g, b] = colour;
         self.log_static(
@@ -161,7 +161,7 @@ impl Recording {
 
     /// Marks a re-localisation at the current time: a point at the true pose (at
     /// `entity`) and a line of the event log.
-    pub fn relocalisation(&self, entity: &str, at: &Isometry3<f64>, text: &str) -> CliResult {
+    pub fn relocalisation(&self, entity: &str, at: &Isometry3<f64>, text: &str) -> Result {
         let p = at.translation.vector;
         self.log(
             entity,
@@ -173,14 +173,14 @@ impl Recording {
     }
 
     /// Logs one scalar at `entity` at the current time.
-    pub fn scalar(&self, entity: &str, value: f64) -> CliResult {
+    pub fn scalar(&self, entity: &str, value: f64) -> Result {
         self.log(entity, &rerun::Scalars::single(value))
     }
 
     /// Logs a closed loop's goal of kind `kind` (`face:<k>`, `spc`, `step:<e>`) at the
     /// current time (`world/explore/goal`: a point labelled with its kind, blue for the
     /// strategy's goals, orange for the SPC's corrections).
-    pub fn goal(&self, pose: &Isometry3<f64>, kind: &str) -> CliResult {
+    pub fn goal(&self, pose: &Isometry3<f64>, kind: &str) -> Result {
         let p = pose.translation.vector;
         let colour = if kind == "spc" {
             rerun::Color::from_rgb(255, 140, 0)

@@ -5,7 +5,7 @@
 //! error between them.
 
 use super::{Recording, f32x3};
-use crate::error::CliResult;
+use crate::error::Result;
 use crate::record::{Contact, ContactKind};
 use nalgebra::Isometry3;
 use std::collections::BTreeMap;
@@ -44,7 +44,7 @@ pub fn transform(p: &Isometry3<f64>) -> rerun::Transform3D {
 
 impl Recording {
     /// Logs the environment's pieces as static meshes at `<prefix>/<piece>`.
-    pub fn environment_in(&self, prefix: &str, environment: &Environment) -> CliResult {
+    pub fn environment_in(&self, prefix: &str, environment: &Environment) -> Result {
         for (k, piece) in environment.pieces.iter().enumerate() {
             let positions: Vec<[f32; 3]> = piece
                 .mesh
@@ -65,7 +65,7 @@ impl Recording {
     }
 
     /// Logs the tip positions at the waypoints (`world/waypoints`, static).
-    pub fn waypoints(&self, tips: &[Isometry3<f64>]) -> CliResult {
+    pub fn waypoints(&self, tips: &[Isometry3<f64>]) -> Result {
         let points: Vec<[f32; 3]> = tips.iter().map(point).collect();
         self.log_static(
             "world/waypoints",
@@ -76,7 +76,7 @@ impl Recording {
     /// Logs the arm at time `t`: its link frames along the chain from the root
     /// (`world/arm/links/<k>`), a line through their origins (`world/arm/skeleton`) and
     /// the tip frame (`world/arm/tip`).
-    pub fn arm(&self, t: f64, links: &[Isometry3<f64>], tip: &Isometry3<f64>) -> CliResult {
+    pub fn arm(&self, t: f64, links: &[Isometry3<f64>], tip: &Isometry3<f64>) -> Result {
         self.at(t);
         let strip: Vec<[f32; 3]> = links.iter().map(point).collect();
         self.log(
@@ -92,7 +92,7 @@ impl Recording {
 
     /// Logs the whole tip path (`world/arm/tip_path`, static) and the axes of the tip and
     /// array frames (static: their length does not change).
-    pub fn tip_path(&self, path: &[Isometry3<f64>]) -> CliResult {
+    pub fn tip_path(&self, path: &[Isometry3<f64>]) -> Result {
         let strip: Vec<[f32; 3]> = path.iter().map(point).collect();
         self.log_static(
             "world/arm/tip_path",
@@ -109,7 +109,7 @@ impl Recording {
     }
 
     /// Logs whisker shafts at `entity` at time `t`.
-    pub fn shafts_at(&self, entity: &str, t: f64, shafts: &[Vec<[f64; 3]>]) -> CliResult {
+    pub fn shafts_at(&self, entity: &str, t: f64, shafts: &[Vec<[f64; 3]>]) -> Result {
         self.at(t);
         let strips: Vec<Vec<[f32; 3]>> = shafts
             .iter()
@@ -137,7 +137,7 @@ impl Recording {
         kind: ContactKind,
         cycle: u64,
         contacts: &[Contact],
-    ) -> CliResult {
+    ) -> Result {
         let labels = whisker_sim::whisker::array::labels();
         let (name, [r, g, b]) = match kind {
             ContactKind::True => ("true", TRUE_COLOUR),

@@ -1,7 +1,7 @@
 //! `[array]` of a scenario: the whisker array's design, whisking, follicle, sensors and
 //! RCP, with per-ring and per-whisker overrides (documented in `scenarios/README.md`).
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -120,11 +120,11 @@ pub struct ArrayConfig {
     pub sensor: SensorConfig,
 }
 
-fn field_error(file: &Path, field: &str, e: impl std::fmt::Display) -> CliError {
-    CliError::field(file, field, e)
+fn field_error(file: &Path, field: &str, e: impl std::fmt::Display) -> Error {
+    Error::field(file, field, e)
 }
 
-fn finite(file: &Path, field: &str, v: Option<f64>) -> CliResult<Option<f64>> {
+fn finite(file: &Path, field: &str, v: Option<f64>) -> Result<Option<f64>> {
     match v {
         Some(x) if !x.is_finite() => Err(field_error(
             file,
@@ -149,7 +149,7 @@ impl ArrayConfig {
 
     /// The 18 whiskers' configurations (RCP thresholds not yet calibrated), checking every
     /// value and naming the offending field.
-    pub fn whisker_configs(&self, file: &Path) -> CliResult<Vec<WhiskerConfig>> {
+    pub fn whisker_configs(&self, file: &Path) -> Result<Vec<WhiskerConfig>> {
         if self.rings.len() > RINGS.len() {
             return Err(field_error(
                 file,
@@ -249,7 +249,7 @@ impl ArrayConfig {
             ];
             let b = &mut module.beam;
             for (field, shaft) in &levels {
-                let set = |target: &mut f64, name: &str, v: Option<f64>| -> CliResult {
+                let set = |target: &mut f64, name: &str, v: Option<f64>| -> Result {
                     if let Some(x) = finite(file, &format!("{field}.{name}"), v)? {
                         *target = x;
                     }
@@ -281,7 +281,7 @@ impl ArrayConfig {
                 .map_err(|e| field_error(file, &format!("array (whisker {pixel})"), e))?;
 
             let default = WhiskingPattern::default();
-            let angle = |name: &str, v: Option<f64>, d: f64| -> CliResult<f64> {
+            let angle = |name: &str, v: Option<f64>, d: f64| -> Result<f64> {
                 Ok(finite(file, &format!("{ring_field}.{name}"), v)?.map_or(d, f64::to_radians))
             };
             let pattern = WhiskingPattern {

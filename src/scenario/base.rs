@@ -6,7 +6,7 @@
 //! own directory, so that relative paths (`arm.urdf`, meshes, the radial model) mean the
 //! same in both.
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use std::path::Path;
 use toml::{Table, Value};
 
@@ -14,21 +14,20 @@ use toml::{Table, Value};
 const MAX_DEPTH: usize = 8;
 
 /// Reads `path` as a TOML table, syntax errors naming the file, line and column.
-pub fn read_table(path: &Path) -> CliResult<(String, Table)> {
+pub fn read_table(path: &Path) -> Result<(String, Table)> {
     let text = std::fs::read_to_string(path)
-        .map_err(|e| CliError::Input(format!("{}: cannot read scenario: {e}", path.display())))?;
-    let table: Table = toml::from_str(&text).map_err(|e| {
-        CliError::Input(format!("{}: {}", path.display(), e.to_string().trim_end()))
-    })?;
+        .map_err(|e| Error::Input(format!("{}: cannot read scenario: {e}", path.display())))?;
+    let table: Table = toml::from_str(&text)
+        .map_err(|e| Error::Input(format!("{}: {}", path.display(), e.to_string().trim_end())))?;
     Ok((text, table))
 }
 
 /// `table` (read from `path`) merged over its base, recursively; `base` removed.
-pub fn resolve(path: &Path, mut table: Table, depth: usize) -> CliResult<Table> {
+pub fn resolve(path: &Path, mut table: Table, depth: usize) -> Result<Table> {
     let Some(base) = table.remove("base") else {
         return Ok(table);
     };
-    let bad = |msg: String| CliError::field(path, "base", msg);
+    let bad = |msg: String| Error::field(path, "base", msg);
     let Value::String(name) = base else {
         return Err(bad(format!("expected a file name, got {base}")));
     };

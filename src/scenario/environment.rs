@@ -6,7 +6,7 @@
 //! mesh file and the line or record in it.
 
 use super::relative_to;
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use whisker_sim::environment::maze::{Deformities, MazeLayout, Post, Wall};
@@ -161,14 +161,14 @@ fn pose_of(
     field: &str,
     p: [f64; 3],
     rpy: [f64; 3],
-) -> CliResult<nalgebra::Isometry3<f64>> {
+) -> Result<nalgebra::Isometry3<f64>> {
     if let Some(i) = p.iter().chain(&rpy).position(|v| !v.is_finite()) {
         let (name, k) = if i < 3 {
             ("position_m", i)
         } else {
             ("rpy_deg", i - 3)
         };
-        return Err(CliError::field(
+        return Err(Error::field(
             file,
             &format!("{field}.{name}[{k}]"),
             "expected a finite number",
@@ -179,7 +179,7 @@ fn pose_of(
 
 impl KinematicConfig {
     /// The noise model (none if `noise = false`), validated.
-    pub fn noise(&self, file: &Path) -> CliResult<ContactNoise> {
+    pub fn noise(&self, file: &Path) -> Result<ContactNoise> {
         let model = ContactNoise {
             point_fraction: self.point_noise_fraction,
             slope_sigma: self.slope_noise,
@@ -191,7 +191,7 @@ impl KinematicConfig {
                 "slope_sigma" => "slope_noise",
                 other => other,
             };
-            CliError::field(file, &format!("kinematic.{name}"), m)
+            Error::field(file, &format!("kinematic.{name}"), m)
         })?;
         Ok(if self.noise {
             model
@@ -215,14 +215,14 @@ pub fn load(
     objects: &[ObjectConfig],
     maze: Option<&MazeConfig>,
     seed: u64,
-) -> CliResult<LoadedEnvironment> {
+) -> Result<LoadedEnvironment> {
     let mut environment = Environment::default();
     let mut report = Vec::new();
     for (i, o) in objects.iter().enumerate() {
         let field = format!("objects[{i}]");
         // A keyword field: parsed, or an error naming the field and the choices.
         let keyword = |name: &str, value: &str, choices: &str| {
-            CliError::field(
+            Error::field(
                 file,
                 &format!("{field}.{name}"),
                 format!("{value:?}: expected {choices}"),
@@ -236,7 +236,7 @@ pub fn load(
             other => return Err(keyword("up", other, "\"z\" or \"y\"")),
         };
         if !(o.scale.is_finite() && o.scale > 0.0) {
-            return Err(CliError::field(
+            return Err(Error::field(
                 file,
                 &format!("{field}.scale"),
                 format!("expected a positive number, got {}", o.scale),
@@ -250,14 +250,14 @@ pub fn load(
         ] {
             let Some(v) = value else { continue };
             if !(v.is_finite() && v > 0.0) {
-                return Err(CliError::field(
+                return Err(Error::field(
                     file,
                     &format!("{field}.{name}"),
                     format!("expected a positive length, got {v}"),
                 ));
             }
             if repair != Repair::Voxel {
-                return Err(CliError::field(
+                return Err(Error::field(
                     file,
                     &format!("{field}.{name}"),
                     format!("applies to repair = \"voxel\" only, not {:?}", o.repair),
@@ -267,7 +267,7 @@ pub fn load(
         let decimate = match (o.decimate, o.decimate_tolerance_m) {
             (None, None) => None,
             (None, Some(_)) => {
-                return Err(CliError::field(
+                return Err(Error::field(
                     file,
                     &format!("{field}.decimate_tolerance_m"),
                     "applies with decimate only: expected decimate = <triangles> too",
@@ -276,21 +276,21 @@ pub fn load(
             (Some(n), tolerance) => {
                 let tolerance = tolerance.unwrap_or(DECIMATE_TOLERANCE_M);
                 if n < 4 {
-                    return Err(CliError::field(
+                    return Err(Error::field(
                         file,
                         &format!("{field}.decimate"),
                         format!("expected a target of at least 4 triangles, got {n}"),
                     ));
                 }
                 if !(tolerance.is_finite() && tolerance > 0.0) {
-                    return Err(CliError::field(
+                    return Err(Error::field(
                         file,
                         &format!("{field}.decimate_tolerance_m"),
                         format!("expected a positive length, got {tolerance}"),
                     ));
                 }
                 if repair == Repair::Soup {
-                    return Err(CliError::field(
+                    return Err(Error::field(
                         file,
                         &format!("{field}.decimate"),
                         "a triangle soup (repair = \"soup\") is kept as it is: expected a solid \
@@ -318,13 +318,13 @@ pub fn load(
             decimate,
         };
         let loaded = mesh::load(&path, &options)
-            .map_err(|e| CliError::field(file, &format!("{field}.mesh"), e))?;
+            .map_err(|e| Error::field(file, &format!("{field}.mesh"), e))?;
         let shape = if loaded.solid {
             loaded.mesh.shape()
         } else {
             loaded.mesh.soup_shape()
         }
-        .map_err(|e| CliError::field(file, &format!("{field}.mesh"), e))?;
+        .map_err(|e| Error::field(file, &format!("{field}.mesh"), e))?;
         let name = o.display_name(i);
         let (lo, hi) = mesh::bounds(&loaded.mesh.vertices);
         let size = hi - lo;
@@ -373,7 +373,7 @@ pub fn load(
         };
         layout
             .validate()
-            .map_err(|(f, msg)| CliError::field(file, &format!("maze.{f}"), msg))?;
+            .map_err(|(f, msg)| Error::field(file, &format!("maze.{f}"), msg))?;
         let pose = pose_of(file, "maze", m.position_m, m.rpy_deg)?;
         let built = layout.build(&pose, seed);
         report.push(format!(

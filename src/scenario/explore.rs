@@ -5,7 +5,7 @@
 //! `shared/notes/chapter6.md`.
 
 use super::relative_to;
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -140,9 +140,9 @@ fn segment() -> f64 {
 
 impl ExploreConfig {
     /// Checks the section; errors name the file and the field.
-    pub fn validate(&self, file: &Path, objects: &[String]) -> CliResult {
+    pub fn validate(&self, file: &Path, objects: &[String]) -> Result {
         let bad =
-            |field: &str, msg: String| Err(CliError::field(file, &format!("explore.{field}"), msg));
+            |field: &str, msg: String| Err(Error::field(file, &format!("explore.{field}"), msg));
         self.object_name(file, objects)?;
         if self.task == Task::Recognise {
             if self.maps.is_empty() {
@@ -197,7 +197,7 @@ impl ExploreConfig {
             );
         }
         let sub = |name: &str, r: Result<(), (String, String)>| {
-            r.map_err(|(f, m)| CliError::field(file, &format!("explore.{name}.{f}"), m))
+            r.map_err(|(f, m)| Error::field(file, &format!("explore.{name}.{f}"), m))
         };
         sub("placement", self.placement.validate())?;
         sub("odometry", self.odometry.validate())?;
@@ -216,20 +216,20 @@ impl ExploreConfig {
         self.slam
             .pose_cells
             .validate()
-            .map_err(|m| CliError::field(file, "explore.slam.pose_cells", m))
+            .map_err(|m| Error::field(file, "explore.slam.pose_cells", m))
     }
 
     /// The explored object's name among the scenario's `objects`.
-    pub fn object_name(&self, file: &Path, objects: &[String]) -> CliResult<String> {
+    pub fn object_name(&self, file: &Path, objects: &[String]) -> Result<String> {
         match (&self.object, objects) {
             (Some(o), _) if objects.contains(o) => Ok(o.clone()),
-            (Some(o), _) => Err(CliError::field(
+            (Some(o), _) => Err(Error::field(
                 file,
                 "explore.object",
                 format!("no [[objects]] entry is named {o:?}; the objects are {objects:?}"),
             )),
             (None, [one]) => Ok(one.clone()),
-            (None, _) => Err(CliError::field(
+            (None, _) => Err(Error::field(
                 file,
                 "explore.object",
                 format!(

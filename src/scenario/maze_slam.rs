@@ -1,6 +1,6 @@
 //! `[maze_slam]`: the planar RatSLAM experiment of `whisker maze-slam` (thesis Ch 3).
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use serde::Deserialize;
 use std::path::Path;
 use whisker_slam::ratslam::RatSlamParams;
@@ -66,8 +66,12 @@ impl Default for MazeSlamConfig {
     }
 }
 
+/// The circuits of the maze run (§3.2): 3 clockwise, 3 anticlockwise, one of each
+/// (`true` = anticlockwise, i.e. the corners reversed); `circuits` takes the first few.
+pub const CIRCUITS: [bool; 8] = [false, false, false, true, true, true, false, true];
+
 fn all_circuits() -> usize {
-    crate::maze_slam::path::CIRCUITS.len()
+    CIRCUITS.len()
 }
 
 fn both() -> Vec<AngleEstimate> {
@@ -76,9 +80,9 @@ fn both() -> Vec<AngleEstimate> {
 
 impl MazeSlamConfig {
     /// Checks the section; errors name the file and the field.
-    pub fn validate(&self, file: &Path) -> CliResult {
+    pub fn validate(&self, file: &Path) -> Result {
         if self.images.is_empty() {
-            return Err(CliError::field(
+            return Err(Error::field(
                 file,
                 "maze_slam.images",
                 "expected at least one of \"max_angle\", \"contact_angle\"",
@@ -86,7 +90,7 @@ impl MazeSlamConfig {
         }
         let most = all_circuits();
         if !(2..=most).contains(&self.circuits) {
-            return Err(CliError::field(
+            return Err(Error::field(
                 file,
                 "maze_slam.circuits",
                 format!("expected 2 to {most}, got {}", self.circuits),
@@ -94,9 +98,9 @@ impl MazeSlamConfig {
         }
         self.ratslam
             .validate()
-            .map_err(|e| CliError::field(file, "maze_slam.ratslam", e))?;
+            .map_err(|e| Error::field(file, "maze_slam.ratslam", e))?;
         self.odometry
             .validate()
-            .map_err(|e| CliError::field(file, "maze_slam.odometry", e))
+            .map_err(|e| Error::field(file, "maze_slam.odometry", e))
     }
 }

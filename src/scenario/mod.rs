@@ -14,7 +14,7 @@ pub mod maze_slam;
 pub mod overrides;
 pub mod trials;
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -81,7 +81,7 @@ pub struct FrontEndConfig {
 
 impl FrontEndConfig {
     /// Checks the detection parameters; names the offending field.
-    pub fn validate(&self, file: &Path) -> CliResult {
+    pub fn validate(&self, file: &Path) -> Result {
         let d = &self.detection;
         let p = &d.peaks;
         let checks: [(&str, bool); 7] = [
@@ -107,7 +107,7 @@ impl FrontEndConfig {
         ];
         for (name, ok) in checks {
             if !ok {
-                return Err(CliError::field(
+                return Err(Error::field(
                     file,
                     &format!("frontend.detection.{name}"),
                     "expected a finite number ≥ 0 (spans and counts ≥ 1, rates > 0)",
@@ -119,11 +119,11 @@ impl FrontEndConfig {
 
     /// The radial-distance model: `radial_model` (relative to the scenario `file`), or the
     /// built-in svr10.
-    pub fn model(&self, file: &Path) -> CliResult<whisker_slam::radial::RadialEstimator> {
+    pub fn model(&self, file: &Path) -> Result<whisker_slam::radial::RadialEstimator> {
         match &self.radial_model {
-            Some(m) => crate::radial::load_model(&relative_to(file, m))
-                .map_err(|e| CliError::field(file, "frontend.radial_model", e)),
-            None => crate::frontend::radial_model(None),
+            Some(m) => crate::radial_model::load(&relative_to(file, m))
+                .map_err(|e| Error::field(file, "frontend.radial_model", e)),
+            None => crate::radial_model::load_or_default(None),
         }
     }
 }
@@ -282,20 +282,20 @@ pub enum Target {
 
 impl Scenario {
     /// The scenario file's TOML table merged over its base (if any).
-    pub fn resolved_table(path: &Path) -> CliResult<toml::Table> {
+    pub fn resolved_table(path: &Path) -> Result<toml::Table> {
         let (_, table) = base::read_table(path)?;
         base::resolve(path, table, 0)
     }
 
     /// Reads and checks a scenario file with `overrides` applied (`whisker run --set`).
-    pub fn load_with(path: &Path, overrides: &[overrides::Override]) -> CliResult<Self> {
+    pub fn load_with(path: &Path, overrides: &[overrides::Override]) -> Result<Self> {
         if overrides.is_empty() {
             return Self::load(path);
         }
         let mut table = Self::resolved_table(path)?;
         for o in overrides {
             o.apply(&mut table).map_err(|e| {
-                CliError::Input(format!("{}: --set {}: {e}", path.display(), o.dotted()))
+                Error::Input(format!("{}: --set {}: {e}", path.display(), o.dotted()))
             })?;
         }
         Self::from_table(path, table, "with --set")
@@ -303,9 +303,9 @@ impl Scenario {
 
     /// The scenario of `table` (read from `path`, base merged in, then changed as
     /// `context` says), checked.
-    pub fn from_table(path: &Path, table: toml::Table, context: &str) -> CliResult<Self> {
+    pub fn from_table(path: &Path, table: toml::Table, context: &str) -> Result<Self> {
         let scenario: Self = table.try_into().map_err(|e: toml::de::Error| {
-            CliError::Input(format!(
+            Error::Input(format!(
                 "{} ({context}): {}",
                 path.display(),
                 e.to_string().trim_end()
@@ -316,7 +316,7 @@ impl Scenario {
     }
 
     /// Reads and checks a scenario file (what does not depend on the URDF).
-    pub fn load(path: &Path) -> CliResult<Self> {
+    pub fn load(path: &Path) -> Result<Self> {
         let (text, table) = base::read_table(path)?;
         if table.contains_key("base") {
             // Merged over its base: errors name the field, no longer the line.
@@ -324,14 +324,14 @@ impl Scenario {
             return Self::from_table(path, merged, "merged over its base");
         }
         let scenario: Self = toml::from_str(&text).map_err(|e| {
-            CliError::Input(format!("{}: {}", path.display(), e.to_string().trim_end()))
+            Error::Input(format!("{}: {}", path.display(), e.to_string().trim_end()))
         })?;
         scenario.validate(path)?;
         Ok(scenario)
     }
 
-    fn validate(&self, file: &Path) -> CliResult {
-        let bad = |field: &str, msg: String| Err(CliError::field(file, field, msg));
+    fn validate(&self, file: &Path) -> Result {
+        let bad = |field: &str, msg: String| Err(Error::field(file, field, msg));
         if self.version != 1 {
             return bad("version", format!("expected 1, got {}", self.version));
         }
@@ -430,7 +430,7 @@ impl Scenario {
 
     /// The environment of `[[objects]]` and `[maze]`, loaded (mesh files read, checked
     /// and repaired; the maze built).
-    pub fn environment(&self, file: &Path) -> CliResult<environment::LoadedEnvironment> {
+    pub fn environment(&self, file: &Path) -> Result<environment::LoadedEnvironment> {
         environment::load(file, &self.objects, self.maze.as_ref(), self.seed)
     }
 
@@ -446,7 +446,7 @@ impl Scenario {
 
 impl Waypoint {
     /// What the waypoint asks for, or an error naming `field` if it is ill-formed.
-    pub fn target(&self, file: &Path, field: &str) -> CliResult<Target> {
+    pub fn target(&self, file: &Path, field: &str) -> Result<Target> {
         match (&self.position_m, &self.rpy_deg, &self.joints_deg) {
             (Some(p), Some(r), None) => {
                 finite_all(file, &format!("{field}.position_m"), p)?;
@@ -460,7 +460,7 @@ impl Waypoint {
                 finite_all(file, &format!("{field}.joints_deg"), q)?;
                 Ok(Target::Joints(q.clone()))
             }
-            _ => Err(CliError::field(
+            _ => Err(Error::field(
                 file,
                 field,
                 "expected either `position_m` and `rpy_deg` (a tip pose) or `joints_deg` (a joint configuration), not both or parts",
@@ -478,9 +478,9 @@ pub(crate) fn relative_to(file: &Path, p: &Path) -> PathBuf {
     }
 }
 
-fn finite_all(file: &Path, field: &str, values: &[f64]) -> CliResult {
+fn finite_all(file: &Path, field: &str, values: &[f64]) -> Result {
     match values.iter().position(|v| !v.is_finite()) {
-        Some(i) => Err(CliError::field(
+        Some(i) => Err(Error::field(
             file,
             &format!("{field}[{i}]"),
             format!("expected a finite number, got {}", values[i]),
@@ -489,11 +489,11 @@ fn finite_all(file: &Path, field: &str, values: &[f64]) -> CliResult {
     }
 }
 
-fn positive(file: &Path, field: &str, v: f64) -> CliResult {
+fn positive(file: &Path, field: &str, v: f64) -> Result {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(CliError::field(
+        Err(Error::field(
             file,
             field,
             format!("expected a positive number, got {v}"),

@@ -1,6 +1,6 @@
 //! Changing one field of a scenario by its dotted path (`explore.strategy`,
 //! `explore.placement.min_contacts`, `seed`): `whisker run --set PATH=VALUE` and the
-//! factors of `[trials]` (see `crate::trials`). The change is made to the scenario's TOML
+//! factors of `[trials]` (see the `trials` module). The change is made to the scenario's TOML
 //! table, merged over its base, before it is read, so it is checked exactly as if it had
 //! been written in the file.
 

@@ -1,5 +1,5 @@
 //! `[trials]`: a batch of runs of the scenario over seeds and factors (scenarios/README.md,
-//! "Batch trials"; run by `whisker trials`, see `crate::trials`).
+//! "Batch trials"; run by `whisker trials`, see the `trials` module).
 
 use serde::Deserialize;
 use toml::Table;

@@ -11,7 +11,7 @@
 
 use super::journal::{self, CSV, Entry, Journal, Meta, RUNS, Status};
 use super::{Batch, Shard, Trial};
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use crate::record::{Context, Reporter};
 use crate::scenario::trials::{Experiment, HEAVY, Outputs};
 use std::path::{Path, PathBuf};
@@ -62,12 +62,7 @@ pub struct Outcome {
 }
 
 /// Runs (or resumes) `batch` into `o.out`.
-pub fn run(
-    batch: &Batch,
-    o: &Settings,
-    ctx: Context,
-    progress: &dyn Progress,
-) -> CliResult<Outcome> {
+pub fn run(batch: &Batch, o: &Settings, ctx: Context, progress: &dyn Progress) -> Result<Outcome> {
     let dir = &o.out;
     crate::output::create_dir(dir)?;
     let meta = Meta::of(batch, o.shard);
@@ -90,7 +85,7 @@ pub fn run(
         let half = dir.join(RUNS).join(&t.key);
         if half.exists() {
             std::fs::remove_dir_all(&half)
-                .map_err(|e| CliError::Failure(format!("cannot clear {}: {e}", half.display())))?;
+                .map_err(|e| Error::Failure(format!("cannot clear {}: {e}", half.display())))?;
         }
     }
     let jobs = o
@@ -115,7 +110,7 @@ pub fn run(
     progress.start(todo.len());
     let shared = Mutex::new((journal, std::mem::take(&mut entries)));
     let next = AtomicUsize::new(0);
-    let first_error: Mutex<Option<CliError>> = Mutex::new(None);
+    let first_error: Mutex<Option<Error>> = Mutex::new(None);
     std::thread::scope(|scope| {
         for _ in 0..jobs.min(todo.len()) {
             scope.spawn(|| {
@@ -156,11 +151,11 @@ pub fn run(
 }
 
 /// Checks (resume) or writes (new batch) the directory's metadata.
-fn prepare(dir: &Path, meta: &Meta, o: &Settings) -> CliResult {
+fn prepare(dir: &Path, meta: &Meta, o: &Settings) -> Result {
     let exists = dir.join(journal::META).exists();
     match (exists, o.resume) {
         (false, _) => meta.write(dir),
-        (true, false) => Err(CliError::Input(format!(
+        (true, false) => Err(Error::Input(format!(
             "{} already holds a batch ({}): add --resume to finish it, or choose another --out",
             dir.display(),
             journal::META
@@ -168,7 +163,7 @@ fn prepare(dir: &Path, meta: &Meta, o: &Settings) -> CliResult {
         (true, true) => {
             let old = Meta::read(dir)?;
             if old.shard != meta.shard {
-                return Err(CliError::Input(format!(
+                return Err(Error::Input(format!(
                     "--shard: {} holds shard {} of the batch, not {}",
                     dir.display(),
                     old.shard.map_or("none".into(), |s| s.to_string()),
@@ -177,7 +172,7 @@ fn prepare(dir: &Path, meta: &Meta, o: &Settings) -> CliResult {
             }
             if old.scenario_hash != meta.scenario_hash {
                 if !o.force {
-                    return Err(CliError::Input(format!(
+                    return Err(Error::Input(format!(
                         "{}: the scenario changed since the batch in {} began (hash {} then, {} now): \
                          its finished rows would not match new ones. Use another --out, or add --force \
                          to keep the finished rows and run the rest with the scenario as it is now",
@@ -203,7 +198,7 @@ fn one(
     shared: &Mutex<(Journal, Vec<Entry>)>,
     progress: &dyn Progress,
     ctx: Context,
-) -> CliResult {
+) -> Result {
     shared
         .lock()
         .expect("no panic holds it")
@@ -231,12 +226,12 @@ pub fn run_trial(
     dir: &Path,
     batch_ctx: Context,
 ) -> Result<serde_json::Value, String> {
-    let work = || -> CliResult<serde_json::Value> {
+    let work = || -> Result<serde_json::Value> {
         let scenario = batch.scenario(trial)?;
         crate::output::create_dir(dir)?;
         let path = dir.join("stdout.txt");
         let mut file = std::fs::File::create(&path)
-            .map_err(|e| CliError::Failure(format!("{}: {e}", path.display())))?;
+            .map_err(|e| Error::Failure(format!("{}: {e}", path.display())))?;
         use std::io::Write;
         let _ = writeln!(file, "# trial {}: {}", trial.key, batch.command(trial));
         let say = ToFile(Mutex::new(file), batch_ctx.reporter);
@@ -247,7 +242,7 @@ pub fn run_trial(
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(1)
             .build()
-            .map_err(|e| CliError::Failure(format!("thread pool: {e}")))?;
+            .map_err(|e| Error::Failure(format!("thread pool: {e}")))?;
         // A trial's recording (outputs = "all") is named after the trial.
         let stem = batch.file.file_stem().unwrap_or_default().to_string_lossy();
         let rrd = crate::record::Target {
@@ -263,9 +258,9 @@ pub fn run_trial(
         }
         let summary = dir.join("summary.json");
         let text = std::fs::read_to_string(&summary)
-            .map_err(|e| CliError::Failure(format!("{}: {e}", summary.display())))?;
+            .map_err(|e| Error::Failure(format!("{}: {e}", summary.display())))?;
         serde_json::from_str(&text)
-            .map_err(|e| CliError::Failure(format!("{}: {e}", summary.display())))
+            .map_err(|e| Error::Failure(format!("{}: {e}", summary.display())))
     };
     match std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)) {
         Ok(r) => r.map_err(|e| e.to_string()),
@@ -295,8 +290,8 @@ impl Reporter for ToFile<'_> {
 }
 
 /// Deletes the heavy outputs ([`HEAVY`]) of a light trial.
-fn drop_heavy(dir: &Path) -> CliResult {
-    let fail = |e: std::io::Error| CliError::Failure(format!("{}: {e}", dir.display()));
+fn drop_heavy(dir: &Path) -> Result {
+    let fail = |e: std::io::Error| Error::Failure(format!("{}: {e}", dir.display()));
     for item in std::fs::read_dir(dir).map_err(fail)? {
         let item = item.map_err(fail)?;
         let name = item.file_name().to_string_lossy().into_owned();

@@ -7,7 +7,7 @@
 //! - `log.txt`: one line as each trial starts and ends (how resume is audited).
 
 use super::{Batch, Shard};
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 use std::collections::BTreeSet;
@@ -82,20 +82,20 @@ impl Meta {
     }
 
     /// Reads `dir/trials.json`.
-    pub fn read(dir: &Path) -> CliResult<Self> {
+    pub fn read(dir: &Path) -> Result<Self> {
         let path = dir.join(META);
         let text = std::fs::read_to_string(&path).map_err(|e| {
-            CliError::Input(format!(
+            Error::Input(format!(
                 "{}: cannot read batch metadata: {e}",
                 path.display()
             ))
         })?;
         serde_json::from_str(&text)
-            .map_err(|e| CliError::Input(format!("{}: not batch metadata: {e}", path.display())))
+            .map_err(|e| Error::Input(format!("{}: not batch metadata: {e}", path.display())))
     }
 
     /// Writes `dir/trials.json` (atomically).
-    pub fn write(&self, dir: &Path) -> CliResult {
+    pub fn write(&self, dir: &Path) -> Result {
         let text = serde_json::to_string_pretty(self).expect("plain JSON") + "\n";
         crate::output::write_atomic(&dir.join(META), text.as_bytes())
     }
@@ -211,34 +211,34 @@ pub fn flatten(v: &Value) -> Map<String, Value> {
 
 /// Reads `dir/journal.jsonl` (none: empty). A last line cut short (the process killed
 /// while appending it) is dropped and cut off the file; any other bad line is an error.
-pub fn read(dir: &Path) -> CliResult<Vec<Entry>> {
+pub fn read(dir: &Path) -> Result<Vec<Entry>> {
     let path = dir.join(JOURNAL);
     let mut file = match OpenOptions::new().read(true).write(true).open(&path) {
         Ok(f) => f,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(e) => return Err(CliError::Failure(format!("{}: {e}", path.display()))),
+        Err(e) => return Err(Error::Failure(format!("{}: {e}", path.display()))),
     };
     let mut text = String::new();
     file.read_to_string(&mut text)
-        .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
+        .map_err(|e| Error::Input(format!("{}: {e}", path.display())))?;
     let complete = text.rfind('\n').map_or(0, |i| i + 1);
     if complete < text.len() {
         file.set_len(complete as u64)
             .and_then(|_| file.seek(SeekFrom::End(0)).map(|_| ()))
-            .map_err(|e| CliError::Failure(format!("{}: {e}", path.display())))?;
+            .map_err(|e| Error::Failure(format!("{}: {e}", path.display())))?;
     }
     text[..complete]
         .lines()
         .enumerate()
         .map(|(i, line)| {
             serde_json::from_str(line)
-                .map_err(|e| CliError::Input(format!("{}: line {}: {e}", path.display(), i + 1)))
+                .map_err(|e| Error::Input(format!("{}: line {}: {e}", path.display(), i + 1)))
         })
         .collect()
 }
 
 /// Replaces `dir/journal.jsonl` with `entries` (atomically).
-pub fn rewrite(dir: &Path, entries: &[Entry]) -> CliResult {
+pub fn rewrite(dir: &Path, entries: &[Entry]) -> Result {
     let text: String = entries.iter().map(line).collect();
     crate::output::write_atomic(&dir.join(JOURNAL), text.as_bytes())
 }
@@ -271,20 +271,20 @@ pub struct Journal {
 
 impl Journal {
     /// Opens (creating) `dir`'s journal and log.
-    pub fn open(dir: &Path) -> CliResult<Self> {
+    pub fn open(dir: &Path) -> Result<Self> {
         let open = |name: &str| {
             OpenOptions::new()
                 .create(true)
                 .append(true)
                 .open(dir.join(name))
-                .map_err(|e| CliError::Failure(format!("{}: {e}", dir.join(name).display())))
+                .map_err(|e| Error::Failure(format!("{}: {e}", dir.join(name).display())))
         };
         let mut log = open(LOG)?;
         // A log line cut short by a kill: end it, so the next line starts on its own.
         let text = std::fs::read(dir.join(LOG)).unwrap_or_default();
         if text.last().is_some_and(|&b| b != b'\n') {
             log.write_all(b"\n")
-                .map_err(|e| CliError::Failure(format!("{LOG}: {e}")))?;
+                .map_err(|e| Error::Failure(format!("{LOG}: {e}")))?;
         }
         Ok(Self {
             journal: open(JOURNAL)?,
@@ -293,21 +293,21 @@ impl Journal {
     }
 
     /// Logs `what` (`start`, `ok`, `failed`) of `key`, flushed.
-    pub fn log(&mut self, what: &str, key: &str) -> CliResult {
+    pub fn log(&mut self, what: &str, key: &str) -> Result {
         let t = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(0.0, |d| d.as_secs_f64());
         writeln!(self.log, "{t:.3} {} {what} {key}", std::process::id())
             .and_then(|_| self.log.flush())
-            .map_err(|e| CliError::Failure(format!("{LOG}: {e}")))
+            .map_err(|e| Error::Failure(format!("{LOG}: {e}")))
     }
 
     /// Appends `entry` and waits until it is on disk.
-    pub fn append(&mut self, entry: &Entry) -> CliResult {
+    pub fn append(&mut self, entry: &Entry) -> Result {
         self.journal
             .write_all(line(entry).as_bytes())
             .and_then(|_| self.journal.sync_data())
-            .map_err(|e| CliError::Failure(format!("{JOURNAL}: {e}")))
+            .map_err(|e| Error::Failure(format!("{JOURNAL}: {e}")))
     }
 }
 

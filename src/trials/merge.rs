@@ -5,24 +5,21 @@
 //! present twice, or when the directories come from different scenarios.
 
 use super::journal::{self, Entry, Meta, RUNS};
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// Merges the shard directories `dirs` into `out` (created; not one of the shards);
 /// returns the number of trials.
-pub fn merge(dirs: &[PathBuf], out: &Path) -> CliResult<usize> {
-    let metas: Vec<Meta> = dirs
-        .iter()
-        .map(|d| Meta::read(d))
-        .collect::<CliResult<_>>()?;
+pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<usize> {
+    let metas: Vec<Meta> = dirs.iter().map(|d| Meta::read(d)).collect::<Result<_>>()?;
     let first = &metas[0];
     for (d, m) in dirs.iter().zip(&metas) {
         if m.scenario_hash != first.scenario_hash
             || m.keys != first.keys
             || m.factors != first.factors
         {
-            return Err(CliError::Input(format!(
+            return Err(Error::Input(format!(
                 "{} and {} hold different batches (scenario {} vs {}, hash {} vs {})",
                 dirs[0].display(),
                 d.display(),
@@ -33,7 +30,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> CliResult<usize> {
             )));
         }
         if m.shard.map(|s| s.count) != first.shard.map(|s| s.count) {
-            return Err(CliError::Input(format!(
+            return Err(Error::Input(format!(
                 "{} is shard {} but {} is shard {}: not parts of one split",
                 d.display(),
                 m.shard.map_or("none".into(), |s| s.to_string()),
@@ -46,7 +43,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> CliResult<usize> {
             .ok()
             .is_some_and(|out| d.canonicalize().ok() == Some(out))
         {
-            return Err(CliError::Input(format!(
+            return Err(Error::Input(format!(
                 "--out {} is one of the shards: choose another directory",
                 out.display()
             )));
@@ -106,7 +103,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> CliResult<usize> {
         }
     }
     if !problems.is_empty() {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "cannot merge into {}: {}",
             out.display(),
             problems.join("; ")
@@ -135,8 +132,8 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> CliResult<usize> {
 }
 
 /// Copies the directory tree `from` to `to` (replacing what is there).
-fn copy_dir(from: &Path, to: &Path) -> CliResult {
-    let fail = |p: &Path, e: std::io::Error| CliError::Failure(format!("{}: {e}", p.display()));
+fn copy_dir(from: &Path, to: &Path) -> Result {
+    let fail = |p: &Path, e: std::io::Error| Error::Failure(format!("{}: {e}", p.display()));
     if to.exists() {
         std::fs::remove_dir_all(to).map_err(|e| fail(to, e))?;
     }

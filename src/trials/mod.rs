@@ -18,7 +18,7 @@ pub mod plots;
 pub mod report;
 pub mod slurm;
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use crate::scenario::Scenario;
 use crate::scenario::overrides::{Override, show, split_path};
 use crate::scenario::trials::{Experiment, Outputs, TrialsConfig};
@@ -80,11 +80,12 @@ pub struct Batch {
 impl Batch {
     /// Reads `file`'s `[trials]` and checks every factor level by reading the scenario
     /// with it set (errors name the factor and the level).
-    pub fn load(file: &Path) -> CliResult<Self> {
+    pub fn load(file: &Path) -> Result<Self> {
         let scenario = Scenario::load(file)?;
-        let config = scenario.trials.clone().ok_or_else(|| {
-            CliError::field(file, "trials", "the scenario has no [trials] section")
-        })?;
+        let config = scenario
+            .trials
+            .clone()
+            .ok_or_else(|| Error::field(file, "trials", "the scenario has no [trials] section"))?;
         let mut table = Scenario::resolved_table(file)?;
         let hash = hex(&Sha256::digest(
             toml::to_string(&table).expect("a table").as_bytes(),
@@ -93,7 +94,7 @@ impl Batch {
         let seeds = config
             .seeds
             .list()
-            .map_err(|e| CliError::field(file, "trials.seeds", e))?;
+            .map_err(|e| Error::field(file, "trials.seeds", e))?;
         let mut factors = Vec::new();
         collect(file, &config.factors, &[], &mut factors)?;
         factors.sort_by(|a, b| a.path.cmp(&b.path));
@@ -102,15 +103,14 @@ impl Batch {
                 let mut t = table.clone();
                 let o = f.set(i);
                 let field = format!("trials.factors.{}[{i}]", f.path);
-                o.apply(&mut t)
-                    .map_err(|e| CliError::field(file, &field, e))?;
+                o.apply(&mut t).map_err(|e| Error::field(file, &field, e))?;
                 Scenario::from_table(file, t, &format!("with {} = {}", f.path, show(level)))
-                    .map_err(|e| CliError::field(file, &field, e))?;
+                    .map_err(|e| Error::field(file, &field, e))?;
             }
         }
         let trials = expand(&factors, &seeds);
         if config.experiment == Experiment::MazeSlam && scenario.maze.is_none() {
-            return Err(CliError::field(
+            return Err(Error::field(
                 file,
                 "trials.experiment",
                 "\"maze-slam\" needs a [maze] section",
@@ -154,10 +154,10 @@ impl Batch {
 
     /// The scenario of a trial: its levels set, its seed, no recording with light
     /// outputs.
-    pub fn scenario(&self, trial: &Trial) -> CliResult<Scenario> {
+    pub fn scenario(&self, trial: &Trial) -> Result<Scenario> {
         let mut table = self.table.clone();
         for o in self.overrides(trial) {
-            o.apply(&mut table).map_err(CliError::Input)?;
+            o.apply(&mut table).map_err(Error::Input)?;
         }
         table.insert("seed".into(), Value::Integer(trial.seed as i64));
         let mut scenario =
@@ -237,26 +237,28 @@ fn hex(bytes: &[u8]) -> String {
 
 /// The factors of `table` (under `trials.factors.<prefix>`): nested tables down to the
 /// lists of levels.
-fn collect(file: &Path, table: &Table, prefix: &[String], out: &mut Vec<Factor>) -> CliResult {
+fn collect(file: &Path, table: &Table, prefix: &[String], out: &mut Vec<Factor>) -> Result {
     for (key, value) in table {
         let mut path = prefix.to_vec();
-        path.extend(split_path(key).map_err(|e| {
-            CliError::field(file, &format!("trials.factors.{}", prefix.join(".")), e)
-        })?);
+        path.extend(
+            split_path(key).map_err(|e| {
+                Error::field(file, &format!("trials.factors.{}", prefix.join(".")), e)
+            })?,
+        );
         let dotted = path.join(".");
         let field = format!("trials.factors.{dotted}");
         match value {
             Value::Table(t) => collect(file, t, &path, out)?,
             Value::Array(levels) if !levels.is_empty() => {
                 if dotted == "seed" || path[0] == "trials" {
-                    return Err(CliError::field(
+                    return Err(Error::field(
                         file,
                         &field,
                         "seeds are `trials.seeds`, and [trials] cannot vary itself",
                     ));
                 }
                 if out.iter().any(|f: &Factor| f.path == dotted) {
-                    return Err(CliError::field(file, &field, "the factor is given twice"));
+                    return Err(Error::field(file, &field, "the factor is given twice"));
                 }
                 out.push(Factor {
                     path: dotted,
@@ -265,7 +267,7 @@ fn collect(file: &Path, table: &Table, prefix: &[String], out: &mut Vec<Factor>)
                 });
             }
             other => {
-                return Err(CliError::field(
+                return Err(Error::field(
                     file,
                     &field,
                     format!("expected a non-empty list of the values the field takes, got {other}"),

@@ -2,7 +2,7 @@
 //! Figs 6.6–6.10 style; the figures from `whisker_slam::stats::boxplot`) and curves of a
 //! median with its interquartile band over iterations.
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use plotters::prelude::*;
 use std::path::Path;
 use whisker_slam::stats::boxplot::BoxStats;
@@ -31,8 +31,8 @@ pub struct Curve {
     pub q3: Vec<f64>,
 }
 
-fn failed(path: &Path, e: impl std::fmt::Display) -> CliError {
-    CliError::Failure(format!("{}: cannot draw: {e}", path.display()))
+fn failed(path: &Path, e: impl std::fmt::Display) -> Error {
+    Error::Failure(format!("{}: cannot draw: {e}", path.display()))
 }
 
 /// The colour of series `i`.
@@ -67,7 +67,7 @@ pub fn notched_boxes(
     y_label: &str,
     groups: &[BoxGroup],
     colours: &[usize],
-) -> CliResult {
+) -> Result {
     let lo = groups
         .iter()
         .flat_map(|g| [g.stats.whisker_low, g.stats.notch_low])
@@ -168,7 +168,7 @@ pub fn band_curves(
     x_label: &str,
     y_label: &str,
     curves: &[Curve],
-) -> CliResult {
+) -> Result {
     let xs = curves.iter().flat_map(|c| c.x.iter().copied());
     let x_hi = xs.fold(1.0f64, f64::max);
     let lo = curves

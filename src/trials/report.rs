@@ -12,7 +12,7 @@
 
 use super::journal::{self, Entry, Meta, RUNS, Status};
 use super::plots::{BoxGroup, Curve, band_curves, notched_boxes};
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
@@ -36,7 +36,7 @@ struct Group<'a> {
 }
 
 /// Writes `dir/report.md` and `dir/figures/`; returns the report's path.
-pub fn write(dir: &Path) -> CliResult<PathBuf> {
+pub fn write(dir: &Path) -> Result<PathBuf> {
     let meta = Meta::read(dir)?;
     let mut entries = journal::read(dir)?;
     entries.sort_by_key(|e| e.index);
@@ -45,7 +45,7 @@ pub fn write(dir: &Path) -> CliResult<PathBuf> {
     // The report owns figures/: a new report leaves none of an older one's.
     if figures.is_dir() {
         std::fs::remove_dir_all(&figures)
-            .map_err(|e| CliError::Failure(format!("cannot clear {}: {e}", figures.display())))?;
+            .map_err(|e| Error::Failure(format!("cannot clear {}: {e}", figures.display())))?;
     }
     crate::output::create_dir(&figures)?;
     let mut md = String::new();
@@ -260,7 +260,7 @@ fn section(
     factor: &str,
     metric: &str,
     groups: &[Group],
-) -> CliResult {
+) -> Result {
     let _ = writeln!(md, "### {metric}\n");
     md.push_str("| stratum | level | n | median | IQR | mean |\n|---|---|---:|---:|---:|---:|\n");
     let mut boxes = Vec::new();
@@ -446,13 +446,7 @@ fn ic_series(dir: &Path, key: &str) -> Option<BTreeMap<String, Vec<f64>>> {
 }
 
 /// Integrated confidence over iterations per group, one figure per object.
-fn curves(
-    md: &mut String,
-    dir: &Path,
-    figures: &Path,
-    factor: &str,
-    groups: &[Group],
-) -> CliResult {
+fn curves(md: &mut String, dir: &Path, figures: &Path, factor: &str, groups: &[Group]) -> Result {
     // One figure per object and stratum, a curve per level (coloured by level).
     let mut per_object: BTreeMap<(String, String), Vec<Curve>> = BTreeMap::new();
     for g in groups {
@@ -524,7 +518,7 @@ fn curves(
             &format!("IC {object}"),
             &curves,
         )
-        .map_err(|e| CliError::Failure(e.to_string()))?;
+        .map_err(|e| Error::Failure(e.to_string()))?;
         let _ = writeln!(md, "![IC of {object} by {factor}{at}]({FIGURES}/{name})\n");
     }
     Ok(())

@@ -10,7 +10,7 @@
 //! real cluster DIR must be on a filesystem every node sees.
 
 use super::{Batch, quote};
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
 
 /// `whisker trials slurm`.
@@ -31,29 +31,27 @@ pub struct Settings {
     pub whisker: Option<PathBuf>,
 }
 
-fn absolute(p: &Path) -> CliResult<PathBuf> {
-    std::path::absolute(p).map_err(|e| CliError::Input(format!("{}: {e}", p.display())))
+fn absolute(p: &Path) -> Result<PathBuf> {
+    std::path::absolute(p).map_err(|e| Error::Input(format!("{}: {e}", p.display())))
 }
 
 /// Writes the scripts; returns the path of `submit.sh`.
-pub fn write(o: &Settings) -> CliResult<PathBuf> {
+pub fn write(o: &Settings) -> Result<PathBuf> {
     let batch = Batch::load(&o.scenario)?;
     if o.shards == 0 || o.shards > 1000 {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "--shards: expected 1 to 1000 (Slurm's default MaxArraySize is 1001), got {}",
             o.shards
         )));
     }
     if o.cpus_per_task == 0 {
-        return Err(CliError::Input(
-            "--cpus-per-task: expected at least 1".into(),
-        ));
+        return Err(Error::Input("--cpus-per-task: expected at least 1".into()));
     }
     let k = o.shards.min(batch.trials.len());
     let whisker = match &o.whisker {
         Some(p) => absolute(p)?,
         None => std::env::current_exe()
-            .map_err(|e| CliError::Failure(format!("cannot find this binary: {e}")))?,
+            .map_err(|e| Error::Failure(format!("cannot find this binary: {e}")))?,
     };
     let scenario = absolute(&o.scenario)?;
     let out = absolute(&o.out)?;
@@ -125,8 +123,8 @@ pub fn write(o: &Settings) -> CliResult<PathBuf> {
     Ok(dir.join("submit.sh"))
 }
 
-fn set_executable(path: &Path) -> CliResult {
+fn set_executable(path: &Path) -> Result {
     use std::os::unix::fs::PermissionsExt;
     std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755))
-        .map_err(|e| CliError::Failure(format!("{}: {e}", path.display())))
+        .map_err(|e| Error::Failure(format!("{}: {e}", path.display())))
 }

@@ -1,4 +1,4 @@
-//! The closed loop of Chapter 6 (`whisker::explore`), called as a library and by the quickstart: a full
+//! The closed loop of Chapter 6 (`whisker::closed_loop`), called as a library and by the quickstart: a full
 //! map-building run of the Box checked independently (every goal reached or counted, no
 //! collision by Rapier's own contact detection along every move), the loop's bookkeeping
 //! against the truth, and byte-identical results whatever the thread count.
@@ -16,10 +16,10 @@ fn load(name: &str) -> (Scenario, PathBuf) {
     (Scenario::load(&file).unwrap(), file)
 }
 
-fn run(scenario: &Scenario, file: &Path) -> whisker::explore::Outcome {
+fn run(scenario: &Scenario, file: &Path) -> whisker::closed_loop::Outcome {
     let plan = Plan::new(scenario, file).unwrap();
     let env = scenario.environment(file).unwrap().environment;
-    whisker::explore::run(scenario, file, plan, &env).unwrap()
+    whisker::closed_loop::run(scenario, file, plan, &env).unwrap()
 }
 
 /// Column `name` of every row of a CSV text.

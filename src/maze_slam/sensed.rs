@@ -1,13 +1,13 @@
 //! What a maze run senses (thesis §3.1): the array's geometry over the board and the
 //! tactile image of a whisk's contacts (§3.1.1), the path and its odometry with the error
 //! model of §3.1.2, and one seed's RatSLAM input — from the kinematic sweep, physics
-//! whiskers ([`super::physics`]) or a dataset (`crate::dataset::maze`).
+//! whiskers ([`super::physics`]) or a dataset (`super::dataset`).
 
 use super::Settings;
 use super::images;
 use super::path::{self, Sample};
-use super::physics::{self, PhysicsWhiskers};
-use crate::error::{CliError, CliResult};
+use super::physics_images::{self as physics, PhysicsWhiskers};
+use crate::error::{Error, Result};
 use crate::record::Context;
 use crate::scenario::array::{BendingConfig, RcpConfig};
 use crate::scenario::maze_slam::AngleEstimate;
@@ -106,11 +106,7 @@ pub fn kinematic_contacts(
 /// The loop's corners (x, y) from the scenario's pose waypoints, and the geometry: the
 /// array plane at the first waypoint's height, its yaw at heading 0 from its `rpy_deg`,
 /// the board's top at `board_z`.
-fn corners(
-    scenario: &Scenario,
-    file: &Path,
-    board_z: f64,
-) -> CliResult<(Vec<(f64, f64)>, Geometry)> {
+fn corners(scenario: &Scenario, file: &Path, board_z: f64) -> Result<(Vec<(f64, f64)>, Geometry)> {
     let poses: Vec<([f64; 3], [f64; 3])> = scenario
         .trajectory
         .waypoints
@@ -118,7 +114,7 @@ fn corners(
         .filter_map(|w| Some((w.position_m?, w.rpy_deg?)))
         .collect();
     if poses.len() < 3 {
-        return Err(CliError::field(
+        return Err(Error::field(
             file,
             "trajectory.waypoints",
             "maze-slam needs at least 3 pose waypoints (the loop's corners)",
@@ -138,7 +134,7 @@ fn corners(
 
 /// The physics whiskers: the scenario's `[array]` with the command line's overrides,
 /// checked as the scenario's own values are.
-fn physics_configs(scenario: &Scenario, file: &Path, o: &Settings) -> CliResult<PhysicsWhiskers> {
+fn physics_configs(scenario: &Scenario, file: &Path, o: &Settings) -> Result<PhysicsWhiskers> {
     let mut array = scenario.array.clone();
     if let Some(b) = o.bending {
         array.bending = match b {
@@ -154,7 +150,7 @@ fn physics_configs(scenario: &Scenario, file: &Path, o: &Settings) -> CliResult<
     }
     let overridden = o.bending.is_some() || o.segments.is_some() || o.substeps.is_some();
     let configs = array.whisker_configs(file).map_err(|e| match e {
-        CliError::Input(m) if overridden => CliError::Input(format!(
+        Error::Input(m) if overridden => Error::Input(format!(
             "{m} (with --bending / --segments / --substeps from the command line)"
         )),
         e => e,
@@ -184,15 +180,15 @@ pub struct Setup {
 
 impl Setup {
     /// The setup of `scenario` (read from `o.scenario`) with the command line's options.
-    pub fn new(o: &Settings, scenario: &Scenario) -> CliResult<Self> {
+    pub fn new(o: &Settings, scenario: &Scenario) -> Result<Self> {
         let file = o.scenario.as_path();
         let maze = scenario
             .maze
             .as_ref()
-            .ok_or_else(|| CliError::field(file, "maze", "maze-slam needs a [maze] section"))?;
+            .ok_or_else(|| Error::field(file, "maze", "maze-slam needs a [maze] section"))?;
         let config = &scenario.maze_slam;
         if (o.kidnap || config.kidnap) && config.circuits < 4 {
-            return Err(CliError::field(
+            return Err(Error::field(
                 file,
                 "maze_slam.circuits",
                 format!(
@@ -207,7 +203,7 @@ impl Setup {
             (None, Sensing::Physics) => SensingMode::Physics,
             (None, Sensing::Kinematic) => SensingMode::Kinematic,
             (None, Sensing::None) => {
-                return Err(CliError::field(
+                return Err(Error::field(
                     file,
                     "sensing",
                     "maze-slam needs \"physics\" or \"kinematic\" (or --sensing)",
@@ -267,7 +263,7 @@ pub(super) fn sense(
     target: &std::cell::OnceCell<SweepTarget>,
     seed: u64,
     ctx: Context,
-) -> CliResult<Sensed> {
+) -> Result<Sensed> {
     let file = o.scenario.as_path();
     let config = &scenario.maze_slam;
     let (g, truth) = (&setup.geometry, &setup.truth);
@@ -279,7 +275,7 @@ pub(super) fn sense(
                 let file = images::path(dir, name, seed);
                 Ok((name.clone(), images::read(&file, truth.len())?))
             })
-            .collect::<CliResult<_>>()?,
+            .collect::<Result<_>>()?,
         (None, None) => {
             let target = target.get_or_init(|| SweepTarget::of(environment));
             let noise = scenario.kinematic.noise(file)?;

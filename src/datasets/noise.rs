@@ -13,11 +13,11 @@
 //!   from sub-stream `maze-slam/odometry` of M — the same draws as a noisy dataset
 //!   written with seed M; the pose log is dead-reckoned again from it.
 
-use super::manifest::{
+use crate::dataset::manifest::{
     ContactNoiseInfo, Experiment, Level, Manifest, NoiseInfo, Odometry6Noise, Role, SensorNoise,
 };
-use super::records;
-use crate::error::{CliError, CliResult};
+use crate::dataset::records;
+use crate::error::{Error, Result};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 use std::path::PathBuf;
@@ -48,20 +48,20 @@ pub struct Settings {
 }
 
 /// `whisker dataset noise`.
-pub fn run(o: &Settings) -> CliResult<super::Written> {
+pub fn run(o: &Settings) -> Result<crate::dataset::Written> {
     let m = Manifest::read(&o.input)?;
     if !m.noise.is_clean() {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "{}: field `noise`: the dataset already holds noise; write it with \
              `whisker dataset --clean` to noise it later",
-            o.input.join(super::manifest::FILE).display()
+            o.input.join(crate::dataset::manifest::FILE).display()
         )));
     }
     if m.experiment == Experiment::ClosedLoop {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "{}: a closed loop's path depends on its noise: its dataset is written with the \
              noise it ran with and cannot be noised later",
-            o.input.join(super::manifest::FILE).display()
+            o.input.join(crate::dataset::manifest::FILE).display()
         )));
     }
     let contact_noise = ContactNoise {
@@ -71,13 +71,13 @@ pub fn run(o: &Settings) -> CliResult<super::Written> {
     };
     contact_noise
         .validate()
-        .map_err(|(f, e)| CliError::Input(format!("--{}: {e}", f.replace('_', "-"))))?;
+        .map_err(|(f, e)| Error::Input(format!("--{}: {e}", f.replace('_', "-"))))?;
     for (name, v) in [
         ("deflection-counts", o.deflection_counts),
         ("angle-deg", o.angle_deg),
     ] {
         if !(v.is_finite() && v >= 0.0) {
-            return Err(CliError::Input(format!(
+            return Err(Error::Input(format!(
                 "--{name}: expected a number ≥ 0, got {v}"
             )));
         }
@@ -88,7 +88,7 @@ pub fn run(o: &Settings) -> CliResult<super::Written> {
         slope_sigma: o.slope_sigma,
         detection_probability: o.detection,
     };
-    super::timed(&o.out, |s| {
+    crate::dataset::timed(&o.out, |s| {
         let mut out = m.clone();
         out.noise = NoiseInfo {
             added_with_seed: Some(o.seed),
@@ -107,31 +107,33 @@ pub fn run(o: &Settings) -> CliResult<super::Written> {
                     // log dead-reckoned again from it.
                     None => {
                         out.noise.odometry = Some(odometry);
-                        let clean = super::maze::read_odometry(&path, None)?;
+                        let clean = crate::maze_slam::dataset::read_odometry(&path, None)?;
                         let steps = noisy_steps(&clean, &odometry, o.seed);
-                        let poses = super::maze::pose_log_of(&o.input, &m, &steps)?;
+                        let poses = crate::maze_slam::dataset::pose_log_of(&o.input, &m, &steps)?;
                         s.put("log/poses.csv", Role::Log, poses.as_bytes())?;
-                        super::maze::odometry_csv(&steps).into_bytes()
+                        crate::maze_slam::dataset::odometry_csv(&steps).into_bytes()
                     }
                     // The walk's Gaussian error from `object-slam/<object>/<A|B>/odometry`.
                     Some(walk) => {
                         out.noise.odometry_6d = Some(Odometry6Noise::WALK);
-                        let (clean, start) = super::object::read_log(&o.input, &m, walk)?;
+                        let (clean, start) =
+                            crate::object_slam::dataset::read_log(&o.input, &m, walk)?;
                         let noisy = whisker_slam::whisker_ratslam::walk_odometry::noisy_odometry(
                             &clean,
                             o.seed,
                             &format!("object-slam/{walk}"),
                         );
-                        let poses = super::object::pose_log(&start, &noisy, false, None);
+                        let poses =
+                            crate::object_slam::dataset::pose_log(&start, &noisy, false, None);
                         s.put(&format!("{parent}/poses.csv"), Role::Log, poses.as_bytes())?;
-                        super::object::odometry_csv(&noisy).into_bytes()
+                        crate::object_slam::dataset::odometry_csv(&noisy).into_bytes()
                     }
                 },
                 (Role::Log, "poses.csv") => continue,
                 (Role::Log, "contacts.csv") => {
                     out.noise.contacts = Some(contact_info);
                     let whisks = match (walk, &m.maze) {
-                        (Some(walk), _) => super::object::whisks(&m, walk)?,
+                        (Some(walk), _) => crate::object_slam::dataset::whisks(&m, walk)?,
                         (None, Some(maze)) => maze.updates,
                         (None, None) => 0,
                     };
@@ -143,9 +145,8 @@ pub fn run(o: &Settings) -> CliResult<super::Written> {
                 }
                 _ if entry.path.starts_with("log/whisks/") => continue,
                 (Role::Truth, _) if !path.exists() => continue,
-                _ => std::fs::read(&path).map_err(|e| {
-                    CliError::Input(format!("{}: cannot read: {e}", path.display()))
-                })?,
+                _ => std::fs::read(&path)
+                    .map_err(|e| Error::Input(format!("{}: cannot read: {e}", path.display())))?,
             };
             s.put(&entry.path, entry.role, &bytes)?;
         }
@@ -156,7 +157,7 @@ pub fn run(o: &Settings) -> CliResult<super::Written> {
                 angle_rad: o.angle_deg.to_radians(),
             };
             out.noise.sensor = Some(sigma);
-            let files: Vec<CliResult<(String, String)>> = (0..sensor.whisks)
+            let files: Vec<Result<(String, String)>> = (0..sensor.whisks)
                 .into_par_iter()
                 .map(|c| {
                     let name = format!("log/whisks/{}", records::whisk_name(c));

@@ -2,7 +2,7 @@
 //! command line), CSV files and object maps in `--out`.
 
 use super::{Combo, Event, IdentificationRun, LocalisationRun, Sensed, Settings};
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt;
@@ -112,7 +112,7 @@ pub fn localisation(
     o: &Settings,
     data: &[Sensed],
     runs: &[LocalisationRun],
-) -> CliResult<Vec<LocalisationRow>> {
+) -> Result<Vec<LocalisationRow>> {
     let mut csv = String::from(
         "object,parameters,trajectory,sample,position_error_m,rotation_error_deg,perceived_position_error_m,perceived_rotation_error_deg\n",
     );
@@ -152,7 +152,7 @@ pub fn localisation(
             let maps = dir.join("maps");
             crate::output::create_dir(&maps)?;
             map.save(&maps.join(format!("{}.json", asset.name)))
-                .map_err(CliError::Failure)?;
+                .map_err(Error::Failure)?;
         }
     }
     if let Some(dir) = &o.out {
@@ -168,7 +168,7 @@ pub fn identification(
     data: &[Sensed],
     mapped: &[String],
     runs: &[IdentificationRun],
-) -> CliResult<Vec<IdentificationRow>> {
+) -> Result<Vec<IdentificationRow>> {
     let mut csv = format!("object,trajectory,sample,{}\n", mapped.join(","));
     let mut rows = Vec::new();
     for (i, which, events, series) in runs {

@@ -10,36 +10,22 @@
 //! Whisk cycles follow whisker A1's pattern (cycles start fully retracted); a cycle cut
 //! off by the end of the run is not processed.
 
-use crate::contacts::HEADER;
-use crate::error::{CliError, CliResult};
+use super::contact::{HEADER, estimate, write_row};
+use crate::error::Result;
 use crate::output;
 use crate::record::Recorder;
 use crate::record::{Contact, ContactKind};
 use crate::scenario::Scenario;
 use nalgebra::Isometry3;
-use std::fmt::Write as _;
 use std::path::Path;
 use whisker_sim::sensing::kinematic::RigidWhisker;
 use whisker_sim::sensing::physics::WhiskerConfig;
 use whisker_sim::whisker::control::WhiskingPattern;
-use whisker_slam::frontend::contact::{FrontEndParams, detect};
+use whisker_slam::contact::Contact as SlamContact;
+use whisker_slam::frontend::contact::FrontEndParams;
 use whisker_slam::radial::RadialEstimator;
 use whisker_slam::rng::StreamRng;
 use whisker_slam::sensor::Sample;
-
-/// The built-in default radial-distance model: svr10 (CP-CA-DV-DA-AV), the thesis'
-/// choice (§4.2.1), trained by `whisker radial train` on the physics training set.
-pub const DEFAULT_MODEL: &str = include_str!("../assets/models/svr10.json");
-
-/// The radial-distance model file at `path` (a `whisker radial train` output), or the
-/// built-in svr10.
-pub fn radial_model(path: Option<&Path>) -> CliResult<RadialEstimator> {
-    match path {
-        Some(p) => crate::radial::load_model(p),
-        None => serde_json::from_str(DEFAULT_MODEL)
-            .map_err(|e| CliError::Failure(format!("the built-in svr10 model: {e}"))),
-    }
-}
 
 /// The front end along a physics run.
 pub struct FrontEnd {
@@ -58,7 +44,7 @@ pub struct FrontEnd {
 
 impl FrontEnd {
     /// The front end of `scenario` for whiskers `configs`.
-    pub fn new(scenario: &Scenario, file: &Path, configs: &[WhiskerConfig]) -> CliResult<Self> {
+    pub fn new(scenario: &Scenario, file: &Path, configs: &[WhiskerConfig]) -> Result<Self> {
         let model = scenario.frontend.model(file)?;
         Ok(Self {
             params: scenario.frontend.detection,
@@ -83,7 +69,7 @@ impl FrontEnd {
         pose: &Isometry3<f64>,
         samples: &[Sample],
         recording: Option<&dyn Recorder>,
-    ) -> CliResult {
+    ) -> Result {
         let k = self.pattern.cycle(t);
         if self.cycle != Some(k) {
             if self.cycle.is_some() {
@@ -101,37 +87,43 @@ impl FrontEnd {
         Ok(())
     }
 
-    fn process(&mut self, recording: Option<&dyn Recorder>) -> CliResult {
+    fn process(&mut self, recording: Option<&dyn Recorder>) -> Result {
         let index = self.cycle.unwrap_or(0);
         let rate = whisker_slam::sensor::SAMPLE_RATE_HZ;
         let mut world = Vec::new();
         for (w, stream) in self.samples.iter().enumerate() {
             let whisker = &self.whiskers[w];
-            let Some(event) = detect(stream, rate, whisker.module.beam.length, &self.params) else {
+            let Some(e) = estimate(
+                whisker,
+                stream,
+                rate,
+                &self.params,
+                &self.model,
+                &mut self.rng,
+                &self.poses,
+            ) else {
                 continue;
             };
-            let r = self.model.estimate(&event.features, &mut self.rng);
-            let pose = self.poses[event.onset.min(self.poses.len() - 1)];
-            let p = whisker.shaft_point(&pose, event.onset_angle, r);
-            let local = pose.inverse_transform_point(&p);
+            let p = e.point;
             world.push(Contact {
                 whisker: w,
                 point: [p.x, p.y, p.z],
             });
-            let _ = writeln!(
-                self.csv,
-                "{index},{},{w},{},{},{},{r},{},{},{},{},{},{},{}",
+            let contact = SlamContact {
+                whisker: w,
+                time_s: self.cycle_start + e.event.onset as f64 / rate,
+                angle_rad: e.event.onset_angle,
+                radial_distance: e.radial_distance,
+                point: e.pose.inverse_transform_point(&p),
+                slope: e.event.slope,
+            };
+            write_row(
+                &mut self.csv,
+                index,
                 self.cycle_start,
-                whisker.module.pixel(),
-                self.cycle_start + event.onset as f64 / rate,
-                event.onset_angle.to_degrees(),
-                local.x,
-                local.y,
-                local.z,
-                p.x,
-                p.y,
-                p.z,
-                event.slope
+                &contact,
+                &whisker.module.pixel(),
+                &p,
             );
             self.contacts += 1;
         }
@@ -152,25 +144,7 @@ impl FrontEnd {
     }
 
     /// Writes `frontend.csv` into `dir`.
-    pub fn finish(self, dir: &Path) -> CliResult {
+    pub fn finish(self, dir: &Path) -> Result {
         output::write_atomic(&dir.join("frontend.csv"), self.csv.as_bytes())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use whisker_slam::frontend::features::Feature;
-
-    #[test]
-    fn the_built_in_model_is_svr10() {
-        let model = radial_model(None).unwrap();
-        let RadialEstimator::Svr { features, model } = model else {
-            panic!("the default model is not an SVR");
-        };
-        use Feature::*;
-        assert_eq!(features, [Cp, Ca, Dv, Da, Av]);
-        assert!(!model.support.is_empty());
-        assert!(model.support.iter().all(|s| s.len() == 5));
     }
 }

@@ -12,13 +12,14 @@
 use super::Geometry;
 use super::path::Sample;
 use crate::record::Reporter;
+use crate::sensing::contact::detect_on;
 use nalgebra::Isometry3;
 use whisker_sim::sensing::kinematic::RigidWhisker;
 use whisker_sim::sensing::physics::{
     DT, EnvironmentPiece, PhysicsArray, WhiskerConfig, calibrate_array_rcp,
 };
 use whisker_sim::whisker::control::RcpThreshold;
-use whisker_slam::frontend::contact::{FrontEndParams, detect};
+use whisker_slam::frontend::contact::FrontEndParams;
 use whisker_slam::ratslam::experience_map::wrap;
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::sensor::Sample as Reading;
@@ -99,8 +100,7 @@ impl ImageFrontEnd {
         let mut heights = [vec![None; self.rigid.len()], vec![None; self.rigid.len()]];
         for (w, stream) in streams.iter().enumerate() {
             let whisker = &self.rigid[w];
-            let length = whisker.module.beam.length;
-            let Some(e) = detect(stream, 1.0 / DT, length, &self.params[w]) else {
+            let Some(e) = detect_on(whisker, stream, 1.0 / DT, &self.params[w]) else {
                 continue;
             };
             for (k, angle) in [Some(e.max_angle), e.contact_angle].into_iter().enumerate() {

@@ -12,15 +12,16 @@
 //! depend on the number of threads. An undefined slope (no x or y variation) reads as
 //! flat (0), as a missing SDA entry does.
 
+use super::contact::estimate;
 use crate::record::Reporter;
-use nalgebra::{Isometry3, Point3};
+use nalgebra::Isometry3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
 use whisker_sim::sensing::physics::{DT, EnvironmentPiece, PhysicsArray, WhiskerConfig};
 use whisker_sim::whisker::array;
 use whisker_slam::contact::{Contact, ContactCycle};
-use whisker_slam::frontend::contact::{FrontEndParams, detect};
+use whisker_slam::frontend::contact::FrontEndParams;
 use whisker_slam::radial::RadialEstimator;
 use whisker_slam::rng::{substream, substream_key};
 use whisker_slam::sensor::Sample as Reading;
@@ -202,23 +203,28 @@ impl PhysicsSensing {
         let mut contacts = Vec::new();
         for (i, samples) in streams.iter().enumerate() {
             let whisker = &self.rigid[i];
-            let length = whisker.module.beam.length;
-            let Some(event) = detect(samples, rate, length, &self.params) else {
+            let held = [Isometry3::identity()];
+            let Some(e) = estimate(
+                whisker,
+                samples,
+                rate,
+                &self.params,
+                &self.model,
+                &mut rng,
+                &held,
+            ) else {
                 continue;
             };
-            let r = self.model.estimate(&event.features, &mut rng);
-            let point: Point3<f64> =
-                whisker.shaft_point(&Isometry3::identity(), event.onset_angle, r);
             contacts.push(Contact {
                 whisker: i,
-                time_s: k as f64 + event.onset as f64 / rate,
-                angle_rad: event.onset_angle,
-                radial_distance: r,
-                point,
-                slope: if event.slope.is_nan() {
+                time_s: k as f64 + e.event.onset as f64 / rate,
+                angle_rad: e.event.onset_angle,
+                radial_distance: e.radial_distance,
+                point: e.point,
+                slope: if e.event.slope.is_nan() {
                     0.0
                 } else {
-                    event.slope
+                    e.event.slope
                 },
             });
         }
@@ -250,7 +256,7 @@ mod tests {
         let (near, _) = viewpoints::busiest(&environment, &shape, asset.size).unwrap();
         let far = Isometry3::from_parts(Translation3::new(2.0, 0.0, 0.2), near.rotation);
         let target = SweepTarget::of(&environment);
-        let model = crate::frontend::radial_model(None).unwrap();
+        let model = crate::radial_model::load_or_default(None).unwrap();
         let sensing = PhysicsSensing::new(vec![(shape, Isometry3::identity())], model);
         let cycles = sensing.sense(&target, &[far, near], 0, "test", &crate::record::Silent);
         assert!(cycles[0].contacts.is_empty());
@@ -284,7 +290,7 @@ mod tests {
         let (environment, shape) = placed(asset).unwrap();
         let (near, _) = viewpoints::busiest(&environment, &shape, asset.size).unwrap();
         let target = SweepTarget::of(&environment);
-        let model = crate::frontend::radial_model(None).unwrap();
+        let model = crate::radial_model::load_or_default(None).unwrap();
         let sensing = PhysicsSensing::new(vec![(shape, Isometry3::identity())], model);
         let live = sensing.whisk(&target, 3, &near, 7, "t/physics/3");
         let streams = sensing.streams(&target, &near, 7, "t/physics/3");

@@ -5,7 +5,7 @@
 //! confidence in each object (§6.2).
 
 use super::{Loop, Sensor};
-use crate::error::CliResult;
+use crate::error::Result;
 use crate::record::Recorder;
 use crate::record::{Contact, ContactKind};
 use nalgebra::Isometry3;
@@ -33,11 +33,7 @@ pub(super) struct Whisk<'a> {
 
 impl Loop<'_> {
     /// Logs the final map and the outcome (a line of the event log) at the end of the run.
-    pub(super) fn record_end(
-        &mut self,
-        rec: &dyn Recorder,
-        summary: &serde_json::Value,
-    ) -> CliResult {
+    pub(super) fn record_end(&mut self, rec: &dyn Recorder, summary: &serde_json::Value) -> Result {
         rec.at(self.time);
         // On the `whisk` timeline too: the state after the last whisk.
         let whisks = summary["iterations"].as_u64().unwrap_or(0);
@@ -63,7 +59,7 @@ impl Loop<'_> {
     }
 
     /// Logs whisk `w` to `rec`.
-    pub(super) fn record(&mut self, rec: &dyn Recorder, w: &Whisk) -> CliResult {
+    pub(super) fn record(&mut self, rec: &dyn Recorder, w: &Whisk) -> Result {
         let t = w.start;
         let k = w.iteration as u64;
         rec.at(t);
@@ -73,9 +69,9 @@ impl Loop<'_> {
         }
         rec.pose("world/array", w.pose)?;
         let (truth, shafts) = match &self.sensing {
-            Sensor::Kinematic(a) => (crate::contacts::intersects(a), Some(a)),
+            Sensor::Kinematic(a) => (crate::sensing::contact::intersects(a), Some(a)),
             Sensor::Physics(p) => (
-                crate::contacts::anticipated(&self.target, p.rigid(), w.pose),
+                crate::sensing::contact::anticipated(&self.target, p.rigid(), w.pose),
                 None,
             ),
         };
@@ -85,7 +81,10 @@ impl Loop<'_> {
         if let Some(a) = shafts {
             for f in 0..SHAFT_FRAMES {
                 let tf = t + w.period * f as f64 / SHAFT_FRAMES as f64;
-                rec.shafts(tf, &crate::contacts::rigid_shafts(a, w.pose, tf - t))?;
+                rec.shafts(
+                    tf,
+                    &crate::sensing::contact::rigid_shafts(a, w.pose, tf - t),
+                )?;
             }
         }
         if let (Some(streams), Some(cols)) = (w.streams, &mut self.columns) {

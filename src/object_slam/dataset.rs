@@ -10,20 +10,20 @@
 //! `truth/<object>/<A|B>/poses.csv`, `odometry.csv` (noise-free) and `contacts.csv` (the
 //! rigid sweep without noise).
 
-use super::manifest::{
+use crate::choice::Choice;
+use crate::dataset::manifest::{
     ContactNoiseInfo, Experiment, Level, Manifest, NoiseInfo, ObjectSlamInfo, Odometry6Noise, Role,
     SensorInfo, SensorNoise, WalkInfo,
 };
-use super::records::{self, POSE_COLUMNS};
-use super::table::{Row, Table, columns};
-use super::whisks::{WhiskFiles, put_model, replay_sensing};
-use super::{Staging, array_info};
-use crate::choice::Choice;
-use crate::error::{CliError, CliResult};
-use crate::object_slam::physics::PhysicsSensing;
+use crate::dataset::records::{self, POSE_COLUMNS};
+use crate::dataset::table::{Row, Table, columns};
+use crate::dataset::whisks::{WhiskFiles, put_model, replay_sensing};
+use crate::dataset::{Staging, array_info};
+use crate::error::{Error, Result};
 use crate::object_slam::{self, Sensed, Walk};
 use crate::record::Context;
 use crate::scenario::SensingMode;
+use crate::sensing::held::PhysicsSensing;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use rayon::prelude::*;
 use std::fmt::Write;
@@ -36,7 +36,7 @@ use whisker_sim::whisker::array;
 use whisker_slam::sensor::Odometry;
 use whisker_slam::sensor::SAMPLE_RATE_HZ;
 
-pub(super) const ODOMETRY_COLUMNS: &str =
+pub const ODOMETRY_COLUMNS: &str =
     "whisk,time_s,vx_m_s,vy_m_s,vz_m_s,wx_rad_s,wy_rad_s,wz_rad_s,dt_s";
 
 /// What `whisker dataset object-slam` writes.
@@ -61,10 +61,10 @@ pub struct ObjectDataset {
 }
 
 /// Writes the walks of `o` into `s` (as `whisker object-slam` senses them).
-pub fn write(o: &ObjectDataset, s: &mut Staging, ctx: Context) -> CliResult<Manifest> {
+pub fn write(o: &ObjectDataset, s: &mut Staging, ctx: Context) -> Result<Manifest> {
     let physics = o.sensing == SensingMode::Physics;
     if physics && o.clean {
-        return Err(CliError::Input(
+        return Err(Error::Input(
             "--clean: only with --sensing kinematic (physics whiskers' sensor noise is part \
              of the simulation)"
                 .into(),
@@ -108,7 +108,7 @@ pub fn write(o: &ObjectDataset, s: &mut Staging, ctx: Context) -> CliResult<Mani
         files.finish()?;
         put_model(
             s,
-            &crate::frontend::radial_model(o.radial_model.as_deref())?,
+            &crate::radial_model::load_or_default(o.radial_model.as_deref())?,
         )?;
     }
     let mut walks = Vec::new();
@@ -208,7 +208,7 @@ pub fn write(o: &ObjectDataset, s: &mut Staging, ctx: Context) -> CliResult<Mani
 
 /// A 6-D odometry file's text: per whisk, v (m/s) and ω (rad/s) in the body frame at the
 /// interval's start, and the interval (s).
-pub(super) fn odometry_csv(odometry: &[Odometry]) -> String {
+pub fn odometry_csv(odometry: &[Odometry]) -> String {
     let mut csv = String::from(ODOMETRY_COLUMNS) + "\n";
     for (k, o) in odometry.iter().enumerate() {
         let _ = writeln!(
@@ -224,7 +224,7 @@ pub(super) fn odometry_csv(odometry: &[Odometry]) -> String {
 /// exp(ω·Δt), both in the body frame; the first whisk's only if `first`: an object walk's
 /// first row is no motion), one row per whisk at whole seconds (`times`, if given, else
 /// the whisk's number).
-pub(super) fn pose_log(
+pub fn pose_log(
     start: &Isometry3<f64>,
     odometry: &[Odometry],
     first: bool,
@@ -247,14 +247,14 @@ pub(super) fn pose_log(
 }
 
 /// Reads an object dataset into the walks `whisker object-slam` analyses.
-pub fn read(dir: &Path, m: &Manifest) -> CliResult<Vec<Sensed<'static>>> {
-    let file = dir.join(super::manifest::FILE);
+pub fn read(dir: &Path, m: &Manifest) -> Result<Vec<Sensed<'static>>> {
+    let file = dir.join(crate::dataset::manifest::FILE);
     let Some(info) = m
         .object_slam
         .as_ref()
         .filter(|_| m.experiment == Experiment::ObjectSlam)
     else {
-        return Err(CliError::Input(format!(
+        return Err(Error::Input(format!(
             "{}: not an object-slam dataset",
             file.display()
         )));
@@ -263,7 +263,7 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<Vec<Sensed<'static>>> {
         ("kinematic", Level::Contacts) => None,
         ("physics", Level::Streams) => Some(replay_sensing(dir, m)?),
         _ => {
-            return Err(CliError::field(
+            return Err(Error::field(
                 &file,
                 "object_slam.sensing",
                 "expected \"kinematic\" (level contacts) or \"physics\" (level streams)",
@@ -271,18 +271,18 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<Vec<Sensed<'static>>> {
         }
     };
     if object_slam::Placement::named(&info.placement).is_none() {
-        return Err(CliError::field(
+        return Err(Error::field(
             &file,
             "object_slam.placement",
             "expected \"thesis\" or \"centred\"",
         ));
     }
-    super::rigid_whiskers(dir, &m.array)?;
+    crate::dataset::rigid_whiskers(dir, &m.array)?;
     let truth = m.has_truth(dir);
     let mut out = Vec::new();
     for pair in info.walks.chunks(2) {
         let [a, b] = pair else {
-            return Err(CliError::field(
+            return Err(Error::field(
                 &file,
                 "object_slam.walks",
                 "expected A then B per object",
@@ -292,7 +292,7 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<Vec<Sensed<'static>>> {
             .iter()
             .find(|x| x.name == a.object)
             .ok_or_else(|| {
-                CliError::field(
+                Error::field(
                     &file,
                     "object_slam.walks",
                     format!("unknown object {:?}", a.object),
@@ -306,7 +306,7 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<Vec<Sensed<'static>>> {
             &b.object,
         ) != ("A", 2, "B", 1, &a.object)
         {
-            return Err(CliError::field(
+            return Err(Error::field(
                 &file,
                 "object_slam.walks",
                 format!(
@@ -347,7 +347,7 @@ fn trajectory(name: &str) -> object_slam::Trajectory {
 }
 
 /// The number of whisks of walk `walk` (`<object>/<A|B>`) in the manifest.
-pub(super) fn whisks(m: &Manifest, walk: &str) -> CliResult<usize> {
+pub fn whisks(m: &Manifest, walk: &str) -> Result<usize> {
     m.object_slam
         .as_ref()
         .and_then(|i| {
@@ -357,19 +357,15 @@ pub(super) fn whisks(m: &Manifest, walk: &str) -> CliResult<usize> {
         })
         .map(|w| w.whisks)
         .ok_or_else(|| {
-            CliError::Input(format!(
+            Error::Input(format!(
                 "{}: field `object_slam.walks`: no walk {walk}",
-                super::manifest::FILE
+                crate::dataset::manifest::FILE
             ))
         })
 }
 
 /// A walk's logged odometry and the first pose of its pose log (`walk`: `<object>/<A|B>`).
-pub(super) fn read_log(
-    dir: &Path,
-    m: &Manifest,
-    walk: &str,
-) -> CliResult<(Vec<Odometry>, Isometry3<f64>)> {
+pub fn read_log(dir: &Path, m: &Manifest, walk: &str) -> Result<(Vec<Odometry>, Isometry3<f64>)> {
     let n = whisks(m, walk)?;
     let odometry = read_odometry(&m.file(dir, &format!("log/{walk}/odometry.csv"))?, n)?;
     let poses = records::read_poses(&m.file(dir, &format!("log/{walk}/poses.csv"))?)?;
@@ -377,9 +373,9 @@ pub(super) fn read_log(
 }
 
 /// A 6-D odometry file of `n` whisks.
-pub(super) fn read_odometry(path: &Path, n: usize) -> CliResult<Vec<Odometry>> {
+pub fn read_odometry(path: &Path, n: usize) -> Result<Vec<Odometry>> {
     read_rows(path, ODOMETRY_COLUMNS, n, |row| {
-        let v: Vec<f64> = (2..9).map(|i| row.f64(i)).collect::<CliResult<_>>()?;
+        let v: Vec<f64> = (2..9).map(|i| row.f64(i)).collect::<Result<_>>()?;
         Ok(Odometry {
             v: [v[0], v[1], v[2]],
             omega: [v[3], v[4], v[5]],
@@ -395,7 +391,7 @@ fn read_walk(
     w: &WalkInfo,
     truth: bool,
     physics: Option<&PhysicsSensing>,
-) -> CliResult<Walk> {
+) -> Result<Walk> {
     let base = format!("{}/{}", w.object, w.trajectory);
     let n = w.whisks;
     let cycles = match (physics, m.sensor) {
@@ -404,11 +400,12 @@ fn read_walk(
         (Some(p), Some(_)) => (0..n)
             .into_par_iter()
             .map(|k| {
-                let streams = super::whisk_streams(dir, m, &format!("log/{base}/whisks"), k)?;
+                let streams =
+                    crate::dataset::whisk_streams(dir, m, &format!("log/{base}/whisks"), k)?;
                 let stream = object_slam::stream(&w.object, trajectory(&w.trajectory));
                 Ok(p.contacts(k, &streams, m.seed, &format!("{stream}/physics/{k}")))
             })
-            .collect::<CliResult<Vec<_>>>()?,
+            .collect::<Result<Vec<_>>>()?,
         _ => records::read_contacts(
             &m.file(dir, &format!("log/{base}/contacts.csv"))?,
             n,
@@ -422,7 +419,7 @@ fn read_walk(
             records::TRUTH_POSE_COLUMNS,
             n,
             |row| {
-                let v: Vec<f64> = (2..9).map(|i| row.f64(i)).collect::<CliResult<_>>()?;
+                let v: Vec<f64> = (2..9).map(|i| row.f64(i)).collect::<Result<_>>()?;
                 let q = Quaternion::new(v[6], v[3], v[4], v[5]);
                 if (q.norm() - 1.0).abs() > 1e-9 {
                     return Err(
@@ -452,8 +449,8 @@ pub(super) fn read_rows<T>(
     path: &Path,
     header: &str,
     n: usize,
-    parse: impl Fn(&Row) -> CliResult<T>,
-) -> CliResult<Vec<T>> {
+    parse: impl Fn(&Row) -> Result<T>,
+) -> Result<Vec<T>> {
     let table = Table::read(path, &columns(header))?;
     if table.len() != n {
         return Err(table.error(

@@ -28,21 +28,22 @@
 //! `lost_contact` (a whisk with no contact: FEH/LSR give way to the default trajectory),
 //! `spc_limit` (a region left unsettled after K adjustments).
 
+pub mod dataset;
 mod log;
 mod map_accuracy;
-mod record;
-mod report;
+mod outputs;
 pub mod robot;
 mod strategy;
+mod whisk_recording;
 
-use crate::error::{CliError, CliResult};
-use crate::object_slam::physics::PhysicsSensing;
+use crate::error::{Error, Result};
 use crate::plan::Plan;
 use crate::record::GraphSchedule;
 use crate::record::SensorColumns;
 use crate::record::{Recorder, Reporter, Silent};
 use crate::scenario::explore::{ExploreConfig, Task};
 use crate::scenario::{Scenario, Sensing};
+use crate::sensing::held::PhysicsSensing;
 use log::{Row, Summary};
 use nalgebra::{Isometry3, Point3, Translation3, Vector3};
 use rand::RngExt;
@@ -63,7 +64,7 @@ use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 use whisker_slam::whisker_ratslam::slam::WhiskerRatSlam;
 
 pub use log::{CSV_NAME, SUMMARY_NAME};
-pub use report::{describe, write};
+pub use outputs::{describe, write};
 
 /// Attempts at a goal per iteration before the array whisks where it is.
 const GOAL_ATTEMPTS: usize = 8;
@@ -178,7 +179,7 @@ pub fn run(
     file: &Path,
     plan: Plan,
     environment: &Environment,
-) -> CliResult<Outcome> {
+) -> Result<Outcome> {
     run_logged(scenario, file, plan, environment, None, None, &Silent)
 }
 
@@ -189,26 +190,26 @@ pub fn run_logged(
     file: &Path,
     plan: Plan,
     environment: &Environment,
-    log: Option<crate::object_slam::physics::WhiskLog>,
+    log: Option<crate::sensing::held::WhiskLog>,
     recording: Option<&dyn Recorder>,
     reporter: &dyn Reporter,
-) -> CliResult<Outcome> {
+) -> Result<Outcome> {
     let config = scenario
         .explore
         .as_ref()
-        .ok_or_else(|| CliError::field(file, "explore", "the scenario has no [explore] section"))?;
+        .ok_or_else(|| Error::field(file, "explore", "the scenario has no [explore] section"))?;
     let names = scenario.object_names();
     let truth = config.object_name(file, &names)?;
     let index = names.iter().position(|n| *n == truth).expect("validated");
     let piece = &environment.pieces[index];
     let world: Vec<Point3<f64>> = piece.mesh.vertices.iter().map(|v| piece.pose * v).collect();
     let (centre, half) = bounding_box(&world);
-    let chain = crate::whiskers::array_chain(scenario, file, &plan)?;
+    let chain = crate::sensing::array::array_chain(scenario, file, &plan)?;
     let robot = Robot::new(plan, chain, environment, scenario.seed)?;
     let start_pose = robot.array_pose();
     let hits = robot.colliding(&robot.q);
     if !hits.is_empty() {
-        return Err(CliError::field(
+        return Err(Error::field(
             file,
             "arm.initial_joints_deg",
             format!(
@@ -253,7 +254,7 @@ pub fn run_logged(
             let mut appended = ObjectMap::default();
             for (name, path) in config.map_files(file) {
                 let m = ObjectMap::load(&path)
-                    .map_err(|e| CliError::field(file, &format!("explore.maps.{name}"), e))?;
+                    .map_err(|e| Error::field(file, &format!("explore.maps.{name}"), e))?;
                 appended.append(&m, &name);
             }
             // The thesis' "bounding sphere + standoff" keeps a box's faces out of reach
@@ -271,7 +272,7 @@ pub fn run_logged(
     };
     let tour = FaceTour::new(mesh, config.min_height_m);
     if tour.usable() == 0 {
-        return Err(CliError::field(
+        return Err(Error::field(
             file,
             "explore.min_height_m",
             "every goal face lies below it",
@@ -344,7 +345,7 @@ impl Loop<'_> {
         }
     }
 
-    fn run(&mut self, seed: u64, start: Isometry3<f64>) -> CliResult<Outcome> {
+    fn run(&mut self, seed: u64, start: Isometry3<f64>) -> Result<Outcome> {
         let mut odometry_rng = substream(seed, "explore/odometry");
         let objects: Vec<String> = self.config.maps.keys().cloned().collect();
         let mut previous = start;
@@ -354,7 +355,7 @@ impl Loop<'_> {
             map: None,
             poses: Vec::new(),
             contacts: Vec::new(),
-            contacts_csv: crate::contacts::HEADER.to_string(),
+            contacts_csv: crate::sensing::contact::HEADER.to_string(),
             times: Vec::new(),
             joints: Vec::new(),
             cycles: Vec::new(),
@@ -444,14 +445,14 @@ impl Loop<'_> {
             };
             log::row(&mut out.csv, &row, &objects);
             out.poses.push(pose);
-            out.contacts.push(crate::contacts::append_cycle(
+            out.contacts.push(crate::sensing::contact::append_cycle(
                 &mut out.contacts_csv,
                 &cycle,
                 &pose,
                 &pixels,
             ));
             if let (Some(rec), Some(contacts)) = (self.recording, out.contacts.last()) {
-                let whisk = record::Whisk {
+                let whisk = whisk_recording::Whisk {
                     iteration,
                     start,
                     period,

@@ -6,7 +6,7 @@
 //! A goal the IK cannot reach, or whose move would touch the object, is refused: the arm
 //! stays where it is and the caller counts the fallback.
 
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use crate::plan::Plan;
 use nalgebra::Isometry3;
 use whisker_sim::arm::LinkShapes;
@@ -55,8 +55,8 @@ pub struct Robot {
 
 impl Robot {
     /// The arm of `plan` at its initial joints, clear of `environment`.
-    pub fn new(plan: Plan, chain: Chain, environment: &Environment, seed: u64) -> CliResult<Self> {
-        let solids = Solids::new(environment).map_err(CliError::Failure)?;
+    pub fn new(plan: Plan, chain: Chain, environment: &Environment, seed: u64) -> Result<Self> {
+        let solids = Solids::new(environment).map_err(Error::Failure)?;
         let shapes = LinkShapes::new(&plan.model);
         let q = plan.waypoints[0].clone();
         Ok(Self {

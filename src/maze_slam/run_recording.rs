@@ -6,7 +6,7 @@
 
 use super::UPDATE_HZ;
 use super::path::Sample;
-use crate::error::CliResult;
+use crate::error::Result;
 use crate::record::{Graph, GraphSchedule, Recorder};
 use nalgebra::{Isometry3, Translation3};
 use whisker_slam::ratslam::experience_map::{MapEvent, Pose2};
@@ -47,7 +47,7 @@ impl RunRecording<'_> {
         step: &Step,
         truth: Option<&Sample>,
         last: bool,
-    ) -> CliResult {
+    ) -> Result {
         let (rec, run) = (self.rec, self.name.as_str());
         self.at(k);
         rec.tactile_image(&format!("slam/{run}/tactile_image"), image)?;
@@ -89,7 +89,7 @@ impl RunRecording<'_> {
     }
 
     /// Logs the run's true and estimated trajectories (static).
-    pub fn finish(&self, truth: Option<&[Sample]>, estimate: &[Pose2]) -> CliResult {
+    pub fn finish(&self, truth: Option<&[Sample]>, estimate: &[Pose2]) -> Result {
         let run = &self.name;
         if let Some(t) = truth {
             let points: Vec<[f64; 3]> = t.iter().map(|p| self.point(p)).collect();

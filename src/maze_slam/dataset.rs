@@ -12,16 +12,16 @@
 //! noise: per update for kinematic sensing, at each whisk cycle's start pose for
 //! physics) and `truth/scenario.toml`.
 
-use super::manifest::{
+use super::physics_images::{self as maze_physics, ImageFrontEnd};
+use crate::dataset::manifest::{
     ContactNoiseInfo, Experiment, Level, Manifest, MazeInfo, NoiseInfo, Role, SensorInfo,
     SensorNoise,
 };
-use super::records::{self, POSE_COLUMNS};
-use super::table::{Table, columns};
-use super::{Staging, array_info, rigid_whiskers};
-use crate::error::{CliError, CliResult};
+use crate::dataset::records::{self, POSE_COLUMNS};
+use crate::dataset::table::{Table, columns};
+use crate::dataset::{Staging, array_info, rigid_whiskers};
+use crate::error::{Error, Result};
 use crate::maze_slam::path::Sample;
-use crate::maze_slam::physics::{self as maze_physics, ImageFrontEnd};
 use crate::maze_slam::{
     Geometry, Sensed, Settings, Setup, UPDATE_HZ, kinematic_contacts, kinematic_whiskers,
     physics_sets,
@@ -55,7 +55,7 @@ pub fn write(
     clean: bool,
     s: &mut Staging,
     reporter: &dyn Reporter,
-) -> CliResult<Manifest> {
+) -> Result<Manifest> {
     let seed = scenario.seed;
     let o = Settings::of(file);
     let setup = Setup::new(&o, scenario)?;
@@ -127,7 +127,7 @@ pub fn write(
                 let t = c as f64 / whisk_hz;
                 let pose = maze_physics::pose_at(truth, t, g);
                 anticipated.push(sweep.sense(&target, c as u64, t, &pose));
-                Ok::<(), CliError>(())
+                Ok::<(), Error>(())
             })?;
             level = Level::Streams;
             sensor = Some(SensorInfo {
@@ -216,7 +216,7 @@ pub fn odometry_csv(steps: &[(f64, f64)]) -> String {
 }
 
 /// Reads an odometry file of `n` updates (any `n` if None): (distance, turn) per update.
-pub fn read_odometry(path: &Path, n: Option<usize>) -> CliResult<Vec<(f64, f64)>> {
+pub fn read_odometry(path: &Path, n: Option<usize>) -> Result<Vec<(f64, f64)>> {
     let table = Table::read(path, &columns(ODOMETRY_COLUMNS))?;
     if let Some(n) = n
         && table.len() != n
@@ -238,7 +238,7 @@ pub fn read_odometry(path: &Path, n: Option<usize>) -> CliResult<Vec<(f64, f64)>
 
 /// The pose log of a dataset whose odometry is now `steps`, from the first pose of its
 /// pose log in `dir`.
-pub fn pose_log_of(dir: &Path, m: &Manifest, steps: &[(f64, f64)]) -> CliResult<String> {
+pub fn pose_log_of(dir: &Path, m: &Manifest, steps: &[(f64, f64)]) -> Result<String> {
     let info = m.maze.as_ref().expect("a maze dataset");
     let g = geometry(info);
     let start = first_pose(&m.file(dir, "log/poses.csv")?, &g)?;
@@ -256,7 +256,7 @@ fn geometry(info: &MazeInfo) -> Geometry {
 }
 
 /// The planar pose of the pose log's first row.
-fn first_pose(path: &Path, g: &Geometry) -> CliResult<Sample> {
+fn first_pose(path: &Path, g: &Geometry) -> Result<Sample> {
     let (_, pose, _) = records::read_poses(path)?.swap_remove(0);
     let level = UnitQuaternion::from_euler_angles(std::f64::consts::PI, 0.0, g.yaw0);
     let turn = pose.rotation * level.inverse();
@@ -306,11 +306,11 @@ fn pose_log(
 
 /// Reads a maze dataset: RatSLAM's input, its parameters and whether to run the
 /// kidnapped variant.
-pub fn read(dir: &Path, m: &Manifest) -> CliResult<(Sensed, RatSlamParams, bool)> {
+pub fn read(dir: &Path, m: &Manifest) -> Result<(Sensed, RatSlamParams, bool)> {
     let info = m.maze.as_ref().expect("checked by Manifest::read");
-    let file = dir.join(super::manifest::FILE);
+    let file = dir.join(crate::dataset::manifest::FILE);
     if info.update_hz != UPDATE_HZ {
-        return Err(CliError::field(
+        return Err(Error::field(
             &file,
             "maze.update_hz",
             format!("expected {UPDATE_HZ} (the rate of §3.1.2)"),
@@ -323,14 +323,14 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<(Sensed, RatSlamParams, bool)
         || starts.windows(2).any(|w| w[0] >= w[1])
         || starts[starts.len() - 1] >= n
     {
-        return Err(CliError::field(
+        return Err(Error::field(
             &file,
             "maze.circuit_starts",
             "expected at least 2 increasing updates below maze.updates (at least 2)",
         ));
     }
     if info.kidnap && starts.len() < 4 {
-        return Err(CliError::field(
+        return Err(Error::field(
             &file,
             "maze.kidnap",
             "the kidnapped variant needs 4 circuits",
@@ -378,14 +378,14 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<(Sensed, RatSlamParams, bool)
         Level::Streams => {
             let sensor = m.sensor.expect("checked by Manifest::read");
             let params = info.frontend.clone().ok_or_else(|| {
-                CliError::field(
+                Error::field(
                     &file,
                     "maze.frontend",
                     "level \"streams\" needs the front end's parameters",
                 )
             })?;
             if sensor.sample_rate_hz != SAMPLE_RATE_HZ || params.len() != whiskers.len() {
-                return Err(CliError::field(
+                return Err(Error::field(
                     &file,
                     "sensor.sample_rate_hz",
                     format!("expected {SAMPLE_RATE_HZ} Hz and one front-end entry per whisker"),
@@ -400,7 +400,7 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<(Sensed, RatSlamParams, bool)
                 || maze_physics::cycles(n, sensor.whisk_hz) != sensor.whisks
                 || (1.0 / DT - SAMPLE_RATE_HZ).abs() > 1e-9
             {
-                return Err(CliError::field(
+                return Err(Error::field(
                     &file,
                     "sensor",
                     "samples_per_whisk and whisks do not match whisk_hz and the updates",
@@ -409,10 +409,10 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<(Sensed, RatSlamParams, bool)
             let by_cycle = (0..sensor.whisks)
                 .into_par_iter()
                 .map(|c| {
-                    let streams = super::whisk_streams(dir, m, "log/whisks", c)?;
+                    let streams = crate::dataset::whisk_streams(dir, m, "log/whisks", c)?;
                     Ok(front.cycle(&streams, &g))
                 })
-                .collect::<CliResult<Vec<_>>>()?;
+                .collect::<Result<Vec<_>>>()?;
             let (max, contact) = front.per_update(&by_cycle, n);
             let mut estimates = Vec::new();
             for (name, e) in &info.image_sets {
@@ -420,7 +420,7 @@ pub fn read(dir: &Path, m: &Manifest) -> CliResult<(Sensed, RatSlamParams, bool)
                     "max_angle" => AngleEstimate::MaxAngle,
                     "contact_angle" => AngleEstimate::ContactAngle,
                     _ => {
-                        return Err(CliError::field(
+                        return Err(Error::field(
                             &file,
                             "maze.image_sets",
                             format!(

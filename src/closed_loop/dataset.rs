@@ -15,14 +15,14 @@
 //! `truth/summary.json` (the live run's own log, its policy decisions and the true
 //! object), `truth/scenario.toml`.
 
-use super::manifest::{
+use crate::dataset::manifest::{
     ClosedLoopInfo, ContactNoiseInfo, Experiment, Level, Manifest, NoiseInfo, Role, SensorInfo,
     SensorNoise,
 };
-use super::object::{odometry_csv, pose_log, read_odometry};
-use super::whisks::{WhiskFiles, put_model, replay_sensing};
-use super::{Staging, array_info, records};
-use crate::error::{CliError, CliResult};
+use crate::dataset::whisks::{WhiskFiles, put_model, replay_sensing};
+use crate::dataset::{Staging, array_info, records};
+use crate::error::{Error, Result};
+use crate::object_slam::dataset::{odometry_csv, pose_log, read_odometry};
 use crate::scenario::Scenario;
 use crate::scenario::explore::Task;
 use nalgebra::Point3;
@@ -48,7 +48,7 @@ pub fn write(
     scenario_text: &str,
     s: &mut Staging,
     reporter: &dyn crate::record::Reporter,
-) -> CliResult<Manifest> {
+) -> Result<Manifest> {
     let config = scenario.explore.as_ref().expect("checked by the caller");
     let plan = crate::plan::Plan::new(scenario, file)?;
     let environment = scenario.environment(file)?.environment;
@@ -68,7 +68,7 @@ pub fn write(
     });
     let log = files.as_ref().map(|f| f.log.clone());
     let outcome =
-        crate::explore::run_logged(scenario, file, plan, &environment, log, None, reporter)?;
+        crate::closed_loop::run_logged(scenario, file, plan, &environment, log, None, reporter)?;
     if let Some(files) = &files {
         files.finish()?;
     }
@@ -99,7 +99,7 @@ pub fn write(
     let mut maps = Vec::new();
     for (name, path) in config.map_files(file) {
         let bytes = std::fs::read(&path).map_err(|e| {
-            CliError::field(
+            Error::field(
                 file,
                 &format!("explore.maps.{name}"),
                 format!("{}: {e}", path.display()),
@@ -239,10 +239,10 @@ impl std::fmt::Display for ReplaySummary {
 
 /// Replays a closed-loop dataset open loop: WhiskerRatSLAM and recognition on its contacts
 /// and odometry.
-pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> CliResult<ReplaySummary> {
-    let file = dir.join(super::manifest::FILE);
+pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<ReplaySummary> {
+    let file = dir.join(crate::dataset::manifest::FILE);
     let Some(info) = m.closed_loop.as_ref() else {
-        return Err(CliError::field(&file, "closed_loop", "missing"));
+        return Err(Error::field(&file, "closed_loop", "missing"));
     };
     let n = info.whisks;
     let cycles = match m.level {
@@ -256,29 +256,29 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> CliResult<ReplayS
             (0..n)
                 .into_par_iter()
                 .map(|k| {
-                    let streams = super::whisk_streams(dir, m, "log/whisks", k)?;
+                    let streams = crate::dataset::whisk_streams(dir, m, "log/whisks", k)?;
                     Ok(p.contacts(k, &streams, m.seed, &format!("explore/physics/{k}")))
                 })
-                .collect::<CliResult<Vec<_>>>()?
+                .collect::<Result<Vec<_>>>()?
         }
     };
     let odometry = read_odometry(&m.file(dir, "log/odometry.csv")?, n)?;
     let mut appended = ObjectMap::default();
     for name in &info.maps {
         let path = m.file(dir, &format!("log/maps/{name}.json"))?;
-        let map = ObjectMap::load(&path)
-            .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
+        let map =
+            ObjectMap::load(&path).map_err(|e| Error::Input(format!("{}: {e}", path.display())))?;
         appended.append(&map, name);
     }
     // The true object, when the ground truth is there.
     let object = if m.has_truth(dir) {
         let path = m.file(dir, "truth/summary.json")?;
         let text = std::fs::read_to_string(&path)
-            .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
+            .map_err(|e| Error::Input(format!("{}: {e}", path.display())))?;
         let v: serde_json::Value = serde_json::from_str(&text)
-            .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
+            .map_err(|e| Error::Input(format!("{}: {e}", path.display())))?;
         let object = v["object"].as_str().map(String::from).ok_or_else(|| {
-            CliError::Input(format!(
+            Error::Input(format!(
                 "{}: field `object`: expected the true object's name",
                 path.display()
             ))
@@ -368,7 +368,7 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> CliResult<ReplayS
         if info.task == "map" {
             slam.map
                 .save(&out.join("map.json"))
-                .map_err(CliError::Failure)?;
+                .map_err(Error::Failure)?;
         }
     }
     Ok(summary)

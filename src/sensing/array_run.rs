@@ -2,7 +2,7 @@
 //! the arm's `whisker_array` link at the sensors' 2 kHz and their readings are written to
 //! `whiskers.csv` (columns documented in `scenarios/README.md`).
 
-use crate::error::{CliError, CliResult};
+use crate::error::Result;
 use crate::output;
 use crate::plan::Plan;
 use crate::record::SensorColumns;
@@ -15,71 +15,6 @@ use whisker_sim::kinematics::Chain;
 use whisker_sim::sensing::physics::{PhysicsArray, calibrate_array_rcp};
 use whisker_sim::whisker::control::RcpThreshold;
 
-/// A description of the array of `scenario` for `whisker check`: one line per whisker.
-pub fn describe(scenario: &Scenario, file: &Path) -> CliResult<String> {
-    let configs = scenario.array.whisker_configs(file)?;
-    let a = &scenario.array;
-    let rcp = match a.rcp_mode() {
-        None => "off".to_string(),
-        Some(RcpThreshold::Saturation) => "at saturation".to_string(),
-        Some(RcpThreshold::NoiseMultiple(k)) => {
-            format!("at {k} × the free-whisking σ (calibrated before the run)")
-        }
-    };
-    let first = &configs[0];
-    let mut s = format!(
-        "array      18 whiskers, {} segments, {:?} bending, {} substep(s), follicle {}, RCP {rcp}\n",
-        first.module.beam.segments,
-        first.module.beam.bending,
-        first.substeps,
-        first
-            .follicle
-            .map_or("rigid".to_string(), |f| format!("{} N·m/rad", f.stiffness)),
-    );
-    for c in &configs {
-        let b = &c.module.beam;
-        let p = &c.pattern;
-        let _ = writeln!(
-            s,
-            "  {}  L {:5.1} mm  Ø {:.2}→{:.2} mm  E {:.2} GPa  ρ {:.0}  ζ {:.3}  whisk {:.0}°–{:.0}° at {} Hz",
-            c.module.pixel(),
-            b.length * 1e3,
-            b.base_diameter * 1e3,
-            b.tip_diameter * 1e3,
-            b.youngs_modulus / 1e9,
-            b.density,
-            b.damping_ratio,
-            p.retracted.to_degrees(),
-            p.protracted.to_degrees(),
-            p.frequency
-        );
-    }
-    Ok(s)
-}
-
-/// The chain from the arm's base to the `whisker_array` link, which must be moved by the
-/// same joints as the scenario's tip link.
-pub fn array_chain(scenario: &Scenario, file: &Path, plan: &Plan) -> CliResult<Chain> {
-    let chain = Chain::new(&plan.model, &plan.chain.base, "whisker_array").map_err(|e| {
-        CliError::field(
-            file,
-            "sensing",
-            format!(
-                "{:?} needs a whisker_array link in the URDF: {e}",
-                scenario.sensing.name()
-            ),
-        )
-    })?;
-    if chain.joint_names != plan.chain.joint_names {
-        return Err(CliError::field(
-            file,
-            "arm.tip_link",
-            "the whisker_array link must be moved by the same joints as the tip link",
-        ));
-    }
-    Ok(chain)
-}
-
 /// The array being simulated along a run.
 pub struct ArraySimulation {
     array: PhysicsArray,
@@ -89,7 +24,7 @@ pub struct ArraySimulation {
     steps: u64,
     csv: String,
     /// The signal front end (thesis Ch 4) on the simulated streams.
-    frontend: crate::frontend::FrontEnd,
+    frontend: super::frontend::FrontEnd,
     /// The 2 kHz streams not yet in the recording.
     columns: Option<SensorColumns>,
 }
@@ -103,9 +38,9 @@ impl ArraySimulation {
         environment: &Environment,
         recording: Option<&dyn Recorder>,
         reporter: &dyn Reporter,
-    ) -> CliResult<Self> {
+    ) -> Result<Self> {
         let mut configs = scenario.array.whisker_configs(file)?;
-        let chain = array_chain(scenario, file, plan)?;
+        let chain = super::array::array_chain(scenario, file, plan)?;
         let dt = whisker_sim::sensing::physics::DT;
         if let Some(mode) = scenario.array.rcp_mode() {
             calibrate_array_rcp(&mut configs, mode, scenario.seed, dt);
@@ -127,7 +62,7 @@ impl ArraySimulation {
         }
         csv.push('\n');
         let start = chain.fk(&plan.waypoints[0]);
-        let frontend = crate::frontend::FrontEnd::new(scenario, file, &configs)?;
+        let frontend = super::frontend::FrontEnd::new(scenario, file, &configs)?;
         let columns = match recording {
             Some(rec) => {
                 let labels: Vec<String> = configs.iter().map(|c| c.module.pixel()).collect();
@@ -160,12 +95,7 @@ impl ArraySimulation {
     /// samples up to `t` in one task ([`PhysicsArray::run_with_rcp`]: the same samples as
     /// a step per sample, without a barrier per sample; issue #18, scheduling), and the
     /// samples are then written and passed to the front end in time order.
-    pub fn advance_to(
-        &mut self,
-        plan: &Plan,
-        t: f64,
-        recording: Option<&dyn Recorder>,
-    ) -> CliResult {
+    pub fn advance_to(&mut self, plan: &Plan, t: f64, recording: Option<&dyn Recorder>) -> Result {
         let mut end = self.steps;
         while (end + 1) as f64 * self.dt <= t + 1e-9 {
             end += 1;
@@ -212,7 +142,7 @@ impl ArraySimulation {
 
     /// Writes `whiskers.csv` and `frontend.csv` into `dir` and the last streams into the
     /// recording.
-    pub fn finish(mut self, dir: &Path, recording: Option<&dyn Recorder>) -> CliResult {
+    pub fn finish(mut self, dir: &Path, recording: Option<&dyn Recorder>) -> Result {
         if let (Some(cols), Some(rec)) = (&mut self.columns, recording) {
             cols.send(rec)?;
         }

@@ -12,7 +12,7 @@
 //! deterministic), so that the recording does not depend on the thread count.
 
 use super::{Combo, IdentificationRun, Sensed, Settings, Walk, anticipated, features, params};
-use crate::error::CliResult;
+use crate::error::Result;
 use crate::record::{Contact, ContactKind, Context, GraphSchedule, Layout, Recorder};
 use nalgebra::Isometry3;
 use whisker_sim::environment::assets::generate;
@@ -30,7 +30,7 @@ pub(super) fn write(
     data: &[Sensed],
     identification: &[IdentificationRun],
     ctx: Context,
-) -> CliResult {
+) -> Result {
     let Some(path) = o.rrd.path(o.out.as_deref(), true) else {
         return Ok(());
     };
@@ -91,7 +91,7 @@ struct Walked<'a> {
 
 impl Walked<'_> {
     /// Runs `walk` through `slam` again, logging every whisk (run `run`, walk `which`).
-    fn replay(&self, run: &str, which: &str, slam: &mut WhiskerRatSlam, walk: &Walk) -> CliResult {
+    fn replay(&self, run: &str, which: &str, slam: &mut WhiskerRatSlam, walk: &Walk) -> Result {
         let (rec, frame) = (self.rec, self.frame);
         let mut graph = GraphSchedule::default();
         let truth_cycles = walk.truth.as_ref().map(|t| anticipated(self.target, t));

@@ -1,7 +1,7 @@
 //! What `whisker check` and `whisker run` say and write for an `[explore]` scenario.
 
 use super::{CSV_NAME, SUMMARY_NAME, run_logged};
-use crate::error::{CliError, CliResult};
+use crate::error::{Error, Result};
 use crate::plan::Plan;
 use crate::record::Context;
 use crate::scenario::Scenario;
@@ -12,7 +12,7 @@ use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 
 /// What `whisker check` says of an `[explore]` section: the task, the object, the
 /// strategy, and each map loaded (a map that does not load is an input error).
-pub fn describe(file: &Path, scenario: &Scenario, e: &ExploreConfig) -> CliResult<String> {
+pub fn describe(file: &Path, scenario: &Scenario, e: &ExploreConfig) -> Result<String> {
     let object = e.object_name(file, &scenario.object_names())?;
     let mut s = match e.task {
         Task::Map => format!(
@@ -33,7 +33,7 @@ pub fn describe(file: &Path, scenario: &Scenario, e: &ExploreConfig) -> CliResul
     };
     for (name, path) in e.map_files(file) {
         let m = ObjectMap::load(&path)
-            .map_err(|err| CliError::field(file, &format!("explore.maps.{name}"), err))?;
+            .map_err(|err| Error::field(file, &format!("explore.maps.{name}"), err))?;
         s.push_str(&format!(
             "map        {name}: {} ({} experiences, {} links)\n",
             path.display(),
@@ -55,9 +55,15 @@ pub fn write(
     dir: &Path,
     rrd: &crate::record::Target,
     ctx: Context,
-) -> CliResult {
-    let recording =
-        ctx.scenario_recording(file, scenario, dir, rrd, crate::record::Layout::ClosedLoop)?;
+) -> Result {
+    let recording = ctx.scenario_recording(
+        file,
+        scenario.seed,
+        scenario.output.recording,
+        dir,
+        rrd,
+        crate::record::Layout::ClosedLoop,
+    )?;
     if let Some(rec) = &recording {
         rec.environment(environment)?;
     }
@@ -79,7 +85,7 @@ pub fn write(
     let text = serde_json::to_string_pretty(&out.summary).expect("plain JSON") + "\n";
     crate::output::write_atomic(&dir.join(SUMMARY_NAME), text.as_bytes())?;
     if let Some(map) = &out.map {
-        map.save(&dir.join("map.json")).map_err(CliError::Failure)?;
+        map.save(&dir.join("map.json")).map_err(Error::Failure)?;
     }
     if let Some(rec) = recording {
         for (k, q) in out.joints.iter().enumerate() {
@@ -133,7 +139,7 @@ pub fn write(
         ));
     }
     let map = if out.map.is_some() { ", map.json" } else { "" };
-    let rrd = crate::run::recording_name(rrd, dir, scenario);
+    let rrd = rrd.wrote(dir, scenario.output.recording);
     ctx.say(&format!(
         "wrote      {}/{{{CSV_NAME}, {SUMMARY_NAME}, contacts.csv{map}{rrd}}}",
         dir.display()

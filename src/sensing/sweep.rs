@@ -7,113 +7,19 @@
 //! One sweep per whisk cycle of whisker A1's pattern, at the array pose of the cycle's
 //! start (the thesis' simulation moved the array between whisks, §6.1.3).
 
-use crate::error::CliResult;
+use super::contact::{HEADER, append_cycle, intersects, rigid_shafts};
+use crate::error::Result;
 use crate::output;
 use crate::plan::Plan;
+use crate::record::ContactKind;
 use crate::record::Recorder;
-use crate::record::{Contact, ContactKind};
 use crate::scenario::Scenario;
-use nalgebra::Isometry3;
-use std::fmt::Write as _;
 use std::path::Path;
 use whisker_sim::environment::Environment;
 use whisker_sim::kinematics::Chain;
-use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
+use whisker_sim::sensing::kinematic::{KinematicArray, SweepTarget};
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::whisker::control::WhiskingPattern;
-use whisker_slam::contact::ContactCycle;
-
-/// Header of `contacts.csv` / `anticipated.csv`.
-pub const HEADER: &str = "cycle,t_cycle_s,whisker,pixel,t_contact_s,angle_deg,radial_distance_m,\
-                          x_m,y_m,z_m,world_x_m,world_y_m,world_z_m,slope\n";
-
-/// Appends the rows of one whisk cycle's contacts, made with the array at `pose`, to a
-/// `contacts.csv` text (`pixels`: each whisker's tactile-image label); returns the contacts
-/// in the world.
-pub fn append_cycle(
-    csv: &mut String,
-    cycle: &ContactCycle,
-    pose: &Isometry3<f64>,
-    pixels: &[String],
-) -> Vec<Contact> {
-    let mut world = Vec::with_capacity(cycle.contacts.len());
-    for c in &cycle.contacts {
-        let w = pose * c.point;
-        world.push(Contact {
-            whisker: c.whisker,
-            point: [w.x, w.y, w.z],
-        });
-        let _ = writeln!(
-            csv,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            cycle.index,
-            cycle.start_s,
-            c.whisker,
-            pixels[c.whisker],
-            c.time_s,
-            c.angle_rad.to_degrees(),
-            c.radial_distance,
-            c.point.x,
-            c.point.y,
-            c.point.z,
-            w.x,
-            w.y,
-            w.z,
-            c.slope
-        );
-    }
-    world
-}
-
-/// The anticipated intersects of `whiskers` with the array at `pose`: the noise-free
-/// contacts (world), for the recording's ground truth.
-pub fn anticipated(
-    target: &SweepTarget,
-    whiskers: &[RigidWhisker],
-    pose: &Isometry3<f64>,
-) -> Vec<Contact> {
-    whiskers
-        .iter()
-        .filter_map(|w| {
-            let hit = target.sweep(w, pose)?;
-            Some(Contact {
-                whisker: w.module.index,
-                point: [hit.point.x, hit.point.y, hit.point.z],
-            })
-        })
-        .collect()
-}
-
-/// The anticipated intersects of a kinematic `array`'s last whisk, before noise (world).
-pub fn intersects(array: &KinematicArray) -> Vec<Contact> {
-    array
-        .intersects
-        .iter()
-        .map(|(w, p)| Contact {
-            whisker: *w,
-            point: [p.x, p.y, p.z],
-        })
-        .collect()
-}
-
-/// The straight shafts of a kinematic `array` at time `t` with the array at `pose` (world;
-/// base and tip of each), at each whisker's pattern angle.
-pub fn rigid_shafts(array: &KinematicArray, pose: &Isometry3<f64>, t: f64) -> Vec<Vec<[f64; 3]>> {
-    array
-        .whiskers
-        .iter()
-        .zip(&array.patterns)
-        .map(|(w, p)| {
-            let theta = p.angle(t);
-            [0.0, w.module.beam.length]
-                .map(|r| {
-                    let q = w.shaft_point(pose, theta, r);
-                    [q.x, q.y, q.z]
-                })
-                .to_vec()
-        })
-        .collect()
-}
 
 /// Anticipated-intersect sensing along a run.
 pub struct ContactSensing {
@@ -142,9 +48,9 @@ impl ContactSensing {
         environment: &Environment,
         noise: ContactNoise,
         name: &'static str,
-    ) -> CliResult<Self> {
+    ) -> Result<Self> {
         let configs = scenario.array.whisker_configs(file)?;
-        let chain = crate::whiskers::array_chain(scenario, file, plan)?;
+        let chain = crate::sensing::array::array_chain(scenario, file, plan)?;
         let whiskers = configs
             .iter()
             .map(|c| {
@@ -177,12 +83,7 @@ impl ContactSensing {
     }
 
     /// Sweeps every whisk cycle that starts by time `t`.
-    pub fn advance_to(
-        &mut self,
-        plan: &Plan,
-        t: f64,
-        recording: Option<&dyn Recorder>,
-    ) -> CliResult {
+    pub fn advance_to(&mut self, plan: &Plan, t: f64, recording: Option<&dyn Recorder>) -> Result {
         while self.cycle_start(self.next_cycle) <= t + 1e-9 {
             let start = self.cycle_start(self.next_cycle);
             let pose = self.chain.fk(&plan.trajectory.sample(start.max(0.0)));
@@ -221,7 +122,7 @@ impl ContactSensing {
     }
 
     /// Writes the CSV into `dir`.
-    pub fn finish(self, dir: &Path) -> CliResult {
+    pub fn finish(self, dir: &Path) -> Result {
         output::write_atomic(&dir.join(self.name), self.csv.as_bytes())
     }
 }

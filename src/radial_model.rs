@@ -1,0 +1,52 @@
+//! The radial-distance model files (thesis Ch 4): a serialised
+//! `whisker_slam::radial::RadialEstimator`, as `whisker radial train` writes them
+//! (`scenarios/README.md`), and the built-in default, svr10.
+
+use crate::error::{Error, Result};
+use std::path::Path;
+use whisker_slam::radial::RadialEstimator;
+
+/// The built-in default radial-distance model: svr10 (CP-CA-DV-DA-AV), the thesis'
+/// choice (§4.2.1), trained by `whisker radial train` on the physics training set.
+pub const DEFAULT_MODEL: &str = include_str!("../assets/models/svr10.json");
+
+/// The radial-distance model file at `path`, or the built-in svr10.
+pub fn load_or_default(path: Option<&Path>) -> Result<RadialEstimator> {
+    match path {
+        Some(p) => load(p),
+        None => serde_json::from_str(DEFAULT_MODEL)
+            .map_err(|e| Error::Failure(format!("the built-in svr10 model: {e}"))),
+    }
+}
+
+/// Reads a model file (a serialised [`RadialEstimator`]); errors name the file.
+pub fn load(path: &Path) -> Result<RadialEstimator> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Error::Input(format!("{}: cannot read the model: {e}", path.display())))?;
+    serde_json::from_str(&text).map_err(|e| {
+        Error::Input(format!(
+            "{}: not a radial-distance model (line {}, column {}): {e}",
+            path.display(),
+            e.line(),
+            e.column()
+        ))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use whisker_slam::frontend::features::Feature;
+
+    #[test]
+    fn the_built_in_model_is_svr10() {
+        let model = load_or_default(None).unwrap();
+        let RadialEstimator::Svr { features, model } = model else {
+            panic!("the default model is not an SVR");
+        };
+        use Feature::*;
+        assert_eq!(features, [Cp, Ca, Dv, Da, Av]);
+        assert!(!model.support.is_empty());
+        assert!(model.support.iter().all(|s| s.len() == 5));
+    }
+}

@@ -1,0 +1,19 @@
+//! How the experiments sense: the sensing runs that the scripted run, the closed loop,
+//! datasets and benches share.
+//!
+//! - [`array`]: the scenario's array on its arm (its description, the chain placing it);
+//! - [`contact`]: one whisk's contacts from any sensing — the physics contact pipeline
+//!   (detect → radial distance → shaft point), the `contacts.csv` rows, the anticipated
+//!   intersect for the recordings;
+//! - [`sweep`]: the kinematic sweep along a run (`contacts.csv`, `anticipated.csv`);
+//! - [`frontend`]: the signal front end along a physics run (`frontend.csv`);
+//! - [`array_run`]: the physics array along a run (`whiskers.csv`);
+//! - [`held`]: the physics array held still for one whisk at each pose (object walks, the
+//!   closed loop, physics datasets).
+
+pub mod array;
+pub mod array_run;
+pub mod contact;
+pub mod frontend;
+pub mod held;
+pub mod sweep;
