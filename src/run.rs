@@ -10,7 +10,7 @@
 use crate::error::Result;
 use crate::output;
 use crate::plan::Plan;
-use crate::record::{Context, Layout, Target};
+use crate::record::{Context, Layout, Recorder, Target};
 use crate::scenario::overrides::Override;
 use crate::scenario::{Scenario, Sensing};
 use crate::sensing::array_run::ArraySimulation;
@@ -19,6 +19,8 @@ use nalgebra::Isometry3;
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use whisker_sim::environment::Environment;
+use whisker_sim::kinematics::Chain;
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::world::World;
 use whisker_slam::pose;
@@ -60,15 +62,9 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: 
         ctx.say(&crate::closed_loop::describe(file, scenario, e)?);
     }
     output::create_dir(dir)?;
-
     if scenario.explore.is_some() {
         return crate::closed_loop::write(file, scenario, plan, &environment, dir, rrd, ctx);
     }
-    let dt = scenario.output.sample_period_s;
-    let chain = &plan.chain;
-    let model = &plan.model;
-    let skeleton_links = plan.skeleton();
-
     let layout = Layout::Run {
         physics: scenario.sensing == Sensing::Physics,
     };
@@ -81,83 +77,242 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: 
         layout,
     )?;
     if let Some(rec) = &recording {
-        let tips: Vec<Isometry3<f64>> = plan.waypoints.iter().map(|q| chain.fk(q)).collect();
+        let tips: Vec<Isometry3<f64>> = plan.waypoints.iter().map(|q| plan.chain.fk(q)).collect();
         rec.waypoints(&tips)?;
         rec.environment(&environment)?;
     }
-    let array_chain = match scenario.sensing {
-        Sensing::None => None,
-        _ => Some(crate::sensing::array::array_chain(scenario, file, &plan)?),
-    };
-
-    let mut whiskers = match scenario.sensing {
-        Sensing::Physics => Some(ArraySimulation::new(
-            scenario,
-            file,
-            &plan,
-            &environment,
-            recording.as_deref(),
-            ctx.reporter,
-        )?),
-        _ => None,
-    };
-    let mut contacts = match scenario.sensing {
-        Sensing::Kinematic => Some(ContactSensing::new(
-            scenario,
-            file,
-            &plan,
-            &environment,
-            scenario.kinematic.noise(file)?,
-            "contacts.csv",
-        )?),
-        Sensing::Physics if !environment.pieces.is_empty() => Some(ContactSensing::new(
-            scenario,
-            file,
-            &plan,
-            &environment,
-            ContactNoise::NONE,
-            "anticipated.csv",
-        )?),
-        _ => None,
-    };
-    let mut world = World::new(model.clone(), plan.model_joints(&plan.waypoints[0]), dt);
+    let mut sensors = Sensors::new(
+        file,
+        scenario,
+        &plan,
+        &environment,
+        recording.as_deref(),
+        ctx,
+    )?;
+    let dt = scenario.output.sample_period_s;
+    let mut world = World::new(
+        plan.model.clone(),
+        plan.model_joints(&plan.waypoints[0]),
+        dt,
+    );
     world.add_environment(&environment);
-    let mut csv = String::from("t_s");
-    for (name, &angular) in chain.joint_names.iter().zip(&chain.angular) {
-        let _ = write!(csv, ",{name}_{}", if angular { "rad" } else { "m" });
-    }
-    csv.push_str(",tip_x_m,tip_y_m,tip_z_m,tip_qx,tip_qy,tip_qz,tip_qw,arm_collision\n");
-
+    let mut log = PathLog::new(&plan);
+    let skeleton = plan.skeleton();
     let steps = (plan.trajectory.duration() / dt).ceil() as usize;
-    let mut tip_path = Vec::with_capacity(steps + 1);
-    let mut collision_samples = 0usize;
-    let mut collided_links: Vec<String> = Vec::new();
     for k in 0..=steps {
         let t = (k as f64 * dt).min(plan.trajectory.duration());
         let q = plan.trajectory.sample(t);
-        let all = plan.model_joints(&q);
         if k > 0 {
-            world.step(&all);
+            world.step(&plan.model_joints(&q));
         }
-        if let Some(w) = &mut whiskers {
-            w.advance_to(&plan, t, recording.as_deref())?;
+        sensors.advance_to(&plan, t, recording.as_deref())?;
+        let tip = plan.chain.fk(&q);
+        log.sample(t, &q, &tip, world.arm_collisions());
+        if let Some(rec) = recording.as_deref() {
+            sensors.record(rec, (&plan, &skeleton), t, &q, &tip)?;
+            // A fixed point every simulated second: the recording's chunks do not depend
+            // on timing.
+            if k % CHECKPOINT_SAMPLES == 0 {
+                rec.checkpoint()?;
+            }
         }
-        if let Some(c) = &mut contacts {
-            c.advance_to(&plan, t, recording.as_deref())?;
+    }
+    let summary = log.summary(file, scenario, &plan, &environment, &sensors);
+    output::write_atomic(&dir.join("path.csv"), log.csv.as_bytes())?;
+    let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
+    output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
+    let finished = sensors.finish(dir, recording.as_deref())?;
+    if let Some(rec) = recording {
+        rec.tip_path(&log.tip_path)?;
+        rec.finish()?;
+    }
+    ctx.say(&log.simulated(dt));
+    ctx.say(&finished.lines(
+        scenario.sensing,
+        dir,
+        &rrd.wrote(dir, scenario.output.recording),
+    ));
+    Ok(())
+}
+
+/// The whiskers of a run: the chain placing the array, and physics or the kinematic sweep
+/// (or, beside physics in an environment, the anticipated contacts as ground truth).
+struct Sensors {
+    array_chain: Option<Chain>,
+    whiskers: Option<ArraySimulation>,
+    contacts: Option<ContactSensing>,
+}
+
+impl Sensors {
+    fn new(
+        file: &Path,
+        scenario: &Scenario,
+        plan: &Plan,
+        environment: &Environment,
+        recording: Option<&dyn Recorder>,
+        ctx: Context,
+    ) -> Result<Self> {
+        let array_chain = match scenario.sensing {
+            Sensing::None => None,
+            _ => Some(crate::sensing::array::array_chain(scenario, file, plan)?),
+        };
+        let whiskers = match scenario.sensing {
+            Sensing::Physics => Some(ArraySimulation::new(
+                scenario,
+                file,
+                plan,
+                environment,
+                recording,
+                ctx.reporter,
+            )?),
+            _ => None,
+        };
+        let sweep =
+            |noise, name| ContactSensing::new(scenario, file, plan, environment, noise, name);
+        let contacts = match scenario.sensing {
+            Sensing::Kinematic => Some(sweep(scenario.kinematic.noise(file)?, "contacts.csv")?),
+            Sensing::Physics if !environment.pieces.is_empty() => {
+                Some(sweep(ContactNoise::NONE, "anticipated.csv")?)
+            }
+            _ => None,
+        };
+        Ok(Self {
+            array_chain,
+            whiskers,
+            contacts,
+        })
+    }
+
+    /// Senses up to time `t` (s).
+    fn advance_to(&mut self, plan: &Plan, t: f64, recording: Option<&dyn Recorder>) -> Result {
+        if let Some(w) = &mut self.whiskers {
+            w.advance_to(plan, t, recording)?;
         }
-        let tip = chain.fk(&q);
-        let hits = world.arm_collisions();
+        if let Some(c) = &mut self.contacts {
+            c.advance_to(plan, t, recording)?;
+        }
+        Ok(())
+    }
+
+    /// Records the arm (`skeleton`: its links drawn), the array and the shafts at time `t`
+    /// (configuration `q`, the tip at `tip`).
+    fn record(
+        &self,
+        rec: &dyn Recorder,
+        (plan, skeleton): (&Plan, &[usize]),
+        t: f64,
+        q: &[f64],
+        tip: &Isometry3<f64>,
+    ) -> Result {
+        rec.arm(t, &plan.link_frames(q, skeleton), tip)?;
+        if let Some(a) = &self.array_chain {
+            rec.array(t, &a.fk(q))?;
+        }
+        if let Some(w) = &self.whiskers {
+            rec.shafts(t, &w.shafts())?;
+        } else if let Some(c) = &self.contacts {
+            rec.shafts(t, &c.shafts(plan, t))?;
+        }
+        Ok(())
+    }
+
+    /// Writes the sensors' files into `dir`; what they sensed.
+    fn finish(self, dir: &Path, recording: Option<&dyn Recorder>) -> Result<Sensed> {
+        let frontend_contacts = self
+            .whiskers
+            .as_ref()
+            .map(ArraySimulation::frontend_contacts);
+        if let Some(w) = self.whiskers {
+            w.finish(dir, recording)?;
+        }
+        let counts = self.contacts.as_ref().map(|c| c.counts());
+        if let Some(c) = self.contacts {
+            c.finish(dir)?;
+        }
+        Ok(Sensed {
+            counts,
+            frontend_contacts,
+        })
+    }
+}
+
+/// What a run's sensors sensed.
+struct Sensed {
+    /// Whisk cycles swept and contacts found (kinematic sweep or anticipated contacts).
+    counts: Option<(u64, u64)>,
+    /// Contacts the front end detected (physics).
+    frontend_contacts: Option<u64>,
+}
+
+impl Sensed {
+    /// The lines a run ends with: what was sensed and the files written into `dir`
+    /// (`rrd`: the recording's part of the list).
+    fn lines(&self, sensing: Sensing, dir: &Path, rrd: &str) -> String {
+        let mut out = String::new();
+        let csv = match (sensing, self.counts.is_some()) {
+            (Sensing::Physics, true) => ", whiskers.csv, frontend.csv, anticipated.csv",
+            (Sensing::Physics, false) => ", whiskers.csv, frontend.csv",
+            (Sensing::Kinematic, _) => ", contacts.csv",
+            (Sensing::None, _) => "",
+        };
+        if let (Some((cycles, n)), Sensing::Kinematic) = (self.counts, sensing) {
+            let _ = writeln!(out, "sensed     {n} contacts in {cycles} whisk cycles");
+        }
+        if let Some(n) = self.frontend_contacts {
+            let _ = writeln!(
+                out,
+                "front end  {n} contacts detected in the whisker streams"
+            );
+        }
+        let _ = writeln!(
+            out,
+            "wrote      {}/{{path.csv, summary.json{csv}{rrd}}}",
+            dir.display()
+        );
+        out
+    }
+}
+
+/// The arm's path: `path.csv`'s text, the tip's poses and the collisions.
+struct PathLog {
+    csv: String,
+    tip_path: Vec<Isometry3<f64>>,
+    collision_samples: usize,
+    collided_links: Vec<String>,
+}
+
+impl PathLog {
+    /// An empty log with `path.csv`'s header for the chain of `plan`.
+    fn new(plan: &Plan) -> Self {
+        let chain = &plan.chain;
+        let mut csv = String::from("t_s");
+        for (name, &angular) in chain.joint_names.iter().zip(&chain.angular) {
+            let _ = write!(csv, ",{name}_{}", if angular { "rad" } else { "m" });
+        }
+        csv.push_str(",tip_x_m,tip_y_m,tip_z_m,tip_qx,tip_qy,tip_qz,tip_qw,arm_collision\n");
+        Self {
+            csv,
+            tip_path: Vec::new(),
+            collision_samples: 0,
+            collided_links: Vec::new(),
+        }
+    }
+
+    /// Logs the sample of time `t`: configuration `q`, the tip at `tip`, the links `hits`
+    /// touching the environment.
+    fn sample(&mut self, t: f64, q: &[f64], tip: &Isometry3<f64>, hits: Vec<String>) {
         let collided = !hits.is_empty();
         if collided {
-            collision_samples += 1;
+            self.collision_samples += 1;
             for h in hits {
-                if !collided_links.contains(&h) {
-                    collided_links.push(h);
+                if !self.collided_links.contains(&h) {
+                    self.collided_links.push(h);
                 }
             }
         }
+        let csv = &mut self.csv;
         let _ = write!(csv, "{t}");
-        for v in &q {
+        for v in q {
             let _ = write!(csv, ",{v}");
         }
         let p = tip.translation.vector;
@@ -170,109 +325,79 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: 
             p.z,
             u8::from(collided)
         );
-        if let Some(rec) = &recording {
-            rec.arm(t, &plan.link_frames(&q, &skeleton_links), &tip)?;
-            if let Some(a) = &array_chain {
-                rec.array(t, &a.fk(&q))?;
-            }
-            if let Some(w) = &whiskers {
-                rec.shafts(t, &w.shafts())?;
-            } else if let Some(c) = &contacts {
-                rec.shafts(t, &c.shafts(&plan, t))?;
-            }
-            // A fixed point every simulated second: the recording's chunks do not depend
-            // on timing.
-            if k % CHECKPOINT_SAMPLES == 0 {
-                rec.checkpoint()?;
-            }
-        }
-        tip_path.push(tip);
+        self.tip_path.push(*tip);
     }
 
-    let whisker_samples = whiskers.as_ref().map_or(0, ArraySimulation::samples);
-    let frontend_contacts = whiskers.as_ref().map(ArraySimulation::frontend_contacts);
-    let length: f64 = tip_path
-        .windows(2)
-        .map(|w| (w[1].translation.vector - w[0].translation.vector).norm())
-        .sum();
-    let waypoints: Vec<_> = plan
-        .waypoints
-        .iter()
-        .map(|q| {
-            let tip = chain.fk(q);
-            json!({
-                "joints_rad": q,
-                "tip_position_m": tip.translation.vector.as_slice(),
-                "tip_rpy_deg": pose::rpy(&tip.rotation).map(f64::to_degrees),
+    /// The length of the tip's path (m).
+    fn length(&self) -> f64 {
+        self.tip_path
+            .windows(2)
+            .map(|w| (w[1].translation.vector - w[0].translation.vector).norm())
+            .sum()
+    }
+
+    /// `summary.json` of the run.
+    fn summary(
+        &self,
+        file: &Path,
+        scenario: &Scenario,
+        plan: &Plan,
+        environment: &Environment,
+        sensors: &Sensors,
+    ) -> serde_json::Value {
+        let chain = &plan.chain;
+        let waypoints: Vec<_> = plan
+            .waypoints
+            .iter()
+            .map(|q| {
+                let tip = chain.fk(q);
+                json!({
+                    "joints_rad": q,
+                    "tip_position_m": tip.translation.vector.as_slice(),
+                    "tip_rpy_deg": pose::rpy(&tip.rotation).map(f64::to_degrees),
+                })
             })
+            .collect();
+        let whiskers = sensors.whiskers.as_ref();
+        let contacts = sensors.contacts.as_ref();
+        json!({
+            "scenario": file.display().to_string(),
+            "seed": scenario.seed,
+            "urdf": scenario.urdf_path(file).display().to_string(),
+            "base_link": chain.base,
+            "tip_link": chain.tip,
+            "joint_names": chain.joint_names,
+            "duration_s": plan.trajectory.duration(),
+            "sample_period_s": scenario.output.sample_period_s,
+            "samples": self.tip_path.len(),
+            "tip_path_length_m": self.length(),
+            "waypoints": waypoints,
+            "arm_collision_samples": self.collision_samples,
+            "arm_collision_links": self.collided_links,
+            "sensing": scenario.sensing.name(),
+            "whisker_samples": whiskers.map_or(0, ArraySimulation::samples),
+            "environment_pieces": environment.pieces.iter().map(|p| p.name.clone()).collect::<Vec<_>>(),
+            "whisk_cycles_swept": contacts.map_or(0, |c| c.counts().0),
+            "contacts": contacts.map_or(0, |c| c.counts().1),
+            "frontend_contacts": whiskers.map_or(0, ArraySimulation::frontend_contacts),
         })
-        .collect();
-    let summary = json!({
-        "scenario": file.display().to_string(),
-        "seed": scenario.seed,
-        "urdf": scenario.urdf_path(file).display().to_string(),
-        "base_link": chain.base,
-        "tip_link": chain.tip,
-        "joint_names": chain.joint_names,
-        "duration_s": plan.trajectory.duration(),
-        "sample_period_s": dt,
-        "samples": steps + 1,
-        "tip_path_length_m": length,
-        "waypoints": waypoints,
-        "arm_collision_samples": collision_samples,
-        "arm_collision_links": collided_links,
-        "sensing": scenario.sensing.name(),
-        "whisker_samples": whisker_samples,
-        "environment_pieces": environment.pieces.iter().map(|p| p.name.clone()).collect::<Vec<_>>(),
-        "whisk_cycles_swept": contacts.as_ref().map_or(0, |c| c.counts().0),
-        "contacts": contacts.as_ref().map_or(0, |c| c.counts().1),
-        "frontend_contacts": frontend_contacts.unwrap_or(0),
-    });
+    }
 
-    output::write_atomic(&dir.join("path.csv"), csv.as_bytes())?;
-    let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
-    output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
-    if let Some(w) = whiskers {
-        w.finish(dir, recording.as_deref())?;
+    /// The line saying what was simulated, every `dt` s.
+    fn simulated(&self, dt: f64) -> String {
+        format!(
+            "simulated  {} samples every {dt} s; tip travelled {:.3} m; arm–environment collisions: {}",
+            self.tip_path.len(),
+            self.length(),
+            if self.collision_samples == 0 {
+                "none".to_string()
+            } else {
+                format!(
+                    "{} samples ({})",
+                    self.collision_samples,
+                    self.collided_links.join(", ")
+                )
+            }
+        )
     }
-    let contacts_file = contacts.as_ref().map(|c| c.counts());
-    if let Some(c) = contacts {
-        c.finish(dir)?;
-    }
-    if let Some(rec) = recording {
-        rec.tip_path(&tip_path)?;
-        rec.finish()?;
-    }
-    ctx.say(&format!(
-        "simulated  {} samples every {dt} s; tip travelled {length:.3} m; arm–environment collisions: {}",
-        steps + 1,
-        if collision_samples == 0 {
-            "none".to_string()
-        } else {
-            format!(
-                "{collision_samples} samples ({})",
-                collided_links.join(", ")
-            )
-        }
-    ));
-    let rrd = rrd.wrote(dir, scenario.output.recording);
-    let csv = match (scenario.sensing, contacts_file.is_some()) {
-        (Sensing::Physics, true) => ", whiskers.csv, frontend.csv, anticipated.csv",
-        (Sensing::Physics, false) => ", whiskers.csv, frontend.csv",
-        (Sensing::Kinematic, _) => ", contacts.csv",
-        (Sensing::None, _) => "",
-    };
-    if let (Some((cycles, n)), Sensing::Kinematic) = (contacts_file, scenario.sensing) {
-        ctx.say(&format!("sensed     {n} contacts in {cycles} whisk cycles"));
-    }
-    if let Some(n) = frontend_contacts {
-        ctx.say(&format!(
-            "front end  {n} contacts detected in the whisker streams"
-        ));
-    }
-    ctx.say(&format!(
-        "wrote      {}/{{path.csv, summary.json{csv}{rrd}}}",
-        dir.display()
-    ));
-    Ok(())
 }

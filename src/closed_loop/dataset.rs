@@ -68,7 +68,7 @@ pub fn write(
     });
     let log = files.as_ref().map(|f| f.log.clone());
     let outcome =
-        crate::closed_loop::run_logged(scenario, file, plan, &environment, log, None, reporter)?;
+        super::session::run_logged(scenario, file, plan, &environment, log, None, reporter)?;
     if let Some(files) = &files {
         files.finish()?;
     }

@@ -1,6 +1,7 @@
 //! What `whisker check` and `whisker run` say and write for an `[explore]` scenario.
 
-use super::{CSV_NAME, SUMMARY_NAME, run_logged};
+use super::log::{CSV_NAME, SUMMARY_NAME};
+use super::session::run_logged;
 use crate::error::{Error, Result};
 use crate::plan::Plan;
 use crate::record::Context;

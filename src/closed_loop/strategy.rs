@@ -3,7 +3,7 @@
 //! history (FEH) or the least similar region (LSR), re-planning on re-localisation, and
 //! each step to an experience cut into segments (`whisker_slam::exploration::tour::segments`).
 
-use super::Loop;
+use super::state::{Heading, Loop};
 use crate::scenario::explore::Strategy;
 use nalgebra::Isometry3;
 use std::collections::VecDeque;
@@ -15,30 +15,6 @@ use whisker_slam::recognition::Recognition;
 
 /// RC below this counts as zero (§6.1.3.2's "zero confidence").
 pub const ZERO_RC: f64 = 1e-3;
-
-/// Where FEH or LSR is heading.
-pub enum Heading {
-    /// The default trajectory's faces.
-    Default,
-    /// Following a history (FEH).
-    Feh(Follower),
-    /// Along an LSR path: the remaining nodes after the one being stepped to.
-    Lsr {
-        path: VecDeque<usize>,
-        leader: String,
-    },
-}
-
-impl Heading {
-    /// The `strategy_state` column of `explore.csv`.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Heading::Default => "default",
-            Heading::Feh(_) => "feh",
-            Heading::Lsr { .. } => "lsr",
-        }
-    }
-}
 
 impl Loop<'_> {
     /// Drops the step under way (its segments, its target) and returns to the default

@@ -4,32 +4,13 @@
 //! experience and the strategy's target, re-localisations, and the raw and integrated
 //! confidence in each object (§6.2).
 
-use super::{Loop, Sensor};
+use super::state::{Loop, Sensor, Whisk};
 use crate::error::Result;
+use crate::record::ContactKind;
 use crate::record::Recorder;
-use crate::record::{Contact, ContactKind};
-use nalgebra::Isometry3;
-use whisker_slam::sensor::Sample;
-use whisker_slam::whisker_ratslam::slam::Step;
 
 /// Instants per whisk at which the shafts are drawn.
 const SHAFT_FRAMES: usize = 10;
-
-/// One whisk's record.
-pub(super) struct Whisk<'a> {
-    pub iteration: usize,
-    /// When the whisk started and how long it took (s).
-    pub start: f64,
-    pub period: f64,
-    pub goal: Option<&'a (Isometry3<f64>, String)>,
-    pub pose: &'a Isometry3<f64>,
-    pub contacts: &'a [Contact],
-    pub step: &'a Step,
-    pub onto: Option<&'a str>,
-    pub spc: &'a str,
-    /// Physics: every whisker's samples of the whisk.
-    pub streams: Option<&'a [Vec<Sample>]>,
-}
 
 impl Loop<'_> {
     /// Logs the final map and the outcome (a line of the event log) at the end of the run.

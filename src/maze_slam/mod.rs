@@ -27,15 +27,13 @@
 
 use crate::error::{Error, Result};
 use crate::record::{Context, Layout, Recorder, Target};
-use crate::scenario::overrides::Override;
-use crate::scenario::{Scenario, SensingMode};
+use crate::scenario::Scenario;
 use path::Sample;
 use run_recording::RunRecording;
 use serde::Serialize;
 use serde_json::json;
 use std::fmt;
-use std::path::{Path, PathBuf};
-use whisker_sim::whisker::beam::Bending;
+use std::path::Path;
 use whisker_slam::ratslam::experience_map::Pose2;
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::ratslam::metrics::{
@@ -44,77 +42,19 @@ use whisker_slam::ratslam::metrics::{
 use whisker_slam::ratslam::{RatSlam, RatSlamParams};
 
 pub mod dataset;
+mod geometry;
 pub mod images;
 pub mod path;
 pub mod physics_images;
 pub mod run_recording;
 mod sensed;
+mod settings;
 
+pub use geometry::{Geometry, UPDATE_HZ};
 pub use sensed::{
-    Geometry, ImageSet, Sensed, Setup, UPDATE_HZ, image_set_names, kinematic_contacts,
-    kinematic_whiskers, physics_sets,
+    ImageSet, Sensed, Setup, image_set_names, kinematic_contacts, kinematic_whiskers, physics_sets,
 };
-
-/// What `whisker maze-slam` runs; every setting but the scenario overrides the scenario.
-#[derive(Debug, Clone)]
-pub struct Settings {
-    /// Scenario with a `[maze]`, pose waypoints (the loop's corners) and optionally
-    /// `[maze_slam]`.
-    pub scenario: PathBuf,
-    /// Seeds: one run per seed [default: the scenario's `seed`].
-    pub seeds: Option<Vec<u64>>,
-    /// Also run the kidnapped variant of every seed (§3.3.1) [scenario:
-    /// `maze_slam.kidnap`].
-    pub kidnap: bool,
-    /// Local-view matching thresholds (Eq 3.1): RatSLAM runs once per value [scenario:
-    /// `maze_slam.ratslam.local_view.match_threshold`].
-    pub match_threshold: Option<Vec<f64>>,
-    /// Pose-cell injection energies (Eq 5.8) [scenario:
-    /// `maze_slam.ratslam.local_view.inject_energy`].
-    pub inject_energy: Option<Vec<f64>>,
-    /// Directory for `trajectory-<images>-<variant>-<seed>.csv` and `images-….csv`.
-    pub out: Option<PathBuf>,
-    /// Read each seed's tactile images from the `images-….csv` an earlier `out` wrote to
-    /// this directory, instead of sensing.
-    pub images: Option<PathBuf>,
-    /// How tactile images are made [scenario: `sensing`].
-    pub sensing: Option<SensingMode>,
-    /// Physics: whisk with RCP at 20 × the free-whisking σ (§3.2.2) [scenario:
-    /// `array.rcp`].
-    pub rcp: bool,
-    /// Physics: shaft joint model [scenario: `array.bending`].
-    pub bending: Option<Bending>,
-    /// Physics: segments per whisker [scenario: `array.segments`].
-    pub segments: Option<usize>,
-    /// Physics: Rapier substeps per 0.5 ms step [scenario: `array.substeps`].
-    pub substeps: Option<usize>,
-    /// Changes to scenario fields, as `whisker run --set`.
-    pub set: Vec<Override>,
-    /// Where the recording goes.
-    pub rrd: Target,
-}
-
-impl Settings {
-    /// The settings of `whisker maze-slam FILE` with nothing else given.
-    pub fn of(file: &Path) -> Self {
-        Self {
-            scenario: file.to_path_buf(),
-            seeds: None,
-            kidnap: false,
-            match_threshold: None,
-            inject_energy: None,
-            out: None,
-            images: None,
-            sensing: None,
-            rcp: false,
-            bending: None,
-            segments: None,
-            substeps: None,
-            set: Vec::new(),
-            rrd: Target::default(),
-        }
-    }
-}
+pub use settings::Settings;
 
 /// The figures of one RatSLAM run: one seed, variant, image set and tuning.
 #[derive(Debug, Clone, Serialize)]

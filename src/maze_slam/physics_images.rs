@@ -9,7 +9,7 @@
 //! where it was at the contact's onset. An update uses the images of the latest whisk
 //! cycle completed before it (the thesis published the latest image at 1.5 Hz).
 
-use super::Geometry;
+use super::geometry::{Geometry, UPDATE_HZ};
 use super::path::Sample;
 use crate::record::Reporter;
 use crate::sensing::contact::detect_on;
@@ -38,7 +38,7 @@ pub type Images = (Vec<TactileImage>, Vec<TactileImage>);
 
 /// The pose at time `t` (s): the path interpolated between updates at 1.5 Hz.
 pub fn pose_at(path: &[Sample], t: f64, g: &Geometry) -> Isometry3<f64> {
-    let u = (t * super::UPDATE_HZ).min((path.len() - 1) as f64);
+    let u = (t * UPDATE_HZ).min((path.len() - 1) as f64);
     let k = (u.floor() as usize).min(path.len().saturating_sub(2));
     let f = u - k as f64;
     let (a, b) = (path[k], path[(k + 1).min(path.len() - 1)]);
@@ -117,7 +117,7 @@ impl ImageFrontEnd {
         let mut contact = Vec::with_capacity(updates);
         for k in 0..updates {
             // Cycle c is complete at t = (c + 1)/f.
-            let t = k as f64 / super::UPDATE_HZ;
+            let t = k as f64 / UPDATE_HZ;
             let done = (t * self.frequency + 1e-9).floor() as usize;
             let (a, b) = match done.checked_sub(1).and_then(|c| by_cycle.get(c)) {
                 Some(&(a, b)) => (a, b),
@@ -137,7 +137,7 @@ pub fn per_cycle(frequency: f64) -> usize {
 
 /// Whole whisk cycles at `frequency` (Hz) completed over a path of `updates` updates.
 pub fn cycles(updates: usize, frequency: f64) -> usize {
-    let duration = (updates - 1) as f64 / super::UPDATE_HZ;
+    let duration = (updates - 1) as f64 / UPDATE_HZ;
     (duration * frequency).floor() as usize
 }
 

@@ -4,7 +4,7 @@
 //! experience map, the true position and the re-localisations; at its end the true and
 //! estimated trajectories. Timelines `update` and `sim_time` (update / 1.5 Hz).
 
-use super::UPDATE_HZ;
+use super::geometry::UPDATE_HZ;
 use super::path::Sample;
 use crate::error::Result;
 use crate::record::{Graph, GraphSchedule, Recorder};

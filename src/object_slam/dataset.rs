@@ -112,7 +112,7 @@ pub fn write(o: &ObjectDataset, s: &mut Staging, ctx: Context) -> Result<Manifes
         )?;
     }
     let mut walks = Vec::new();
-    for (asset, a, b, _) in &data {
+    for Sensed { asset, a, b, .. } in &data {
         let target = SweepTarget::new(generate(asset));
         for (walk, which, laps) in [(a, "A", 2), (b, "B", 1)] {
             let dir = format!("{}/{which}", asset.name);
@@ -321,7 +321,12 @@ pub fn read(dir: &Path, m: &Manifest) -> Result<Vec<Sensed<'static>>> {
             let lap = walk_a.cycles.len() / 2;
             crate::object_slam::mean_step(&t[..lap])
         });
-        out.push((asset, walk_a, walk_b, step));
+        out.push(Sensed {
+            asset,
+            a: walk_a,
+            b: walk_b,
+            step,
+        });
     }
     Ok(out)
 }

@@ -1,12 +1,34 @@
 //! Results of `whisker object-slam`: typed rows (printed as tables or JSON by the
 //! command line), CSV files and object maps in `--out`.
 
-use super::{Combo, Event, IdentificationRun, LocalisationRun, Sensed, Settings};
+use super::settings::{Combo, Settings};
+use super::trajectory::Trajectory;
+use super::walk::{Event, Sensed};
 use crate::error::{Error, Result};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt;
 use whisker_slam::stats::median;
+use whisker_slam::whisker_ratslam::object_map::ObjectMap;
+
+/// One localisation run: an object (index into the sensed data) with a parameter set,
+/// the re-localisations on A's second lap and on B, and the object map A built.
+pub struct LocalisationRun {
+    pub object: usize,
+    pub combo: Combo,
+    pub on_a: Vec<Event>,
+    pub on_b: Vec<Event>,
+    pub map: ObjectMap,
+}
+
+/// One identification run: an object (index into the sensed data) explored along one
+/// trajectory, the re-localisations, and the confidence in each mapped object per whisk.
+pub struct IdentificationRun {
+    pub object: usize,
+    pub which: Trajectory,
+    pub events: Vec<Event>,
+    pub series: Vec<std::collections::BTreeMap<String, f64>>,
+}
 
 /// Percentile `p` (0–100) of a list, by nearest rank (NaN when empty).
 fn percentile(mut v: Vec<f64>, p: f64) -> f64 {
@@ -117,8 +139,15 @@ pub fn localisation(
         "object,parameters,trajectory,sample,position_error_m,rotation_error_deg,perceived_position_error_m,perceived_rotation_error_deg\n",
     );
     let mut rows = Vec::new();
-    for (i, combo, on_a, on_b, map) in runs {
-        let (asset, _, _, step) = &data[*i];
+    for LocalisationRun {
+        object,
+        combo,
+        on_a,
+        on_b,
+        map,
+    } in runs
+    {
+        let Sensed { asset, step, .. } = &data[*object];
         for (name, events) in [("A", on_a), ("B", on_b)] {
             for e in events {
                 // Errors need ground truth: empty cells without it.
@@ -134,7 +163,7 @@ pub fn localisation(
                 );
             }
         }
-        let thesis = super::thesis_step(asset.name);
+        let thesis = super::settings::thesis_step(asset.name);
         rows.push(LocalisationRow {
             object: asset.name,
             parameters: combo.name(),
@@ -171,8 +200,14 @@ pub fn identification(
 ) -> Result<Vec<IdentificationRow>> {
     let mut csv = format!("object,trajectory,sample,{}\n", mapped.join(","));
     let mut rows = Vec::new();
-    for (i, which, events, series) in runs {
-        let name = data[*i].0.name;
+    for IdentificationRun {
+        object,
+        which,
+        events,
+        series,
+    } in runs
+    {
+        let name = data[*object].asset.name;
         for (k, c) in series.iter().enumerate() {
             let values: Vec<String> = mapped.iter().map(|m| c[m].to_string()).collect();
             csv += &format!("{name},{},{k},{}\n", which.name(), values.join(","));
@@ -255,7 +290,7 @@ impl fmt::Display for Report {
         writeln!(
             f,
             "Identification (§5.2.2.2, Figs 5.16-5.17): mean confidence over one lap (maps: best set; {} unmapped)",
-            super::UNMAPPED
+            super::settings::UNMAPPED
         )?;
         write!(
             f,

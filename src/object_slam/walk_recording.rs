@@ -11,7 +11,9 @@
 //! other on this thread, with the same parameters and data (WhiskerRatSLAM is
 //! deterministic), so that the recording does not depend on the thread count.
 
-use super::{Combo, IdentificationRun, Sensed, Settings, Walk, anticipated, features, params};
+use super::results::IdentificationRun;
+use super::settings::{Combo, Settings, params};
+use super::walk::{Sensed, Walk, anticipated, features};
 use crate::error::Result;
 use crate::record::{Contact, ContactKind, Context, GraphSchedule, Layout, Recorder};
 use nalgebra::Isometry3;
@@ -36,7 +38,7 @@ pub(super) fn write(
     };
     let runs: Vec<String> = data
         .iter()
-        .flat_map(|(a, ..)| [format!("{}-A", a.name), format!("{}-B", a.name)])
+        .flat_map(|s| [format!("{}-A", s.asset.name), format!("{}-B", s.asset.name)])
         .collect();
     let layout = Layout::SlamRuns {
         runs,
@@ -47,7 +49,7 @@ pub(super) fn write(
         .recordings
         .create(&path, &crate::record::id("object-slam", o.seed), layout)?;
     let modules = array::modules();
-    for (k, (asset, a, b, _)) in data.iter().enumerate() {
+    for (k, Sensed { asset, a, b, .. }) in data.iter().enumerate() {
         let frame = format!("world/objects/{}", asset.name);
         rec.frame(&frame, [0.0, SPACING_M * k as f64, 0.0])?;
         let mesh = generate(asset);
@@ -65,8 +67,14 @@ pub(super) fn write(
         let mut slam_b = WhiskerRatSlam::new(params(Combo::BEST, o.slam), slam.map.clone());
         walk.replay(&format!("{}-B", asset.name), "B", &mut slam_b, b)?;
     }
-    for (i, which, _, series) in identification {
-        let run = format!("{}-{}", data[*i].0.name, which.name());
+    for IdentificationRun {
+        object,
+        which,
+        series,
+        ..
+    } in identification
+    {
+        let run = format!("{}-{}", data[*object].asset.name, which.name());
         for (k, confidence) in series.iter().enumerate() {
             rec.at_step("whisk", k as u64);
             for (object, v) in confidence {

@@ -5,7 +5,7 @@
 //! to the scenario file. Every problem names the scenario field and, for mesh files, the
 //! mesh file and the line or record in it.
 
-use super::relative_to;
+use super::paths::relative_to;
 use crate::error::{Error, Result};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};

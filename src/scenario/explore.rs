@@ -4,7 +4,7 @@
 //! `scenarios/README.md`; the readings of the thesis' gaps are in
 //! `shared/notes/chapter6.md`.
 
-use super::relative_to;
+use super::paths::relative_to;
 use crate::error::{Error, Result};
 use serde::Deserialize;
 use std::collections::BTreeMap;

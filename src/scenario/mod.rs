@@ -12,9 +12,11 @@ pub mod environment;
 pub mod explore;
 pub mod maze_slam;
 pub mod overrides;
+mod paths;
 pub mod trials;
 
 use crate::error::{Error, Result};
+use paths::relative_to;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -466,15 +468,6 @@ impl Waypoint {
                 "expected either `position_m` and `rpy_deg` (a tip pose) or `joints_deg` (a joint configuration), not both or parts",
             )),
         }
-    }
-}
-
-/// `p`, resolved against the directory of the scenario `file` unless absolute.
-pub(crate) fn relative_to(file: &Path, p: &Path) -> PathBuf {
-    if p.is_absolute() {
-        p.to_path_buf()
-    } else {
-        file.parent().unwrap_or(Path::new("")).join(p)
     }
 }
 

@@ -12,8 +12,7 @@
 //!   by ear clipping in its plane. Other holes are refused: closing them would invent a
 //!   surface.
 
-use super::edges::{EdgeMap, FastMap};
-use super::topology::{TopologyError, point_at};
+use super::edges::{EdgeMap, FastMap, TopologyError, point_at};
 use nalgebra::{Point3, Vector3};
 
 /// Largest hole (number of boundary edges) closed automatically whatever its shape.

@@ -165,3 +165,17 @@ pub(crate) fn split_sheets(vertices: &mut Vec<Point3<f64>>, triangles: &mut [[u3
     }
     copies
 }
+
+/// A topology problem that cannot be repaired: what, and where.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TopologyError {
+    /// Where (a polygon origin, or a position).
+    pub at: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+/// Where a problem is, for messages.
+pub(crate) fn point_at(p: &Point3<f64>) -> String {
+    format!("near ({:.4}, {:.4}, {:.4})", p.x, p.y, p.z)
+}

@@ -7,35 +7,13 @@
 //! was repaired is reported so that `whisker check` can show it.
 
 use super::fallback::{SAMPLES_PER_EDGE, convex_hull, deviation, distances, index_surface};
+pub use super::mesh_io::MeshError;
 use super::mesh_io;
 pub use super::topology::Mesh;
 use super::topology::{close_and_orient, components, signed_volume, weld};
 use nalgebra::{Point3, Vector3};
 use parry3d_f64::shape::SharedShape;
-use std::path::{Path, PathBuf};
-
-/// A problem with a mesh file: which file, where in it, what is wrong.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{}: {at}: {message}", file.display())]
-pub struct MeshError {
-    /// The file.
-    pub file: PathBuf,
-    /// Where: a line, facet, element record, or "mesh".
-    pub at: String,
-    /// What is wrong and what was expected.
-    pub message: String,
-}
-
-impl MeshError {
-    /// A new error.
-    pub fn new(file: &Path, at: &str, message: String) -> Self {
-        Self {
-            file: file.to_path_buf(),
-            at: at.to_string(),
-            message,
-        }
-    }
-}
+use std::path::Path;
 
 /// Length unit of a mesh file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -12,8 +12,31 @@
 //! happens to begin with `solid` are recognised by their exact size (84 + 50·n bytes)
 //! rather than by that word.
 
-use super::mesh::MeshError;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+
+/// A problem with a mesh file: which file, where in it, what is wrong.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{}: {at}: {message}", file.display())]
+pub struct MeshError {
+    /// The file.
+    pub file: PathBuf,
+    /// Where: a line, facet, element record, or "mesh".
+    pub at: String,
+    /// What is wrong and what was expected.
+    pub message: String,
+}
+
+impl MeshError {
+    /// A new error.
+    pub fn new(file: &Path, at: &str, message: String) -> Self {
+        Self {
+            file: file.to_path_buf(),
+            at: at.to_string(),
+            message,
+        }
+    }
+}
 
 /// Vertices and polygons as read from a file, before any welding or checks of topology.
 #[derive(Debug, Clone, Default, PartialEq)]

@@ -18,6 +18,8 @@
 use super::cracks::{close_holes, split_t_junctions};
 pub use super::edges::components;
 use super::edges::{EdgeMap, FastMap, split_sheets};
+pub use super::edges::TopologyError;
+use super::edges::point_at;
 use nalgebra::Point3;
 use std::collections::VecDeque;
 
@@ -28,20 +30,6 @@ pub struct Mesh {
     pub vertices: Vec<Point3<f64>>,
     /// Triangles, counter-clockwise seen from outside.
     pub triangles: Vec<[u32; 3]>,
-}
-
-/// A topology problem that cannot be repaired: what, and where.
-#[derive(Debug, Clone, PartialEq)]
-pub struct TopologyError {
-    /// Where (a polygon origin, or a position).
-    pub at: String,
-    /// What is wrong.
-    pub message: String,
-}
-
-/// Where a problem is, for messages.
-pub(crate) fn point_at(p: &Point3<f64>) -> String {
-    format!("near ({:.4}, {:.4}, {:.4})", p.x, p.y, p.z)
 }
 
 /// Merges vertices closer than `tolerance`; returns the new positions and the map from

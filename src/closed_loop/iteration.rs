@@ -1,0 +1,346 @@
+//! One iteration of the closed loop (see the module documentation of `closed_loop`):
+//! the goal and the move, the whisk, odometry and WhiskerRatSLAM, recognition, the SPC
+//! and the strategy, and what each whisk writes and records.
+
+use super::log::{self, Row, Summary};
+use super::map_accuracy;
+use super::robot::Motion;
+use super::state::Whisk;
+use super::state::{Loop, Outcome, Sensor, Tally, Whisked};
+use crate::error::Result;
+use crate::scenario::explore::Task;
+use nalgebra::{Isometry3, Point3, Translation3, Vector3};
+use whisker_slam::exploration::placement::{self, Placement};
+use whisker_slam::rng::substream;
+
+/// Attempts at a goal per iteration before the array whisks where it is.
+const GOAL_ATTEMPTS: usize = 8;
+/// A face goal that would touch the object is pushed back this far (m) …
+const RETREAT_M: f64 = 0.02;
+/// … at most this many times.
+const RETREATS: usize = 5;
+
+impl Loop<'_> {
+    /// Runs the loop from the array's pose `start` (random draws from `seed`).
+    pub(super) fn run(&mut self, seed: u64, start: Isometry3<f64>) -> Result<Outcome> {
+        let objects: Vec<String> = self.config.maps.keys().cloned().collect();
+        let mut out = Outcome {
+            csv: log::header(&objects, self.robot.chain.dof()),
+            summary: serde_json::Value::Null,
+            map: None,
+            poses: Vec::new(),
+            contacts: Vec::new(),
+            contacts_csv: crate::sensing::contact::HEADER.to_string(),
+            times: Vec::new(),
+            joints: Vec::new(),
+            cycles: Vec::new(),
+            odometry: Vec::new(),
+            start,
+        };
+        let mut tally = Tally {
+            odometry_rng: substream(seed, "explore/odometry"),
+            previous: start,
+            relocalisations: 0,
+            truth_at_creation: Vec::new(),
+            truth_at_revisit: Vec::new(),
+            rc_sums: objects.iter().map(|o| (o.clone(), 0.0)).collect(),
+            objects,
+            pixels: whisker_sim::whisker::array::labels(),
+        };
+        for iteration in 0..self.config.max_iterations {
+            if self.done() {
+                break;
+            }
+            // 1–2. Goal and move.
+            let (goal, status) = self.go();
+            if self.done() {
+                break;
+            }
+            let w = self.whisk(iteration, seed, &mut tally);
+            let decision = self.decide(&w);
+            self.log(
+                iteration,
+                (goal.as_ref(), status),
+                w,
+                decision,
+                &mut tally,
+                &mut out,
+            )?;
+        }
+        self.finish(tally, out)
+    }
+
+    /// Steps 3–5: one whisk where the array is, odometry since the last, WhiskerRatSLAM,
+    /// and recognition.
+    fn whisk(&mut self, iteration: usize, seed: u64, tally: &mut Tally) -> Whisked {
+        // 3. Whisk where the array is.
+        let pose = self.robot.array_pose();
+        let start = self.time;
+        let (cycle, period, streams) =
+            self.sensing
+                .whisk(&self.target, iteration as u64, self.time, &pose, seed);
+        self.time += period;
+        let points: Vec<Point3<f64>> = cycle.contacts.iter().map(|c| c.point).collect();
+        let world: Vec<Point3<f64>> = points.iter().map(|p| pose * p).collect();
+        // 4. Odometry and SLAM.
+        let odometry = self
+            .config
+            .odometry
+            .apply(&(tally.previous.inverse() * pose), &mut tally.odometry_rng);
+        tally.previous = pose;
+        let features = whisker_slam::features::whisk::whisk_features(&cycle, &points);
+        let before = self.slam.map.experiences.len();
+        let step = self.slam.step(&features, &odometry);
+        if step.created {
+            tally.truth_at_creation.push((step.experience, pose));
+        } else if step.relocalised {
+            tally.truth_at_revisit.push((step.experience, pose));
+        }
+        // 5. Recognition: re-localisations into a loaded map's experiences.
+        let onto = (step.relocalised && step.experience < before)
+            .then(|| self.slam.map.experiences[step.experience].object.clone())
+            .flatten();
+        if onto.is_some() {
+            tally.relocalisations += 1;
+            self.anchor = Some((step.experience, pose));
+        }
+        if let Some(r) = &mut self.recognition {
+            r.update(onto.as_deref());
+            for (o, s) in tally.rc_sums.iter_mut() {
+                *s += r.raw.confidence[o];
+            }
+        }
+        Whisked {
+            pose,
+            start,
+            period,
+            cycle,
+            streams,
+            world,
+            odometry,
+            features,
+            step,
+            onto,
+        }
+    }
+
+    /// Step 6: the SPC's decision on the whisk's contacts (its name) and the strategy's
+    /// bookkeeping.
+    fn decide(&mut self, w: &Whisked) -> &'static str {
+        let decision = if self.config.spc {
+            self.place(&w.pose, &w.world)
+        } else {
+            "off"
+        };
+        if w.world.is_empty() {
+            self.count("lost_contact");
+            self.abandon_step();
+        } else if let Some(r) = self.recognition.take() {
+            self.replan(
+                &r,
+                w.onto.as_deref(),
+                w.step.experience,
+                &w.features,
+                &w.pose,
+            );
+            self.recognition = Some(r);
+        }
+        decision
+    }
+
+    /// The whisk's row of `explore.csv`, its contacts, its record and its place in the
+    /// outcome; progress every 10 physics whisks.
+    fn log(
+        &mut self,
+        iteration: usize,
+        (goal, status): (Option<&(Isometry3<f64>, String)>, &'static str),
+        w: Whisked,
+        decision: &'static str,
+        tally: &mut Tally,
+        out: &mut Outcome,
+    ) -> Result {
+        let row = Row {
+            iteration,
+            time: self.time,
+            goal,
+            status,
+            reached: &w.pose,
+            joints: &self.robot.q,
+            contacts: w.world.len(),
+            step: &w.step,
+            onto: w.onto.as_deref(),
+            recognition: self.recognition.as_ref(),
+            heading: self.heading.name(),
+            spc: decision,
+        };
+        log::row(&mut out.csv, &row, &tally.objects);
+        out.poses.push(w.pose);
+        out.contacts.push(crate::sensing::contact::append_cycle(
+            &mut out.contacts_csv,
+            &w.cycle,
+            &w.pose,
+            &tally.pixels,
+        ));
+        if let (Some(rec), Some(contacts)) = (self.recording, out.contacts.last()) {
+            let whisk = Whisk {
+                iteration,
+                start: w.start,
+                period: w.period,
+                goal,
+                pose: &w.pose,
+                contacts,
+                step: &w.step,
+                onto: w.onto.as_deref(),
+                spc: decision,
+                streams: w.streams.as_deref(),
+            };
+            self.record(rec, &whisk)?;
+        }
+        out.times.push(self.time);
+        out.joints.push(self.robot.q.clone());
+        out.cycles.push(w.cycle);
+        out.odometry.push(w.odometry);
+        if matches!(self.sensing, Sensor::Physics(_)) && (iteration + 1).is_multiple_of(10) {
+            self.reporter.note(&format!(
+                "  explore: {}/{} whisks (physics), {} re-localisations",
+                iteration + 1,
+                self.config.max_iterations,
+                tally.relocalisations
+            ));
+        }
+        Ok(())
+    }
+
+    /// The run's summary (and end of the recording); the map built.
+    fn finish(&mut self, tally: Tally, mut out: Outcome) -> Result<Outcome> {
+        let iterations = out.poses.len();
+        let map_accuracy = map_accuracy::measure(
+            &self.slam.map,
+            &tally.truth_at_creation,
+            &tally.truth_at_revisit,
+        );
+        let summary = Summary {
+            task: self.config.task,
+            truth: &self.truth,
+            strategy: self.config.strategy,
+            spc: self.config.spc,
+            iterations,
+            relocalisations: tally.relocalisations,
+            experiences: self.slam.map.experiences.len(),
+            faces_per_loop: self.tour.usable(),
+            loops: self.tour.loops,
+            recognition: self.recognition.as_ref(),
+            mean_rc: tally
+                .rc_sums
+                .iter()
+                .map(|(o, s)| (o.clone(), s / iterations.max(1) as f64))
+                .collect(),
+            fallbacks: &self.fallbacks,
+            map_accuracy,
+            time: self.time,
+        };
+        out.summary = summary.json();
+        if let Some(rec) = self.recording {
+            self.record_end(rec, &out.summary)?;
+        }
+        if self.config.task == Task::Map {
+            out.map = Some(self.slam.map.clone());
+        }
+        Ok(out)
+    }
+
+    pub(super) fn count(&mut self, what: &'static str) {
+        *self.fallbacks.entry(what).or_default() += 1;
+    }
+
+    /// The strategy's next goal (not the SPC's), and its kind for the log.
+    fn strategy_goal(&mut self) -> Option<(Isometry3<f64>, String)> {
+        if let Some(seg) = self.segments.pop_front() {
+            let to = self.stepping_to.map_or(String::new(), |e| e.to_string());
+            return Some((seg, format!("step:{to}")));
+        }
+        let level = self.robot.array_pose().rotation * Vector3::y();
+        let face = self.tour.next(self.start_face)?;
+        Some((self.tour.goal(face, &level), format!("face:{face}")))
+    }
+
+    fn done(&self) -> bool {
+        match (&self.recognition, self.config.task) {
+            (_, Task::Map) => self.tour.loops >= self.config.map_loops,
+            (Some(r), Task::Recognise) => r.all_reached(self.config.stop_ic),
+            (None, Task::Recognise) => true,
+        }
+    }
+
+    /// Step 2: the next goal (the SPC's pending correction, else the strategy's), and the
+    /// move there; a refused goal is counted and the next one tried, up to
+    /// [`GOAL_ATTEMPTS`]. Returns the last goal tried and the move's status.
+    fn go(&mut self) -> (Option<(Isometry3<f64>, String)>, &'static str) {
+        let mut goal = None;
+        let mut status = "none";
+        for _ in 0..GOAL_ATTEMPTS {
+            let (mut pose, kind) = match self.spc.take() {
+                Some(p) => (p, "spc".to_string()),
+                None => match self.strategy_goal() {
+                    Some(g) => g,
+                    None => break,
+                },
+            };
+            let mut motion = self.robot.move_to(&pose);
+            // A face goal inside the object (a sphere cuts a box's corners) is pushed back
+            // along its pointing axis, 2 cm at a time, up to 10 cm.
+            if kind.starts_with("face") {
+                for k in 1..=RETREATS {
+                    if !matches!(motion, Motion::Collision(_)) {
+                        break;
+                    }
+                    let back = pose * Translation3::new(0.0, 0.0, -RETREAT_M * k as f64);
+                    motion = self.robot.move_to(&back);
+                    if matches!(motion, Motion::Reached { .. }) {
+                        self.count("pushed_back");
+                        pose = back;
+                    }
+                }
+            }
+            status = motion.status();
+            match motion {
+                Motion::Reached { duration } => {
+                    self.time += duration;
+                    return (Some((pose, kind)), status);
+                }
+                Motion::Unreachable => self.count("unreachable"),
+                Motion::Collision(_) => self.count("collision"),
+            }
+            // A refused SPC correction ends the region; a refused segment the step.
+            self.adjustments = 0;
+            if kind.starts_with("step") {
+                self.abandon_step();
+            }
+            goal = Some((pose, kind));
+        }
+        (goal, status)
+    }
+
+    /// Runs the SPC on this whisk's contacts; returns its decision's name.
+    fn place(&mut self, pose: &Isometry3<f64>, world: &[Point3<f64>]) -> &'static str {
+        let p = &self.config.placement;
+        let decision = placement::correct(p, pose, world);
+        let name = match decision {
+            Placement::Approach(_) => "approach",
+            Placement::Turn(_) => "turn",
+            Placement::Move(_) => "move",
+            Placement::BackOff(_) => "back_off",
+            Placement::Done(_) => "done",
+        };
+        if matches!(decision, Placement::Done(_)) {
+            self.adjustments = 0;
+        } else if self.adjustments >= p.max_adjustments {
+            self.count("spc_limit");
+            self.adjustments = 0;
+        } else {
+            self.adjustments += 1;
+            self.spc = decision.pose();
+        }
+        name
+    }
+}

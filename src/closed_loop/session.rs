@@ -1,0 +1,43 @@
+//! The closed loop as a library call: `whisker run` with an `[explore]` section, the
+//! tests, datasets and batch trials all call [`run`] or [`run_logged`].
+
+use super::setup::{self, Outlets};
+use super::state::Outcome;
+use crate::error::Result;
+use crate::plan::Plan;
+use crate::record::{Recorder, Reporter, Silent};
+use crate::scenario::Scenario;
+use crate::sensing::held::WhiskLog;
+use std::path::Path;
+use whisker_sim::environment::Environment;
+
+/// Runs the closed loop of `scenario` (read from `file`) in `environment`.
+pub fn run(
+    scenario: &Scenario,
+    file: &Path,
+    plan: Plan,
+    environment: &Environment,
+) -> Result<Outcome> {
+    run_logged(scenario, file, plan, environment, None, None, &Silent)
+}
+
+/// [`run`], physics whisks' samples handed to `log` (stream `explore/physics/<k>`), each
+/// whisk logged to `recording`, progress said to `reporter`.
+pub fn run_logged(
+    scenario: &Scenario,
+    file: &Path,
+    plan: Plan,
+    environment: &Environment,
+    log: Option<WhiskLog>,
+    recording: Option<&dyn Recorder>,
+    reporter: &dyn Reporter,
+) -> Result<Outcome> {
+    let outlets = Outlets {
+        log,
+        recording,
+        reporter,
+    };
+    let mut state = setup::build(scenario, file, plan, environment, outlets)?;
+    let start = state.robot.array_pose();
+    state.run(scenario.seed, start)
+}

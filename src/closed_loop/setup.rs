@@ -1,0 +1,198 @@
+//! A closed-loop run set up from its scenario: the object's goal mesh (the ellipsoid of
+//! map building, the sphere of recognition), the known maps, the robot at its initial
+//! joints clear of the environment, and the sensing.
+
+use super::robot::Robot;
+use super::state::{Heading, Loop, Sensor};
+use crate::error::{Error, Result};
+use crate::plan::Plan;
+use crate::record::{GraphSchedule, Recorder, Reporter, SensorColumns};
+use crate::scenario::explore::{ExploreConfig, Task};
+use crate::scenario::{Scenario, Sensing};
+use crate::sensing::held::{PhysicsSensing, WhiskLog};
+use nalgebra::{Point3, Vector3};
+use rand::RngExt;
+use std::collections::{BTreeMap, VecDeque};
+use std::path::Path;
+use whisker_sim::environment::Environment;
+use whisker_sim::sensing::kinematic::{KinematicArray, SweepTarget};
+use whisker_slam::exploration::goal_mesh::GoalMesh;
+use whisker_slam::exploration::tour::FaceTour;
+use whisker_slam::recognition::Recognition;
+use whisker_slam::rng::substream;
+use whisker_slam::whisker_ratslam::object_map::ObjectMap;
+use whisker_slam::whisker_ratslam::slam::WhiskerRatSlam;
+
+/// Where a run's outputs go besides its result: the physics whisks' samples (`log`), the
+/// recording, and what it says.
+pub struct Outlets<'a> {
+    pub log: Option<WhiskLog>,
+    pub recording: Option<&'a dyn Recorder>,
+    pub reporter: &'a dyn Reporter,
+}
+
+/// The run of `scenario` (read from `file`) in `environment`, ready to start.
+pub fn build<'a>(
+    scenario: &'a Scenario,
+    file: &Path,
+    plan: Plan,
+    environment: &Environment,
+    outlets: Outlets<'a>,
+) -> Result<Loop<'a>> {
+    let config = scenario
+        .explore
+        .as_ref()
+        .ok_or_else(|| Error::field(file, "explore", "the scenario has no [explore] section"))?;
+    let names = scenario.object_names();
+    let truth = config.object_name(file, &names)?;
+    let index = names.iter().position(|n| *n == truth).expect("validated");
+    let piece = &environment.pieces[index];
+    let world: Vec<Point3<f64>> = piece.mesh.vertices.iter().map(|v| piece.pose * v).collect();
+    let (centre, half) = bounding_box(&world);
+    let chain = crate::sensing::array::array_chain(scenario, file, &plan)?;
+    let robot = Robot::new(plan, chain, environment, scenario.seed)?;
+    let hits = robot.colliding(&robot.q);
+    if !hits.is_empty() {
+        return Err(Error::field(
+            file,
+            "arm.initial_joints_deg",
+            format!(
+                "the arm starts inside the environment ({})",
+                hits.join(", ")
+            ),
+        ));
+    }
+    let sensing = sensor(scenario, file, environment, outlets.log)?;
+    let (map, recognition, mesh) = goals(config, file, centre, half)?;
+    let tour = FaceTour::new(mesh, config.min_height_m);
+    if tour.usable() == 0 {
+        return Err(Error::field(
+            file,
+            "explore.min_height_m",
+            "every goal face lies below it",
+        ));
+    }
+    let start_face = start_face(config.task, &tour, scenario.seed);
+    let columns = match (outlets.recording, scenario.sensing) {
+        (Some(rec), Sensing::Physics) => Some(SensorColumns::new(
+            rec,
+            "sensors",
+            &whisker_sim::whisker::array::labels(),
+        )?),
+        _ => None,
+    };
+    Ok(Loop {
+        config,
+        truth,
+        robot,
+        sensing,
+        target: SweepTarget::of(environment),
+        slam: WhiskerRatSlam::new(config.slam, map),
+        recognition,
+        tour,
+        start_face,
+        spc: None,
+        adjustments: 0,
+        segments: VecDeque::new(),
+        stepping_to: None,
+        heading: Heading::Default,
+        anchor: None,
+        fallbacks: BTreeMap::new(),
+        time: 0.0,
+        recording: outlets.recording,
+        reporter: outlets.reporter,
+        graph: GraphSchedule::default(),
+        columns,
+    })
+}
+
+/// How the run of `scenario` (read from `file`) whisks in `environment`: physics whiskers
+/// (their samples handed to `log`) or the kinematic sweep.
+fn sensor(
+    scenario: &Scenario,
+    file: &Path,
+    environment: &Environment,
+    log: Option<WhiskLog>,
+) -> Result<Sensor> {
+    Ok(match scenario.sensing {
+        Sensing::Physics => {
+            let mut p = PhysicsSensing::with_configs(
+                environment.physics_pieces(),
+                scenario.frontend.model(file)?,
+                scenario.array.whisker_configs(file)?,
+            );
+            p.log = log;
+            Sensor::Physics(Box::new(p))
+        }
+        _ => {
+            let configs = scenario.array.whisker_configs(file)?;
+            let whiskers = configs.iter().map(|c| c.rigid()).collect();
+            let patterns = configs.iter().map(|c| c.pattern).collect();
+            let noise = scenario.kinematic.noise(file)?;
+            Sensor::Kinematic(KinematicArray::new(
+                whiskers,
+                patterns,
+                noise,
+                scenario.seed,
+            ))
+        }
+    })
+}
+
+/// The task's map (empty, or the known maps appended), recognition (none when building
+/// a map) and goal mesh around the object's bounding box (`centre`, `half` extents).
+fn goals(
+    config: &ExploreConfig,
+    file: &Path,
+    centre: Point3<f64>,
+    half: Vector3<f64>,
+) -> Result<(ObjectMap, Option<Recognition>, GoalMesh)> {
+    Ok(match config.task {
+        Task::Map => {
+            let semi = half * 3f64.sqrt() + Vector3::repeat(config.standoff_m);
+            (
+                ObjectMap::default(),
+                None,
+                GoalMesh::ellipsoid(centre, semi, config.mesh_faces),
+            )
+        }
+        Task::Recognise => {
+            let mut appended = ObjectMap::default();
+            for (name, path) in config.map_files(file) {
+                let m = ObjectMap::load(&path)
+                    .map_err(|e| Error::field(file, &format!("explore.maps.{name}"), e))?;
+                appended.append(&m, &name);
+            }
+            // The thesis' "bounding sphere + standoff" keeps a box's faces out of reach
+            // (15 cm for the Box); the mean half extent + the SPC band's middle puts the
+            // side faces in reach, so the default trajectory touches without the SPC too.
+            let band = 0.5 * (config.placement.near_m + config.placement.far_m);
+            let radius = config.sphere_radius_m.unwrap_or(half.mean() + band);
+            let objects: Vec<String> = config.maps.keys().cloned().collect();
+            (
+                appended,
+                Some(Recognition::new(objects, config.recognition)),
+                GoalMesh::sphere(centre, radius, config.mesh_faces),
+            )
+        }
+    })
+}
+
+/// The face a run starts at: map building the one nearest the arm's base, the default
+/// trajectory one drawn from the seed (§6.3).
+fn start_face(task: Task, tour: &FaceTour, seed: u64) -> usize {
+    match task {
+        Task::Map => tour.nearest_usable(&Point3::origin()),
+        Task::Recognise => {
+            let mut rng = substream(seed, "explore/start-face");
+            let usable = tour.usable_faces();
+            usable[rng.random_range(0..usable.len())]
+        }
+    }
+}
+
+/// The centre and half extents of a mesh's bounding box.
+fn bounding_box(points: &[Point3<f64>]) -> (Point3<f64>, Vector3<f64>) {
+    let (lo, hi) = whisker_sim::environment::mesh::bounds(points);
+    (nalgebra::center(&lo, &hi), (hi - lo) / 2.0)
+}

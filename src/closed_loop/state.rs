@@ -1,0 +1,197 @@
+//! The state of a closed-loop run: the robot, its sensing, WhiskerRatSLAM, recognition,
+//! the strategy's and the SPC's bookkeeping, what is recorded, and what a run produces.
+
+use super::robot::Robot;
+use crate::record::{Contact, GraphSchedule, Recorder, Reporter, SensorColumns};
+use crate::scenario::explore::ExploreConfig;
+use crate::sensing::held::PhysicsSensing;
+use nalgebra::Isometry3;
+use nalgebra::Point3;
+use std::collections::{BTreeMap, VecDeque};
+use whisker_sim::sensing::kinematic::{KinematicArray, SweepTarget};
+use whisker_slam::contact::ContactCycle;
+use whisker_slam::exploration::feh::Follower;
+use whisker_slam::exploration::tour::FaceTour;
+use whisker_slam::features::similarity::Features;
+use whisker_slam::recognition::Recognition;
+use whisker_slam::rng::StreamRng;
+use whisker_slam::sensor::Odometry;
+use whisker_slam::sensor::Sample;
+use whisker_slam::whisker_ratslam::object_map::ObjectMap;
+use whisker_slam::whisker_ratslam::slam::Step;
+use whisker_slam::whisker_ratslam::slam::WhiskerRatSlam;
+
+/// What a closed-loop run produced.
+pub struct Outcome {
+    /// `explore.csv`'s text.
+    pub csv: String,
+    /// `summary.json`'s value.
+    pub summary: serde_json::Value,
+    /// Map building: the object map built.
+    pub map: Option<ObjectMap>,
+    /// The true array pose at every whisk, for the recording.
+    pub poses: Vec<Isometry3<f64>>,
+    /// Each whisk's contacts (world), for the recording.
+    pub contacts: Vec<Vec<crate::record::Contact>>,
+    /// `contacts.csv`'s text: every registered contact of every whisk.
+    pub contacts_csv: String,
+    /// Each whisk's time (s).
+    pub times: Vec<f64>,
+    /// The chain configuration at every whisk.
+    pub joints: Vec<Vec<f64>>,
+    /// Each whisk's contacts (array frame), as SLAM saw them.
+    pub cycles: Vec<ContactCycle>,
+    /// Each whisk's odometry since the previous one (Eq 6.4–6.11 noise), as SLAM saw it.
+    pub odometry: Vec<whisker_slam::sensor::Odometry>,
+    /// The array's pose before the first move.
+    pub start: Isometry3<f64>,
+}
+
+/// How a whisk is sensed.
+pub enum Sensor {
+    /// The anticipated intersect with the §6.1.3.1.2 noise (sub-streams
+    /// `kinematic/whisker/NN`).
+    Kinematic(KinematicArray),
+    /// Physics whiskers of `[array]` held still for one whisk (RCP at the sensor's
+    /// saturation unless `[array]` sets it), the signal front end and the radial-distance
+    /// model of `[frontend]` (as `whisker object-slam --sensing physics`; sub-streams
+    /// `explore/physics/<whisk>`).
+    Physics(Box<PhysicsSensing>),
+}
+
+impl Sensor {
+    /// One whisk cycle (number `k`, at time `t`) with the array held at `pose`, and the
+    /// cycle's duration (s).
+    /// Physics: also the whisk's samples of every whisker.
+    pub fn whisk(
+        &mut self,
+        target: &SweepTarget,
+        k: u64,
+        t: f64,
+        pose: &Isometry3<f64>,
+        seed: u64,
+    ) -> (ContactCycle, f64, Option<Vec<Vec<Sample>>>) {
+        match self {
+            Sensor::Kinematic(a) => (
+                a.sense(target, k, t, pose),
+                1.0 / a.patterns[0].frequency,
+                None,
+            ),
+            Sensor::Physics(p) => {
+                let (mut c, streams) = p.whisk_streams(
+                    target,
+                    k as usize,
+                    pose,
+                    seed,
+                    &format!("explore/physics/{k}"),
+                );
+                c.start_s = t;
+                (c, 1.0, Some(streams))
+            }
+        }
+    }
+}
+
+/// Where FEH or LSR is heading.
+pub enum Heading {
+    /// The default trajectory's faces.
+    Default,
+    /// Following a history (FEH).
+    Feh(Follower),
+    /// Along an LSR path: the remaining nodes after the one being stepped to.
+    Lsr {
+        path: VecDeque<usize>,
+        leader: String,
+    },
+}
+
+impl Heading {
+    /// The `strategy_state` column of `explore.csv`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Heading::Default => "default",
+            Heading::Feh(_) => "feh",
+            Heading::Lsr { .. } => "lsr",
+        }
+    }
+}
+
+/// The state of a run.
+pub struct Loop<'a> {
+    pub config: &'a ExploreConfig,
+    pub truth: String,
+    pub robot: Robot,
+    pub sensing: Sensor,
+    pub target: SweepTarget,
+    pub slam: WhiskerRatSlam,
+    pub recognition: Option<Recognition>,
+    pub tour: FaceTour,
+    pub start_face: usize,
+    /// Pending SPC correction and the adjustments made in this region.
+    pub spc: Option<Isometry3<f64>>,
+    pub adjustments: usize,
+    /// FEH/LSR: segments still to go of the current step, and the step's target.
+    pub segments: VecDeque<Isometry3<f64>>,
+    pub stepping_to: Option<usize>,
+    pub heading: Heading,
+    /// The last experience of a loaded map re-localised into and the true pose then.
+    pub anchor: Option<(usize, Isometry3<f64>)>,
+    pub fallbacks: BTreeMap<&'static str, usize>,
+    pub time: f64,
+    /// The recording, its map schedule and its buffered physics streams.
+    pub recording: Option<&'a dyn Recorder>,
+    pub reporter: &'a dyn Reporter,
+    pub graph: GraphSchedule,
+    pub columns: Option<SensorColumns>,
+}
+
+/// What a run gathers whisk by whisk besides its outputs.
+pub struct Tally {
+    pub odometry_rng: StreamRng,
+    /// The array's pose at the previous whisk.
+    pub previous: Isometry3<f64>,
+    pub relocalisations: usize,
+    /// True poses where experiences were made and re-localised into (map accuracy).
+    pub truth_at_creation: Vec<(usize, Isometry3<f64>)>,
+    pub truth_at_revisit: Vec<(usize, Isometry3<f64>)>,
+    /// Each loaded object's raw confidence, summed over the whisks.
+    pub rc_sums: BTreeMap<String, f64>,
+    /// The loaded objects.
+    pub objects: Vec<String>,
+    /// The whiskers' labels.
+    pub pixels: Vec<String>,
+}
+
+/// One whisk and what WhiskerRatSLAM made of it.
+pub struct Whisked {
+    /// Where the array was, when the whisk started (s) and how long it took.
+    pub pose: Isometry3<f64>,
+    pub start: f64,
+    pub period: f64,
+    pub cycle: ContactCycle,
+    /// Physics: every whisker's samples.
+    pub streams: Option<Vec<Vec<Sample>>>,
+    /// The contacts in the world.
+    pub world: Vec<Point3<f64>>,
+    pub odometry: Odometry,
+    pub features: Features,
+    pub step: Step,
+    /// The loaded object re-localised into, if any.
+    pub onto: Option<String>,
+}
+
+/// One whisk's record.
+pub struct Whisk<'a> {
+    pub iteration: usize,
+    /// When the whisk started and how long it took (s).
+    pub start: f64,
+    pub period: f64,
+    pub goal: Option<&'a (Isometry3<f64>, String)>,
+    pub pose: &'a Isometry3<f64>,
+    pub contacts: &'a [Contact],
+    pub step: &'a Step,
+    pub onto: Option<&'a str>,
+    pub spc: &'a str,
+    /// Physics: every whisker's samples of the whisk.
+    pub streams: Option<&'a [Vec<Sample>]>,
+}
