@@ -106,7 +106,7 @@ record() {
 
 compare() {
     local a=$1 b=$2 bad=0
-    cargo build --release -q --examples
+    cargo build --release -q -p whisker-recording --examples
     local same=target/release/examples/rrd_same
     while IFS= read -r f; do
         if [ ! -e "$b/$f" ]; then

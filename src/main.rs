@@ -6,9 +6,9 @@ mod cli;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
-use whisker::error::Error;
-use whisker::record::{Context, Reporter};
-use whisker::recording::Rerun;
+use whisker_experiments::error::Error;
+use whisker_experiments::record::{Context, Reporter};
+use whisker_recording::Rerun;
 
 /// Tactile SLAM and object recognition testbed for an actively whisked artificial
 /// whisker array on a UR5 arm.

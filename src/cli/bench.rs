@@ -2,10 +2,10 @@
 
 use super::{choice, print_json, trials::Lines};
 use std::path::PathBuf;
-use whisker::bench::{physics, recording, sensing, slam, trials};
-use whisker::error::Result;
-use whisker::record::{Context, Silent};
-use whisker::scenario::overrides::Override;
+use whisker_experiments::bench::{physics, recording, sensing, slam, trials};
+use whisker_experiments::error::Result;
+use whisker_experiments::record::{Context, Silent};
+use whisker_experiments::scenario::overrides::Override;
 use whisker_sim::sensing::physics::SolverPath;
 use whisker_sim::whisker::beam::Bending;
 
@@ -175,7 +175,7 @@ pub fn run(command: &Command, ctx: Context) -> Result {
             let report = trials::run(&settings, ctx, &Lines::new())?;
             show(&report, None);
             if !report.identical {
-                return Err(whisker::error::Error::Failure(
+                return Err(whisker_experiments::error::Error::Failure(
                     "trials.csv differs between 1 and 2 jobs".into(),
                 ));
             }

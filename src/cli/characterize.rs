@@ -1,8 +1,8 @@
 //! `whisker characterize`.
 
 use super::{choice, print_json};
-use whisker::characterize::{self, Settings};
-use whisker::error::Result;
+use whisker_experiments::characterize::{self, Settings};
+use whisker_experiments::error::Result;
 use whisker_sim::whisker::BeamDesign;
 use whisker_sim::whisker::beam::Bending;
 

@@ -2,14 +2,14 @@
 
 use super::{choice, print_json};
 use std::path::PathBuf;
-use whisker::datasets::noise::Settings as NoiseSettings;
-use whisker::datasets::{self, ScenarioDataset};
-use whisker::error::{Error, Result};
-use whisker::object_slam::Placement;
-use whisker::object_slam::dataset::ObjectDataset;
-use whisker::record::Context;
-use whisker::scenario::SensingMode;
-use whisker::scenario::overrides::Override;
+use whisker_experiments::datasets::noise::Settings as NoiseSettings;
+use whisker_experiments::datasets::{self, ScenarioDataset};
+use whisker_experiments::error::{Error, Result};
+use whisker_experiments::object_slam::Placement;
+use whisker_experiments::object_slam::dataset::ObjectDataset;
+use whisker_experiments::record::Context;
+use whisker_experiments::scenario::SensingMode;
+use whisker_experiments::scenario::overrides::Override;
 
 /// Write a seeded dataset in the lab's log layout with ground truth beside it
 /// (docs/dataset.md), or add noise to a clean one (`dataset noise`).

@@ -2,12 +2,12 @@
 
 use super::{RrdArgs, choice, print_json};
 use std::path::PathBuf;
-use whisker::dataset::manifest::Manifest;
-use whisker::error::Result;
-use whisker::maze_slam::{self, Settings};
-use whisker::record::Context;
-use whisker::scenario::SensingMode;
-use whisker::scenario::overrides::Override;
+use whisker_experiments::dataset::manifest::Manifest;
+use whisker_experiments::error::Result;
+use whisker_experiments::maze_slam::{self, Settings};
+use whisker_experiments::record::Context;
+use whisker_experiments::scenario::SensingMode;
+use whisker_experiments::scenario::overrides::Override;
 use whisker_sim::whisker::beam::Bending;
 
 /// Planar RatSLAM on the maze with tactile images (thesis Ch 3): ARR, ARCR, EM. Every

@@ -15,8 +15,8 @@ pub mod trials;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use serde::Serialize;
 use std::path::PathBuf;
-use whisker::choice::Choice;
-use whisker::record::Target;
+use whisker_experiments::choice::Choice;
+use whisker_experiments::record::Target;
 
 /// `--rrd FILE` / `--no-rrd`: where a command writes its recording.
 #[derive(clap::Args, Debug, Clone, Default)]

@@ -2,10 +2,10 @@
 
 use super::{RrdArgs, choice, print_json};
 use std::path::PathBuf;
-use whisker::error::Result;
-use whisker::object_slam::{self, Placement, Settings, SlamVersion};
-use whisker::record::Context;
-use whisker::scenario::SensingMode;
+use whisker_experiments::error::Result;
+use whisker_experiments::object_slam::{self, Placement, Settings, SlamVersion};
+use whisker_experiments::record::Context;
+use whisker_experiments::scenario::SensingMode;
 
 /// WhiskerRatSLAM on the catalogue objects (thesis §5.2): localisation and identification.
 #[derive(clap::Args, Debug)]

@@ -2,9 +2,9 @@
 
 use super::RrdArgs;
 use std::path::PathBuf;
-use whisker::error::Result;
-use whisker::record::Context;
-use whisker::scenario::overrides::Override;
+use whisker_experiments::error::Result;
+use whisker_experiments::record::Context;
+use whisker_experiments::scenario::overrides::Override;
 
 /// Run a scenario: simulate it and write its results and Rerun recording.
 #[derive(clap::Args, Debug)]
@@ -38,7 +38,7 @@ pub struct CheckArgs {
 
 /// `whisker run`.
 pub fn run(a: &RunArgs, ctx: Context) -> Result {
-    whisker::run::run(
+    whisker_experiments::run::run(
         &a.scenario,
         a.out.clone(),
         a.seed,
@@ -50,5 +50,5 @@ pub fn run(a: &RunArgs, ctx: Context) -> Result {
 
 /// `whisker check`.
 pub fn check(a: &CheckArgs, ctx: Context) -> Result {
-    whisker::check::check(&a.scenario, a.meshes.as_deref(), ctx)
+    whisker_experiments::check::check(&a.scenario, a.meshes.as_deref(), ctx)
 }

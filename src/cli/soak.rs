@@ -2,9 +2,9 @@
 
 use super::{choice, print_json};
 use std::path::PathBuf;
-use whisker::error::{Error, Result};
-use whisker::record::{Context, Silent};
-use whisker::soak::{self, Settings};
+use whisker_experiments::error::{Error, Result};
+use whisker_experiments::record::{Context, Silent};
+use whisker_experiments::soak::{self, Settings};
 use whisker_sim::sensing::physics::{DEFAULT_SUBSTEPS, SolverPath};
 use whisker_sim::whisker::beam::Bending;
 

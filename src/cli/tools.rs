@@ -2,8 +2,8 @@
 
 use super::print_json;
 use std::path::PathBuf;
-use whisker::error::Result;
-use whisker::record::Context;
+use whisker_experiments::error::Result;
+use whisker_experiments::record::Context;
 
 /// `whisker assets …`.
 #[derive(clap::Subcommand)]
@@ -52,7 +52,7 @@ pub enum UrdfCommand {
 /// `whisker assets generate`.
 pub fn assets(command: &AssetsCommand, ctx: Context) -> Result {
     match command {
-        AssetsCommand::Generate { out } => whisker::assets::generate_all(out, ctx),
+        AssetsCommand::Generate { out } => whisker_experiments::assets::generate_all(out, ctx),
     }
 }
 
@@ -62,7 +62,7 @@ pub fn urdf(command: &UrdfCommand, ctx: Context) -> Result {
         UrdfCommand::Info {
             urdf,
             package_paths,
-        } => whisker::urdf::info(urdf, package_paths, ctx),
+        } => whisker_experiments::urdf::info(urdf, package_paths, ctx),
         UrdfCommand::Fk {
             urdf,
             joints,
@@ -71,7 +71,7 @@ pub fn urdf(command: &UrdfCommand, ctx: Context) -> Result {
             json,
             package_paths,
         } => {
-            let fk = whisker::urdf::fk(
+            let fk = whisker_experiments::urdf::fk(
                 urdf,
                 package_paths,
                 joints,

@@ -6,11 +6,11 @@ use std::path::PathBuf;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
-use whisker::error::{Error, Result};
-use whisker::record::Context;
-use whisker::trials::batch::{self, Progress};
-use whisker::trials::journal::{self, Entry, Status};
-use whisker::trials::{Batch, Shard, merge, report, slurm};
+use whisker_experiments::error::{Error, Result};
+use whisker_experiments::record::Context;
+use whisker_experiments::trials::batch::{self, Progress};
+use whisker_experiments::trials::journal::{self, Entry, Status};
+use whisker_experiments::trials::{Batch, Shard, merge, report, slurm};
 
 /// `whisker trials`.
 #[derive(clap::Args, Debug)]

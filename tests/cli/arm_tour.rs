@@ -120,7 +120,7 @@ fn check_recording(path: &Path, samples: usize) {
             "world/waypoints",
         ],
     );
-    let entities = whisker::recording::decode::entities(&chunks);
+    let entities = whisker_recording::decode::entities(&chunks);
     assert!(entities.values().all(|e| !e.timelines.contains("log_time")));
     assert_eq!(entities["/world/arm/tip"].rows, samples);
     assert_eq!(entities["/world/arm/skeleton"].rows, samples);

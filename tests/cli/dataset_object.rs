@@ -79,9 +79,9 @@ fn object_dataset_replays_the_live_run() {
     assert_eq!(stdout(&live), stdout(&replay));
     assert_eq!(files(&live_out), files(&replay_out));
     // The recordings hold the same content (the same walks, maps and confidences).
-    let (_, live_rrd) = whisker::recording::decode::read(&live_out.join("run.rrd")).unwrap();
-    let (_, replay_rrd) = whisker::recording::decode::read(&replay_out.join("run.rrd")).unwrap();
-    whisker::recording::decode::same_content(&live_rrd, &replay_rrd).unwrap();
+    let (_, live_rrd) = whisker_recording::decode::read(&live_out.join("run.rrd")).unwrap();
+    let (_, replay_rrd) = whisker_recording::decode::read(&replay_out.join("run.rrd")).unwrap();
+    whisker_recording::decode::same_content(&live_rrd, &replay_rrd).unwrap();
     let general = ok(2, &["slam", s(&d), "--json"]);
     assert_eq!(stdout(&general), stdout(&live));
 

@@ -1,13 +1,12 @@
-//! The closed loop of Chapter 6 (`whisker::closed_loop`), called as a library and by the quickstart: a full
+//! The closed loop of Chapter 6 (`whisker_experiments::closed_loop`), called as a library and by the quickstart: a full
 //! map-building run of the Box checked independently (every goal reached or counted, no
 //! collision by Rapier's own contact detection along every move), the loop's bookkeeping
 //! against the truth, and byte-identical results whatever the thread count.
 
 use super::*;
 use nalgebra::Isometry3;
-use rapier3d_f64::prelude::ColliderBuilder;
-use whisker::plan::Plan;
-use whisker::scenario::Scenario;
+use whisker_experiments::plan::Plan;
+use whisker_experiments::scenario::Scenario;
 use whisker_sim::world::World;
 use whisker_slam::exploration::odometry_noise::OdometryNoise;
 
@@ -16,10 +15,10 @@ fn load(name: &str) -> (Scenario, PathBuf) {
     (Scenario::load(&file).unwrap(), file)
 }
 
-fn run(scenario: &Scenario, file: &Path) -> whisker::closed_loop::Outcome {
+fn run(scenario: &Scenario, file: &Path) -> whisker_experiments::closed_loop::Outcome {
     let plan = Plan::new(scenario, file).unwrap();
     let env = scenario.environment(file).unwrap().environment;
-    whisker::closed_loop::run(scenario, file, plan, &env).unwrap()
+    whisker_experiments::closed_loop::run(scenario, file, plan, &env).unwrap()
 }
 
 /// Column `name` of every row of a CSV text.
@@ -80,9 +79,7 @@ fn map_building_of_the_box_reaches_or_counts_every_goal_and_never_collides() {
         plan.model_joints(&plan.waypoints[0]),
         0.01,
     );
-    for piece in &env.pieces {
-        world.add_fixed(ColliderBuilder::new(piece.shape.clone()).position(piece.pose.into()));
-    }
+    world.add_environment(&env);
     let mut previous = plan.waypoints[0].clone();
     let mut checked = 0;
     for q in &out.joints {

@@ -25,7 +25,7 @@ fn a_physics_validation_set_is_detected_near_the_anticipated_contacts_and_evalua
     // The recording beside the data set: each simulation's whisker streams, one whisk
     // (1 Hz: 2000 samples), and its ground-truth contact.
     let chunks = super::recording::checked(&tmp.path().join("validation.rrd"), &[]);
-    let entities = whisker::recording::decode::entities(&chunks);
+    let entities = whisker_recording::decode::entities(&chunks);
     let streams: Vec<&String> = entities
         .keys()
         .filter(|p| p.starts_with("/sensors/"))
@@ -38,7 +38,7 @@ fn a_physics_validation_set_is_detected_near_the_anticipated_contacts_and_evalua
     assert_eq!(streams.len(), truths);
     for p in streams {
         assert_eq!(
-            whisker::recording::decode::scalars(&chunks, p).len(),
+            whisker_recording::decode::scalars(&chunks, p).len(),
             2000,
             "{p}"
         );

@@ -5,7 +5,8 @@
 
 use super::*;
 use std::collections::BTreeMap;
-use whisker::recording::decode;
+use whisker_recording::decode;
+use whisker_recording::decode::Chunk;
 
 /// The entity table of docs/recording.md: path pattern → archetype.
 fn documented() -> Vec<(String, String)> {
@@ -30,7 +31,7 @@ fn matches(pattern: &str, path: &str) -> bool {
 
 /// Checks that every entity of the recording at `file` is documented with its archetype,
 /// that every path of `expected` is present, and returns the chunks.
-pub fn checked(file: &Path, expected: &[&str]) -> Vec<rerun::log::Chunk> {
+pub fn checked(file: &Path, expected: &[&str]) -> Vec<Chunk> {
     let (_, chunks) = decode::read(file).unwrap();
     let entities = decode::entities(&chunks);
     let docs = documented();
@@ -72,7 +73,7 @@ fn csv_points(path: &Path) -> BTreeMap<i64, Vec<[f32; 3]>> {
 }
 
 /// The points of a recording's entity per time (µs), empty rows dropped.
-fn rrd_points(chunks: &[rerun::log::Chunk], entity: &str) -> BTreeMap<i64, Vec<[f32; 3]>> {
+fn rrd_points(chunks: &[Chunk], entity: &str) -> BTreeMap<i64, Vec<[f32; 3]>> {
     decode::points(chunks, entity)
         .into_iter()
         .filter(|(_, p)| !p.is_empty())

@@ -7,8 +7,8 @@
 //! was repaired is reported so that `whisker check` can show it.
 
 use super::fallback::{SAMPLES_PER_EDGE, convex_hull, deviation, distances, index_surface};
-pub use super::mesh_io::MeshError;
 use super::mesh_io;
+pub use super::mesh_io::MeshError;
 pub use super::topology::Mesh;
 use super::topology::{close_and_orient, components, signed_volume, weld};
 use nalgebra::{Point3, Vector3};

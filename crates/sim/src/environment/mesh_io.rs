@@ -14,7 +14,6 @@
 
 use std::path::{Path, PathBuf};
 
-
 /// A problem with a mesh file: which file, where in it, what is wrong.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{}: {at}: {message}", file.display())]

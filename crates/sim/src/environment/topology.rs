@@ -16,10 +16,10 @@
 //! parts (a mug's body and handle) are fine.
 
 use super::cracks::{close_holes, split_t_junctions};
-pub use super::edges::components;
-use super::edges::{EdgeMap, FastMap, split_sheets};
 pub use super::edges::TopologyError;
+pub use super::edges::components;
 use super::edges::point_at;
+use super::edges::{EdgeMap, FastMap, split_sheets};
 use nalgebra::Point3;
 use std::collections::VecDeque;
 

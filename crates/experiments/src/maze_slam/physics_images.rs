@@ -230,7 +230,7 @@ mod tests {
     /// radial training set), and no pixel lights before the first whisk cycle completes.
     #[test]
     fn physics_images_light_the_touching_whiskers() {
-        let file = Path::new("scenarios/maze.toml");
+        let file = &Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/maze.toml");
         let scenario = Scenario::load(file).unwrap();
         let environment = scenario.environment(file).unwrap().environment;
         let g = Geometry {

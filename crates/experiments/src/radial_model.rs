@@ -8,7 +8,7 @@ use whisker_slam::radial::RadialEstimator;
 
 /// The built-in default radial-distance model: svr10 (CP-CA-DV-DA-AV), the thesis'
 /// choice (§4.2.1), trained by `whisker radial train` on the physics training set.
-pub const DEFAULT_MODEL: &str = include_str!("../assets/models/svr10.json");
+pub const DEFAULT_MODEL: &str = include_str!("../../../assets/models/svr10.json");
 
 /// The radial-distance model file at `path`, or the built-in svr10.
 pub fn load_or_default(path: Option<&Path>) -> Result<RadialEstimator> {

@@ -1,12 +1,12 @@
 //! The whiskers' 2 kHz streams in a recording (`sensors/<label>`, `docs/recording.md`):
 //! per whisker one row per sample of four scalars — the whisk angle (degrees), the x and
 //! y deflections (ADC counts) and the RCP state (1 while the controller retracts early,
-//! §3.2.2) — sent in columns (`crate::record::SensorColumns` buffers a simulated second),
+//! §3.2.2) — sent in columns (`whisker_experiments::record::SensorColumns` buffers a simulated second),
 //! not a call per sample.
 
 use super::{Recording, SIM_TIME};
-use crate::error::Result;
-use crate::record::{SENSOR_SERIES, SENSOR_VALUES};
+use whisker_experiments::error::Result;
+use whisker_experiments::record::{SENSOR_SERIES, SENSOR_VALUES};
 
 impl Recording {
     /// Names the series of the stream at `entity` (static).

@@ -9,9 +9,9 @@
 //! integrated confidence in each object (§6.2) and the outcome.
 
 use super::Recording;
-use crate::error::Result;
-use crate::record::Graph;
 use nalgebra::Isometry3;
+use whisker_experiments::error::Result;
+use whisker_experiments::record::Graph;
 use whisker_slam::pose_grid::PoseGrid;
 use whisker_slam::ratslam::local_view::{COLUMNS, ROWS, TactileImage};
 

@@ -4,7 +4,8 @@
 //! way to get numbers out of a `.rrd` without the viewer.
 
 use super::SIM_TIME;
-use rerun::log::{Chunk, LogMsg};
+pub use rerun::log::Chunk;
+use rerun::log::LogMsg;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 

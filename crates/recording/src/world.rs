@@ -5,10 +5,10 @@
 //! error between them.
 
 use super::{Recording, f32x3};
-use crate::error::Result;
-use crate::record::{Contact, ContactKind};
 use nalgebra::Isometry3;
 use std::collections::BTreeMap;
+use whisker_experiments::error::Result;
+use whisker_experiments::record::{Contact, ContactKind};
 use whisker_sim::environment::Environment;
 
 /// Colour of the ground-truth contacts (green).
@@ -57,7 +57,10 @@ impl Recording {
                 .with_triangle_indices(piece.mesh.triangles.iter().copied())
                 .with_albedo_factor(rerun::Rgba32::from_unmultiplied_rgba(r, g, b, 255));
             self.log_static(
-                format!("{prefix}/{}", crate::record::entity_name(&piece.name)),
+                format!(
+                    "{prefix}/{}",
+                    whisker_experiments::record::entity_name(&piece.name)
+                ),
                 &mesh,
             )?;
         }

@@ -1,6 +1,6 @@
 //! The Rerun recordings (`.rrd`) of every command that simulates or runs SLAM, for
 //! headless inspection: open one later with `rerun FILE.rrd`. [`Rerun`] makes them: it
-//! implements the experiments' recording interface (`crate::record`). The entity tree, one row per
+//! implements the experiments' recording interface (`whisker_experiments::record`). The entity tree, one row per
 //! entity (path, archetype, timeline, rate), is documented in `docs/recording.md`; its
 //! entities are written by [`world`] (the scene), [`sensors`] (the 2 kHz streams),
 //! [`slam`] (the SLAM state and the closed loop's decisions) and read back by [`decode`].
@@ -21,13 +21,13 @@ pub mod sensors;
 pub mod slam;
 pub mod world;
 
-use crate::error::{Error, Result};
-use crate::output;
 use std::path::{Path, PathBuf};
+use whisker_experiments::error::{Error, Result};
+use whisker_experiments::output;
 
-pub use crate::record::SIM_TIME;
-use crate::record::{Contact, ContactKind, Graph, Layout, Recorder, Recordings};
 use nalgebra::Isometry3;
+pub use whisker_experiments::record::SIM_TIME;
+use whisker_experiments::record::{Contact, ContactKind, Graph, Layout, Recorder, Recordings};
 use whisker_sim::environment::{Environment, Mesh};
 use whisker_slam::pose_grid::PoseGrid;
 use whisker_slam::ratslam::local_view::TactileImage;

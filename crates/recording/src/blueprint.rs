@@ -2,11 +2,11 @@
 //! and made active, so that `rerun FILE.rrd` shows them): the 3-D scene on the left, the
 //! command's own panels on the right.
 
-use crate::record::Layout;
 use rerun::blueprint::{
     Blueprint, ContainerLike, Horizontal, Spatial2DView, Spatial3DView, Tabs, TextLogView,
     TimePanel, TimeSeriesView, Vertical,
 };
+use whisker_experiments::record::Layout;
 
 fn layout(panels: Vec<ContainerLike>, timeline: &str) -> Blueprint {
     let scene: ContainerLike = Spatial3DView::new("World").with_origin("/world").into();

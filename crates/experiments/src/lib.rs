@@ -21,7 +21,7 @@ pub mod plan;
 pub mod radial;
 pub mod radial_model;
 pub mod record;
-pub mod recording;
+
 pub mod run;
 pub mod scenario;
 pub mod sensing;

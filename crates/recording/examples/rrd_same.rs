@@ -11,13 +11,13 @@ fn main() -> ExitCode {
         eprintln!("usage: rrd_same A.rrd B.rrd");
         return ExitCode::from(2);
     };
-    let read = |p: &str| whisker::recording::decode::read(std::path::Path::new(p));
+    let read = |p: &str| whisker_recording::decode::read(std::path::Path::new(p));
     let result = read(a).and_then(|(id_a, chunks_a)| {
         let (id_b, chunks_b) = read(b)?;
         if id_a != id_b {
             return Err(format!("recording ids differ: {id_a} against {id_b}"));
         }
-        whisker::recording::decode::same_content(&chunks_a, &chunks_b)
+        whisker_recording::decode::same_content(&chunks_a, &chunks_b)
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,
