@@ -183,6 +183,15 @@ impl<'a> CaseRecording<'a> {
     }
 }
 
+/// What a soak case's simulation saw: the deepest shaft inside a solid, whether a whisker
+/// went non-finite or was quarantined, and when a shaft first went deeper than 1 mm.
+#[derive(Default)]
+struct Soaked {
+    deepest: f64,
+    broken: bool,
+    first_tunnel: Option<Tunnel>,
+}
+
 /// Runs one case; says its line and returns its record.
 /// `case` (named `name`, its solids `solids`) with the array at `pose` (the case's, or
 /// nudged).
@@ -214,15 +223,56 @@ fn run_case(
     })
     .collect();
     let mut array = PhysicsArray::new(configs, &environment.physics_pieces(), &pose, 0, DT);
-    let mut record = match recording {
+    let record = match recording {
         Some((rec, k)) => Some(CaseRecording::new(rec, k, name, environment, &array)?),
         None => None,
     };
-    let steps = (o.duration / DT).round() as usize;
     let start = Instant::now();
-    let mut deepest: f64 = 0.0;
-    let mut broken = false;
-    let mut first_tunnel: Option<(f64, String, f64)> = None;
+    let soaked = simulate(name, &mut array, pose, solids, o, record, ctx)?;
+    let wall = start.elapsed().as_secs_f64();
+    // World steps per sample, summed over whiskers: 1 without speed-adaptive splits.
+    let (samples, world) = array
+        .units
+        .iter()
+        .map(|u| u.steps())
+        .fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    let report = CaseReport {
+        case: name.to_string(),
+        pieces: environment.pieces.len(),
+        triangles: environment
+            .pieces
+            .iter()
+            .map(|p| p.mesh.triangles.len())
+            .sum::<usize>(),
+        simulated_s: o.duration,
+        whiskers_touching_by_sweep: touching.len(),
+        whiskers_simulated: array.units.len(),
+        max_shaft_depth_m: soaked.deepest,
+        non_finite_or_quarantined: soaked.broken,
+        tunnelled: soaked.deepest > TUNNEL_DEPTH,
+        first_tunnelling: soaked.first_tunnel,
+        wall_s: wall,
+        world_steps_per_sample: world as f64 / samples.max(1) as f64,
+        passed: !soaked.broken && soaked.deepest <= TUNNEL_DEPTH,
+        nudge_m: 0.0,
+    };
+    ctx.say(&report.to_string());
+    Ok(report)
+}
+
+/// Holds the array at `pose` for the case's duration, checking after every 20 steps how deep
+/// the shafts are inside the solids; stops at a broken whisker.
+fn simulate(
+    name: &str,
+    array: &mut PhysicsArray,
+    pose: Isometry3<f64>,
+    solids: &Solids,
+    o: &Settings,
+    mut record: Option<CaseRecording>,
+    ctx: Context,
+) -> Result<Soaked> {
+    let steps = (o.duration / DT).round() as usize;
+    let mut soaked = Soaked::default();
     // The array runs 20 steps per task between checks (`PhysicsArray::run`).
     let chunk = [pose; 20];
     let mut k = 0;
@@ -230,7 +280,7 @@ fn run_case(
         let n = chunk.len().min(steps - k);
         let samples = array.run(&chunk[..n]);
         if let Some(r) = &mut record {
-            r.chunk(k, &samples, &array)?;
+            r.chunk(k, &samples, array)?;
         }
         k += n;
         let per: Vec<(f64, bool)> = array
@@ -241,13 +291,17 @@ fn run_case(
         let (depth, bad) = per
             .iter()
             .fold((0.0f64, false), |a, b| (a.0.max(b.0), a.1 || b.1));
-        if first_tunnel.is_none() && depth > TUNNEL_DEPTH {
+        if soaked.first_tunnel.is_none() && depth > TUNNEL_DEPTH {
             let w = per.iter().position(|p| p.0 == depth).unwrap_or(0);
-            first_tunnel = Some((k as f64 * DT, array.units[w].config.module.pixel(), depth));
+            soaked.first_tunnel = Some(Tunnel {
+                t_s: k as f64 * DT,
+                whisker: array.units[w].config.module.pixel(),
+                depth_m: depth,
+            });
         }
-        deepest = deepest.max(depth);
-        broken |= bad;
-        if broken {
+        soaked.deepest = soaked.deepest.max(depth);
+        soaked.broken |= bad;
+        if soaked.broken {
             break;
         }
         if k % 2000 == 0 {
@@ -262,41 +316,7 @@ fn run_case(
     if let Some(r) = record {
         r.finish()?;
     }
-    let wall = start.elapsed().as_secs_f64();
-    let passed = !broken && deepest <= TUNNEL_DEPTH;
-    // World steps per sample, summed over whiskers: 1 without speed-adaptive splits.
-    let (samples, world) = array
-        .units
-        .iter()
-        .map(|u| u.steps())
-        .fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
-    let per_sample = world as f64 / samples.max(1) as f64;
-    let report = CaseReport {
-        case: name.to_string(),
-        pieces: environment.pieces.len(),
-        triangles: environment
-            .pieces
-            .iter()
-            .map(|p| p.mesh.triangles.len())
-            .sum::<usize>(),
-        simulated_s: o.duration,
-        whiskers_touching_by_sweep: touching.len(),
-        whiskers_simulated: array.units.len(),
-        max_shaft_depth_m: deepest,
-        non_finite_or_quarantined: broken,
-        tunnelled: deepest > TUNNEL_DEPTH,
-        first_tunnelling: first_tunnel.map(|(t_s, whisker, depth_m)| Tunnel {
-            t_s,
-            whisker,
-            depth_m,
-        }),
-        wall_s: wall,
-        world_steps_per_sample: per_sample,
-        passed,
-        nudge_m: 0.0,
-    };
-    ctx.say(&report.to_string());
-    Ok(report)
+    Ok(soaked)
 }
 
 /// An environment and the array pose where the most whiskers touch it.

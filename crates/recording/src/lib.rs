@@ -1,9 +1,10 @@
 //! The Rerun recordings (`.rrd`) of every command that simulates or runs SLAM, for
 //! headless inspection: open one later with `rerun FILE.rrd`. [`Rerun`] makes them: it
-//! implements the experiments' recording interface (`whisker_experiments::record`). The entity tree, one row per
-//! entity (path, archetype, timeline, rate), is documented in `docs/recording.md`; its
-//! entities are written by [`world`] (the scene), [`sensors`] (the 2 kHz streams),
-//! [`slam`] (the SLAM state and the closed loop's decisions) and read back by [`decode`].
+//! implements the experiments' recording interface (`whisker_experiments::record`). The
+//! entity tree, one row per entity (path, archetype, timeline, rate), is documented in
+//! `docs/recording.md`; its entities are written by [`world`] (the scene), [`sensors`] (the
+//! 2 kHz streams), [`slam`] (the SLAM state and the closed loop's decisions) and read back
+//! by [`decode`].
 //!
 //! Reproducibility: the recording id is made from the scenario (or command) and the seed,
 //! the wall-clock `log_time` timeline is off, and nothing is batched on a timer: data is

@@ -34,9 +34,10 @@ use std::path::Path;
 use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker};
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::whisker::control::WhiskingPattern;
+use whisker_slam::contact::ContactCycle;
 use whisker_slam::recognition::Outcome;
 use whisker_slam::recognition::Recognition;
-use whisker_slam::sensor::SAMPLE_RATE_HZ;
+use whisker_slam::sensor::{Odometry, SAMPLE_RATE_HZ};
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 use whisker_slam::whisker_ratslam::slam::WhiskerRatSlam;
 
@@ -52,7 +53,7 @@ pub fn write(
     let config = scenario.explore.as_ref().expect("checked by the caller");
     let plan = crate::plan::Plan::new(scenario, file)?;
     let environment = scenario.environment(file)?.environment;
-    let configs = scenario.array.whisker_configs(file)?;
+    let configs = scenario.whisker_configs(file)?;
     let whiskers: Vec<RigidWhisker> = configs.iter().map(|c| c.rigid()).collect();
     let array = array_info(&whiskers);
     let physics = scenario.sensing == crate::scenario::Sensing::Physics;
@@ -96,46 +97,29 @@ pub fn write(
         Some(&outcome.times),
     );
     s.put("log/poses.csv", Role::Log, log.as_bytes())?;
-    let mut maps = Vec::new();
-    for (name, path) in config.map_files(file) {
-        let bytes = std::fs::read(&path).map_err(|e| {
-            Error::field(
-                file,
-                &format!("explore.maps.{name}"),
-                format!("{}: {e}", path.display()),
-            )
-        })?;
-        s.put(&format!("log/maps/{name}.json"), Role::Log, &bytes)?;
-        maps.push(name);
-    }
-    // Ground truth.
-    let poses = records::truth_poses_csv(&outcome.poses, &outcome.times);
-    s.put("truth/poses.csv", Role::Truth, poses.as_bytes())?;
-    let mut sweep = KinematicArray::new(
-        whiskers.clone(),
-        configs
-            .iter()
-            .map(|c| c.pattern)
-            .collect::<Vec<WhiskingPattern>>(),
-        ContactNoise::NONE,
-        0,
-    );
-    let target = whisker_sim::sensing::kinematic::SweepTarget::of(&environment);
-    let anticipated: Vec<_> = outcome
-        .poses
-        .iter()
-        .enumerate()
-        .map(|(k, p)| sweep.sense(&target, k as u64, outcome.times[k], p))
-        .collect();
-    s.put(
-        "truth/contacts.csv",
-        Role::Truth,
-        records::contacts_csv(&anticipated, &array.labels).as_bytes(),
+    let maps = put_maps(file, config, s)?;
+    put_truth(
+        &outcome,
+        &configs,
+        &whiskers,
+        &environment,
+        scenario_text,
+        s,
     )?;
-    s.put("truth/explore.csv", Role::Truth, outcome.csv.as_bytes())?;
-    let summary = serde_json::to_string_pretty(&outcome.summary).expect("plain JSON") + "\n";
-    s.put("truth/summary.json", Role::Truth, summary.as_bytes())?;
-    s.put("truth/scenario.toml", Role::Truth, scenario_text.as_bytes())?;
+    manifest(file, scenario, &configs, &outcome, maps, array)
+}
+
+/// The manifest of a closed loop's dataset.
+fn manifest(
+    file: &Path,
+    scenario: &Scenario,
+    configs: &[whisker_sim::sensing::physics::WhiskerConfig],
+    outcome: &super::Outcome,
+    maps: Vec<String>,
+    array: crate::dataset::manifest::ArrayInfo,
+) -> Result<Manifest> {
+    let config = scenario.explore.as_ref().expect("checked by the caller");
+    let physics = scenario.sensing == crate::scenario::Sensing::Physics;
     let noise = scenario.kinematic.noise(file)?;
     let sensor = configs[0].sensor;
     Ok(Manifest {
@@ -181,6 +165,67 @@ pub fn write(
             array,
         )
     })
+}
+
+/// The known object maps (the robot's prior knowledge) copied to `log/maps/`; their names.
+fn put_maps(
+    file: &Path,
+    config: &crate::scenario::explore::ExploreConfig,
+    s: &mut Staging,
+) -> Result<Vec<String>> {
+    let mut maps = Vec::new();
+    for (name, path) in config.map_files(file) {
+        let bytes = std::fs::read(&path).map_err(|e| {
+            Error::field(
+                file,
+                &format!("explore.maps.{name}"),
+                format!("{}: {e}", path.display()),
+            )
+        })?;
+        s.put(&format!("log/maps/{name}.json"), Role::Log, &bytes)?;
+        maps.push(name);
+    }
+    Ok(maps)
+}
+
+/// Ground truth: the reached poses, the rigid sweep's noise-free contacts at them, the live
+/// run's own log and summary, the scenario as run.
+fn put_truth(
+    outcome: &super::Outcome,
+    configs: &[whisker_sim::sensing::physics::WhiskerConfig],
+    whiskers: &[RigidWhisker],
+    environment: &whisker_sim::environment::Environment,
+    scenario_text: &str,
+    s: &mut Staging,
+) -> Result {
+    let poses = records::truth_poses_csv(&outcome.poses, &outcome.times);
+    s.put("truth/poses.csv", Role::Truth, poses.as_bytes())?;
+    let mut sweep = KinematicArray::new(
+        whiskers.to_vec(),
+        configs
+            .iter()
+            .map(|c| c.pattern)
+            .collect::<Vec<WhiskingPattern>>(),
+        ContactNoise::NONE,
+        0,
+    );
+    let target = whisker_sim::sensing::kinematic::SweepTarget::of(environment);
+    let anticipated: Vec<_> = outcome
+        .poses
+        .iter()
+        .enumerate()
+        .map(|(k, p)| sweep.sense(&target, k as u64, outcome.times[k], p))
+        .collect();
+    s.put(
+        "truth/contacts.csv",
+        Role::Truth,
+        records::contacts_csv(&anticipated, &array_info(whiskers).labels).as_bytes(),
+    )?;
+    s.put("truth/explore.csv", Role::Truth, outcome.csv.as_bytes())?;
+    let summary = serde_json::to_string_pretty(&outcome.summary).expect("plain JSON") + "\n";
+    s.put("truth/summary.json", Role::Truth, summary.as_bytes())?;
+    s.put("truth/scenario.toml", Role::Truth, scenario_text.as_bytes())?;
+    Ok(())
 }
 
 /// What recognition found in a replay.
@@ -245,7 +290,38 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<ReplaySumm
         return Err(Error::field(&file, "closed_loop", "missing"));
     };
     let n = info.whisks;
-    let cycles = match m.level {
+    let cycles = read_cycles(dir, m, n)?;
+    let odometry = read_odometry(&m.file(dir, "log/odometry.csv")?, n)?;
+    let appended = known_maps(dir, m, info)?;
+    // The true object, when the ground truth is there.
+    let object = if m.has_truth(dir) {
+        Some(true_object(dir, m)?)
+    } else {
+        None
+    };
+    let mut slam = WhiskerRatSlam::new(info.slam, appended);
+    let mut recognition =
+        (info.task == "recognise").then(|| Recognition::new(info.maps.clone(), info.recognition));
+    let (csv, relocalisations) =
+        run_slam(&cycles, &odometry, info, &mut slam, recognition.as_mut());
+    let truth = object.as_deref();
+    let summary = ReplaySummary {
+        task: info.task.clone(),
+        whisks: n,
+        relocalisations,
+        experiences: slam.map.experiences.len(),
+        recognition: recognition.as_ref().map(|r| found(r, truth)),
+        object,
+    };
+    if let Some(out) = out {
+        write_replay(out, &csv, &summary, &slam, info)?;
+    }
+    Ok(summary)
+}
+
+/// Each whisk's contacts: read (level `contacts`) or sensed again from the whisk files.
+fn read_cycles(dir: &Path, m: &Manifest, n: usize) -> Result<Vec<ContactCycle>> {
+    Ok(match m.level {
         Level::Contacts => {
             records::read_contacts(&m.file(dir, "log/contacts.csv")?, n, &m.array.labels)?
         }
@@ -261,8 +337,11 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<ReplaySumm
                 })
                 .collect::<Result<Vec<_>>>()?
         }
-    };
-    let odometry = read_odometry(&m.file(dir, "log/odometry.csv")?, n)?;
+    })
+}
+
+/// The known object maps of `log/maps/`, appended into one.
+fn known_maps(dir: &Path, m: &Manifest, info: &ClosedLoopInfo) -> Result<ObjectMap> {
     let mut appended = ObjectMap::default();
     for name in &info.maps {
         let path = m.file(dir, &format!("log/maps/{name}.json"))?;
@@ -270,26 +349,34 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<ReplaySumm
             ObjectMap::load(&path).map_err(|e| Error::Input(format!("{}: {e}", path.display())))?;
         appended.append(&map, name);
     }
-    // The true object, when the ground truth is there.
-    let object = if m.has_truth(dir) {
-        let path = m.file(dir, "truth/summary.json")?;
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| Error::Input(format!("{}: {e}", path.display())))?;
-        let v: serde_json::Value = serde_json::from_str(&text)
-            .map_err(|e| Error::Input(format!("{}: {e}", path.display())))?;
-        let object = v["object"].as_str().map(String::from).ok_or_else(|| {
-            Error::Input(format!(
-                "{}: field `object`: expected the true object's name",
-                path.display()
-            ))
-        })?;
-        Some(object)
-    } else {
-        None
-    };
-    let mut slam = WhiskerRatSlam::new(info.slam, appended);
-    let mut recognition =
-        (info.task == "recognise").then(|| Recognition::new(info.maps.clone(), info.recognition));
+    Ok(appended)
+}
+
+/// The true object's name, from the live run's `truth/summary.json`.
+fn true_object(dir: &Path, m: &Manifest) -> Result<String> {
+    let path = m.file(dir, "truth/summary.json")?;
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| Error::Input(format!("{}: {e}", path.display())))?;
+    let v: serde_json::Value = serde_json::from_str(&text)
+        .map_err(|e| Error::Input(format!("{}: {e}", path.display())))?;
+    let object = v["object"].as_str().map(String::from).ok_or_else(|| {
+        Error::Input(format!(
+            "{}: field `object`: expected the true object's name",
+            path.display()
+        ))
+    })?;
+    Ok(object)
+}
+
+/// WhiskerRatSLAM (and recognition, if any) whisk by whisk; returns `replay.csv`'s text and
+/// the number of re-localisations into known maps.
+fn run_slam(
+    cycles: &[ContactCycle],
+    odometry: &[Odometry],
+    info: &ClosedLoopInfo,
+    slam: &mut WhiskerRatSlam,
+    mut recognition: Option<&mut Recognition>,
+) -> (String, usize) {
     let mut csv =
         String::from("whisk,contacts,matched,experience,created,relocalised,relocalised_object");
     for prefix in ["rc", "ic"] {
@@ -299,7 +386,7 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<ReplaySumm
     }
     csv.push('\n');
     let mut relocalisations = 0;
-    for (k, (cycle, odo)) in cycles.iter().zip(&odometry).enumerate() {
+    for (k, (cycle, odo)) in cycles.iter().zip(odometry).enumerate() {
         let points: Vec<Point3<f64>> = cycle.contacts.iter().map(|c| c.point).collect();
         let features = whisker_slam::features::whisk::whisk_features(cycle, &points);
         let before = slam.map.experiences.len();
@@ -308,7 +395,7 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<ReplaySumm
             .then(|| slam.map.experiences[step.experience].object.clone())
             .flatten();
         relocalisations += usize::from(onto.is_some());
-        if let Some(r) = &mut recognition {
+        if let Some(r) = recognition.as_deref_mut() {
             r.update(onto.as_deref());
         }
         let matched = step.matched.map_or(String::new(), |x| x.to_string());
@@ -325,51 +412,56 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<ReplaySumm
             let _ = write!(
                 csv,
                 ",{}",
-                recognition.as_ref().map_or(0.0, |r| r.raw.confidence[name])
+                recognition
+                    .as_deref()
+                    .map_or(0.0, |r| r.raw.confidence[name])
             );
         }
         for name in &info.maps {
             let _ = write!(
                 csv,
                 ",{}",
-                recognition.as_ref().map_or(0.0, |r| r.integrated[name])
+                recognition.as_deref().map_or(0.0, |r| r.integrated[name])
             );
         }
         csv.push('\n');
     }
-    let truth = object.as_deref();
-    let summary = ReplaySummary {
-        task: info.task.clone(),
-        whisks: n,
-        relocalisations,
-        experiences: slam.map.experiences.len(),
-        recognition: recognition.as_ref().map(|r| {
-            let identified = r.identified();
-            ReplayRecognition {
-                identified: identified.map(|(o, _)| o.to_string()),
-                identified_at: identified.map(|(_, t)| t),
-                crossings: r.crossed.clone(),
-                final_rc: r.raw.confidence.clone(),
-                final_ic: r.integrated.clone(),
-                outcome: truth.map(|t| r.outcome(t)),
-                srt: truth.and_then(|t| r.srt(t).ok()),
-                im: truth.and_then(|t| r.identity_margin(t)).map(|(v, _)| v),
-                threshold: r.params.threshold,
-            }
-        }),
-        object,
-    };
-    if let Some(out) = out {
-        crate::output::create_dir(out)?;
-        crate::output::write_atomic(&out.join("replay.csv"), csv.as_bytes())?;
-        let value = serde_json::to_value(&summary).expect("plain data");
-        let text = serde_json::to_string_pretty(&value).expect("plain JSON") + "\n";
-        crate::output::write_atomic(&out.join("summary.json"), text.as_bytes())?;
-        if info.task == "map" {
-            slam.map
-                .save(&out.join("map.json"))
-                .map_err(Error::Failure)?;
-        }
+    (csv, relocalisations)
+}
+
+/// What recognition found, scored against the true object when known.
+fn found(r: &Recognition, truth: Option<&str>) -> ReplayRecognition {
+    let identified = r.identified();
+    ReplayRecognition {
+        identified: identified.map(|(o, _)| o.to_string()),
+        identified_at: identified.map(|(_, t)| t),
+        crossings: r.crossed.clone(),
+        final_rc: r.raw.confidence.clone(),
+        final_ic: r.integrated.clone(),
+        outcome: truth.map(|t| r.outcome(t)),
+        srt: truth.and_then(|t| r.srt(t).ok()),
+        im: truth.and_then(|t| r.identity_margin(t)).map(|(v, _)| v),
+        threshold: r.params.threshold,
     }
-    Ok(summary)
+}
+
+/// `replay.csv`, `summary.json` and, for a map task, `map.json` in `out`.
+fn write_replay(
+    out: &Path,
+    csv: &str,
+    summary: &ReplaySummary,
+    slam: &WhiskerRatSlam,
+    info: &ClosedLoopInfo,
+) -> Result {
+    crate::output::create_dir(out)?;
+    crate::output::write_atomic(&out.join("replay.csv"), csv.as_bytes())?;
+    let value = serde_json::to_value(summary).expect("plain data");
+    let text = serde_json::to_string_pretty(&value).expect("plain JSON") + "\n";
+    crate::output::write_atomic(&out.join("summary.json"), text.as_bytes())?;
+    if info.task == "map" {
+        slam.map
+            .save(&out.join("map.json"))
+            .map_err(Error::Failure)?;
+    }
+    Ok(())
 }

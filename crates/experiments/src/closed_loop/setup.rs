@@ -119,13 +119,13 @@ fn sensor(
             let mut p = PhysicsSensing::with_configs(
                 environment.physics_pieces(),
                 scenario.frontend.model(file)?,
-                scenario.array.whisker_configs(file)?,
+                scenario.whisker_configs(file)?,
             );
             p.log = log;
             Sensor::Physics(Box::new(p))
         }
         _ => {
-            let configs = scenario.array.whisker_configs(file)?;
+            let configs = scenario.whisker_configs(file)?;
             let whiskers = configs.iter().map(|c| c.rigid()).collect();
             let patterns = configs.iter().map(|c| c.pattern).collect();
             let noise = scenario.kinematic.noise(file)?;

@@ -50,6 +50,33 @@ pub struct Settings {
 /// `whisker dataset noise`.
 pub fn run(o: &Settings) -> Result<crate::dataset::Written> {
     let m = Manifest::read(&o.input)?;
+    let contact_noise = check(o, &m)?;
+    crate::dataset::timed(&o.out, |s| {
+        let mut out = m.clone();
+        out.noise = NoiseInfo {
+            added_with_seed: Some(o.seed),
+            ..NoiseInfo::default()
+        };
+        for entry in &m.files {
+            if let Some(bytes) = noisy_file(o, &m, entry, contact_noise, s, &mut out.noise)? {
+                s.put(&entry.path, entry.role, &bytes)?;
+            }
+        }
+        if m.level == Level::Streams {
+            let sigma = SensorNoise {
+                deflection_counts: o.deflection_counts,
+                angle_rad: o.angle_deg.to_radians(),
+            };
+            out.noise.sensor = Some(sigma);
+            noisy_streams(o, &m, sigma, s)?;
+        }
+        Ok(out)
+    })
+}
+
+/// Refuses a dataset that holds noise already or a closed loop's, and noise parameters out
+/// of range; returns the contact noise.
+fn check(o: &Settings, m: &Manifest) -> Result<ContactNoise> {
     if !m.noise.is_clean() {
         return Err(Error::Input(format!(
             "{}: field `noise`: the dataset already holds noise; write it with \
@@ -82,122 +109,124 @@ pub fn run(o: &Settings) -> Result<crate::dataset::Written> {
             )));
         }
     }
-    let odometry = OdometryNoise::default();
-    let contact_info = ContactNoiseInfo {
-        point_fraction: o.point_fraction,
-        slope_sigma: o.slope_sigma,
-        detection_probability: o.detection,
-    };
-    crate::dataset::timed(&o.out, |s| {
-        let mut out = m.clone();
-        out.noise = NoiseInfo {
-            added_with_seed: Some(o.seed),
-            ..NoiseInfo::default()
-        };
-        for entry in &m.files {
-            let path = o.input.join(&entry.path);
-            let (parent, name) = entry.path.rsplit_once('/').unwrap_or(("", &entry.path));
-            // An object walk's directory `log/<object>/<A|B>`, or the maze's `log`.
-            let walk = parent
-                .strip_prefix("log/")
-                .filter(|_| m.experiment == Experiment::ObjectSlam);
-            let bytes = match (entry.role, name) {
-                (Role::Log, "odometry.csv") => match walk {
-                    // The §3.1.2 error, as a noisy dataset of seed M holds it; the pose
-                    // log dead-reckoned again from it.
-                    None => {
-                        out.noise.odometry = Some(odometry);
-                        let clean = crate::maze_slam::dataset::read_odometry(&path, None)?;
-                        let steps = noisy_steps(&clean, &odometry, o.seed);
-                        let poses = crate::maze_slam::dataset::pose_log_of(&o.input, &m, &steps)?;
-                        s.put("log/poses.csv", Role::Log, poses.as_bytes())?;
-                        crate::maze_slam::dataset::odometry_csv(&steps).into_bytes()
-                    }
-                    // The walk's Gaussian error from `object-slam/<object>/<A|B>/odometry`.
-                    Some(walk) => {
-                        out.noise.odometry_6d = Some(Odometry6Noise::WALK);
-                        let (clean, start) =
-                            crate::object_slam::dataset::read_log(&o.input, &m, walk)?;
-                        let noisy = whisker_slam::whisker_ratslam::walk_odometry::noisy_odometry(
-                            &clean,
-                            o.seed,
-                            &format!("object-slam/{walk}"),
-                        );
-                        let poses =
-                            crate::object_slam::dataset::pose_log(&start, &noisy, false, None);
-                        s.put(&format!("{parent}/poses.csv"), Role::Log, poses.as_bytes())?;
-                        crate::object_slam::dataset::odometry_csv(&noisy).into_bytes()
-                    }
-                },
-                (Role::Log, "poses.csv") => continue,
-                (Role::Log, "contacts.csv") => {
-                    out.noise.contacts = Some(contact_info);
-                    let whisks = match (walk, &m.maze) {
-                        (Some(walk), _) => crate::object_slam::dataset::whisks(&m, walk)?,
-                        (None, Some(maze)) => maze.updates,
-                        (None, None) => 0,
-                    };
-                    let cycles = records::read_contacts(&path, whisks, &m.array.labels)?;
-                    let tag = walk.map_or(String::new(), |w| format!("{w}/"));
-                    let noisy =
-                        noisy_contacts(&cycles, &m.array.lengths_m, contact_noise, o.seed, &tag);
-                    records::contacts_csv(&noisy, &m.array.labels).into_bytes()
-                }
-                _ if entry.path.starts_with("log/whisks/") => continue,
-                (Role::Truth, _) if !path.exists() => continue,
-                _ => std::fs::read(&path)
-                    .map_err(|e| Error::Input(format!("{}: cannot read: {e}", path.display())))?,
-            };
-            s.put(&entry.path, entry.role, &bytes)?;
-        }
-        if m.level == Level::Streams {
-            let sensor = m.sensor.expect("checked");
-            let sigma = SensorNoise {
-                deflection_counts: o.deflection_counts,
-                angle_rad: o.angle_deg.to_radians(),
-            };
-            out.noise.sensor = Some(sigma);
-            let files: Vec<Result<(String, String)>> = (0..sensor.whisks)
-                .into_par_iter()
-                .map(|c| {
-                    let name = format!("log/whisks/{}", records::whisk_name(c));
-                    let mut streams = records::read_whisk(
-                        &o.input.join(&name),
-                        &m.array.labels,
-                        sensor.samples_per_whisk,
-                        sensor.angle_resolution_rad,
-                    )?;
-                    for (w, stream) in streams.iter_mut().enumerate() {
-                        let mut rng =
-                            substream(o.seed, &format!("dataset-noise/whisk/{c}/whisker/{w}"));
-                        let q = sensor.angle_resolution_rad;
-                        let limit = sensor.saturation_counts;
-                        for r in stream.iter_mut() {
-                            r.angle_rad =
-                                ((r.angle_rad + gauss(sigma.angle_rad, &mut rng)) / q).round() * q;
-                            r.x = (r.x + gauss(sigma.deflection_counts, &mut rng))
-                                .round()
-                                .clamp(-limit, limit)
-                                + 0.0;
-                            r.y = (r.y + gauss(sigma.deflection_counts, &mut rng))
-                                .round()
-                                .clamp(-limit, limit)
-                                + 0.0;
-                        }
-                    }
-                    Ok((
-                        name,
-                        records::whisk_csv(&m.array.labels, &streams, sensor.angle_resolution_rad)?,
-                    ))
-                })
-                .collect();
-            for f in files {
-                let (name, csv) = f?;
-                s.put(&name, Role::Log, csv.as_bytes())?;
+    Ok(contact_noise)
+}
+
+/// The noisy dataset's bytes of one file of the clean one (None: not copied; the whisk
+/// streams are noised apart and the pose logs written with their odometry); notes in
+/// `noise` what was added.
+fn noisy_file(
+    o: &Settings,
+    m: &Manifest,
+    entry: &crate::dataset::manifest::FileEntry,
+    contact_noise: ContactNoise,
+    s: &mut crate::dataset::Staging,
+    noise: &mut NoiseInfo,
+) -> Result<Option<Vec<u8>>> {
+    let path = o.input.join(&entry.path);
+    let (parent, name) = entry.path.rsplit_once('/').unwrap_or(("", &entry.path));
+    // An object walk's directory `log/<object>/<A|B>`, or the maze's `log`.
+    let walk = parent
+        .strip_prefix("log/")
+        .filter(|_| m.experiment == Experiment::ObjectSlam);
+    Ok(Some(match (entry.role, name) {
+        (Role::Log, "odometry.csv") => match walk {
+            // The §3.1.2 error, as a noisy dataset of seed M holds it; the pose
+            // log dead-reckoned again from it.
+            None => {
+                let odometry = OdometryNoise::default();
+                noise.odometry = Some(odometry);
+                let clean = crate::maze_slam::dataset::read_odometry(&path, None)?;
+                let steps = noisy_steps(&clean, &odometry, o.seed);
+                let poses = crate::maze_slam::dataset::pose_log_of(&o.input, m, &steps)?;
+                s.put("log/poses.csv", Role::Log, poses.as_bytes())?;
+                crate::maze_slam::dataset::odometry_csv(&steps).into_bytes()
             }
+            // The walk's Gaussian error from `object-slam/<object>/<A|B>/odometry`.
+            Some(walk) => {
+                noise.odometry_6d = Some(Odometry6Noise::WALK);
+                let (clean, start) = crate::object_slam::dataset::read_log(&o.input, m, walk)?;
+                let noisy = whisker_slam::whisker_ratslam::walk_odometry::noisy_odometry(
+                    &clean,
+                    o.seed,
+                    &format!("object-slam/{walk}"),
+                );
+                let poses = crate::object_slam::dataset::pose_log(&start, &noisy, false, None);
+                s.put(&format!("{parent}/poses.csv"), Role::Log, poses.as_bytes())?;
+                crate::object_slam::dataset::odometry_csv(&noisy).into_bytes()
+            }
+        },
+        (Role::Log, "poses.csv") => return Ok(None),
+        (Role::Log, "contacts.csv") => {
+            noise.contacts = Some(ContactNoiseInfo {
+                point_fraction: o.point_fraction,
+                slope_sigma: o.slope_sigma,
+                detection_probability: o.detection,
+            });
+            let whisks = match (walk, &m.maze) {
+                (Some(walk), _) => crate::object_slam::dataset::whisks(m, walk)?,
+                (None, Some(maze)) => maze.updates,
+                (None, None) => 0,
+            };
+            let cycles = records::read_contacts(&path, whisks, &m.array.labels)?;
+            let tag = walk.map_or(String::new(), |w| format!("{w}/"));
+            let noisy = noisy_contacts(&cycles, &m.array.lengths_m, contact_noise, o.seed, &tag);
+            records::contacts_csv(&noisy, &m.array.labels).into_bytes()
         }
-        Ok(out)
-    })
+        _ if entry.path.starts_with("log/whisks/") => return Ok(None),
+        (Role::Truth, _) if !path.exists() => return Ok(None),
+        _ => std::fs::read(&path)
+            .map_err(|e| Error::Input(format!("{}: cannot read: {e}", path.display())))?,
+    }))
+}
+
+/// The whisk streams with sensor noise `sigma`, re-quantised and clipped as the sensor
+/// would (one sub-stream per whisk and whisker), into the staging directory.
+fn noisy_streams(
+    o: &Settings,
+    m: &Manifest,
+    sigma: SensorNoise,
+    s: &mut crate::dataset::Staging,
+) -> Result {
+    let sensor = m.sensor.expect("checked");
+    let files: Vec<Result<(String, String)>> = (0..sensor.whisks)
+        .into_par_iter()
+        .map(|c| {
+            let name = format!("log/whisks/{}", records::whisk_name(c));
+            let mut streams = records::read_whisk(
+                &o.input.join(&name),
+                &m.array.labels,
+                sensor.samples_per_whisk,
+                sensor.angle_resolution_rad,
+            )?;
+            for (w, stream) in streams.iter_mut().enumerate() {
+                let mut rng = substream(o.seed, &format!("dataset-noise/whisk/{c}/whisker/{w}"));
+                let q = sensor.angle_resolution_rad;
+                let limit = sensor.saturation_counts;
+                for r in stream.iter_mut() {
+                    r.angle_rad =
+                        ((r.angle_rad + gauss(sigma.angle_rad, &mut rng)) / q).round() * q;
+                    r.x = (r.x + gauss(sigma.deflection_counts, &mut rng))
+                        .round()
+                        .clamp(-limit, limit)
+                        + 0.0;
+                    r.y = (r.y + gauss(sigma.deflection_counts, &mut rng))
+                        .round()
+                        .clamp(-limit, limit)
+                        + 0.0;
+                }
+            }
+            Ok((
+                name,
+                records::whisk_csv(&m.array.labels, &streams, sensor.angle_resolution_rad)?,
+            ))
+        })
+        .collect();
+    for f in files {
+        let (name, csv) = f?;
+        s.put(&name, Role::Log, csv.as_bytes())?;
+    }
+    Ok(())
 }
 
 /// The §6.1.3.1.2 noise on clean contacts (whisker lengths `lengths`), from sub-streams

@@ -46,6 +46,32 @@ use whisker_slam::sensor::SAMPLE_RATE_HZ;
 pub const ODOMETRY_COLUMNS: &str = "update,time_s,turn_rad,distance_m";
 const TRUTH_COLUMNS: &str = "update,time_s,x_m,y_m,heading_rad";
 
+/// What the sensing of a maze dataset wrote and how: the level, the rigid whiskers the
+/// array info describes, the sensor and front end (physics), the noise, the image sets, the
+/// whisk rate and the noise-free contacts of ground truth.
+struct SensingLog {
+    level: Level,
+    whiskers: Vec<whisker_sim::sensing::kinematic::RigidWhisker>,
+    sensor: Option<SensorInfo>,
+    frontend: Option<Vec<whisker_slam::frontend::contact::FrontEndParams>>,
+    sensor_noise: Option<SensorNoise>,
+    contact_noise: Option<ContactNoiseInfo>,
+    image_sets: Vec<(String, String)>,
+    whisk_hz: f64,
+    anticipated: Vec<whisker_slam::contact::ContactCycle>,
+}
+
+/// What both kinds of sensing read: the scenario and its file, the setup, the environment's
+/// sweep target, the seed, whether noise is left out.
+struct MazeRun<'a> {
+    file: &'a Path,
+    scenario: &'a Scenario,
+    setup: &'a Setup,
+    target: &'a whisker_sim::sensing::kinematic::SweepTarget,
+    seed: u64,
+    clean: bool,
+}
+
 /// Writes maze scenario `scenario` (read from `file`; its seed the dataset's; as run:
 /// `scenario_text`) into `s`; `clean` leaves out every noise.
 pub fn write(
@@ -69,91 +95,19 @@ pub fn write(
     } else {
         noisy_steps(&clean_steps, &config.odometry, seed)
     };
-    let (level, whiskers, sensor, frontend, sensor_noise, contact_noise, image_sets, whisk_hz);
-    let mut anticipated = Vec::new();
-    match &setup.physics {
-        None => {
-            whiskers = kinematic_whiskers();
-            let noise = if clean {
-                ContactNoise::NONE
-            } else {
-                scenario.kinematic.noise(file)?
-            };
-            let key = substream_key(seed, "maze-slam/sensing");
-            let cycles = kinematic_contacts(truth, &target, noise, key, g);
-            let labels = array_info(&whiskers).labels;
-            s.put(
-                "log/contacts.csv",
-                Role::Log,
-                records::contacts_csv(&cycles, &labels).as_bytes(),
-            )?;
-            anticipated = kinematic_contacts(truth, &target, ContactNoise::NONE, 0, g);
-            level = Level::Contacts;
-            (sensor, frontend, sensor_noise) = (None, None, None);
-            contact_noise = ContactNoiseInfo::of(noise);
-            image_sets = vec![(setup.set_names[0].clone(), "contacts".to_string())];
-            whisk_hz = UPDATE_HZ;
-        }
-        Some(physics) => {
-            let (mut configs, rcp) = (physics.configs.clone(), &physics.rcp);
-            if clean {
-                for c in &mut configs {
-                    c.sensor.noise_counts = 0.0;
-                    c.sensor.angle_noise_rad = 0.0;
-                }
-            }
-            let key = substream_key(seed, "maze-slam/physics");
-            let configs = maze_physics::calibrated(configs, *rcp, key);
-            let front = ImageFrontEnd::new(&configs, &scenario.frontend.detection);
-            whiskers = front.rigid.clone();
-            let labels = array_info(&whiskers).labels;
-            let model = configs[0].sensor;
-            whisk_hz = front.frequency;
-            let whisks = maze_physics::cycles(truth.len(), whisk_hz);
-            let mut sweep = KinematicArray::new(
-                whiskers.clone(),
-                vec![WhiskingPattern::default(); whiskers.len()],
-                ContactNoise::NONE,
-                0,
-            );
-            let pieces = environment.physics_pieces();
-            maze_physics::simulate(truth, &pieces, configs, key, g, reporter, |c, streams| {
-                let csv = records::whisk_csv(&labels, &streams, model.angle_resolution_rad)?;
-                s.put(
-                    &format!("log/whisks/{}", records::whisk_name(c)),
-                    Role::Log,
-                    csv.as_bytes(),
-                )?;
-                let t = c as f64 / whisk_hz;
-                let pose = maze_physics::pose_at(truth, t, g);
-                anticipated.push(sweep.sense(&target, c as u64, t, &pose));
-                Ok::<(), Error>(())
-            })?;
-            level = Level::Streams;
-            sensor = Some(SensorInfo {
-                sample_rate_hz: SAMPLE_RATE_HZ,
-                whisk_hz,
-                samples_per_whisk: maze_physics::per_cycle(whisk_hz),
-                whisks,
-                angle_resolution_rad: model.angle_resolution_rad,
-                saturation_counts: model.saturation_counts,
-            });
-            sensor_noise =
-                (model.noise_counts > 0.0 || model.angle_noise_rad > 0.0).then_some(SensorNoise {
-                    deflection_counts: model.noise_counts,
-                    angle_rad: model.angle_noise_rad,
-                });
-            contact_noise = None;
-            frontend = Some(front.params.clone());
-            image_sets = config
-                .images
-                .iter()
-                .zip(&setup.set_names)
-                .map(|(e, n)| (n.clone(), e.name().to_string()))
-                .collect();
-        }
-    }
-    let array = array_info(&whiskers);
+    let run = MazeRun {
+        file,
+        scenario,
+        setup: &setup,
+        target: &target,
+        seed,
+        clean,
+    };
+    let log = match &setup.physics {
+        None => kinematic_log(&run, s)?,
+        Some(physics) => physics_log(&run, physics, &environment, s, reporter)?,
+    };
+    let array = array_info(&log.whiskers);
     // The odometry, the pose log, ground truth.
     let mut poses = String::from(TRUTH_COLUMNS) + "\n";
     for (k, p) in truth.iter().enumerate() {
@@ -168,7 +122,7 @@ pub fn write(
     s.put(
         "log/poses.csv",
         Role::Log,
-        pose_log(truth[0], &steps, g, level, whisk_hz).as_bytes(),
+        pose_log(truth[0], &steps, g, log.level, log.whisk_hz).as_bytes(),
     )?;
     s.put("truth/poses.csv", Role::Truth, poses.as_bytes())?;
     s.put(
@@ -179,15 +133,15 @@ pub fn write(
     s.put(
         "truth/contacts.csv",
         Role::Truth,
-        records::contacts_csv(&anticipated, &array.labels).as_bytes(),
+        records::contacts_csv(&log.anticipated, &array.labels).as_bytes(),
     )?;
     s.put("truth/scenario.toml", Role::Truth, scenario_text.as_bytes())?;
     Ok(Manifest {
-        sensor,
+        sensor: log.sensor,
         noise: NoiseInfo {
-            sensor: sensor_noise,
+            sensor: log.sensor_noise,
             odometry: (!clean && config.odometry.enabled).then_some(config.odometry),
-            contacts: contact_noise,
+            contacts: log.contact_noise,
             ..NoiseInfo::default()
         },
         maze: Some(MazeInfo {
@@ -198,11 +152,119 @@ pub fn write(
             yaw0_rad: g.yaw0,
             circuit_starts: setup.starts.clone(),
             kidnap: config.kidnap,
-            image_sets,
-            frontend,
+            image_sets: log.image_sets,
+            frontend: log.frontend,
             ratslam: config.ratslam,
         }),
-        ..Manifest::new(Experiment::MazeSlam, level, seed, array)
+        ..Manifest::new(Experiment::MazeSlam, log.level, seed, array)
+    })
+}
+
+/// Kinematic sensing: `log/contacts.csv`, the rigid sweep's contacts of every update with
+/// the scenario's contact noise (level `contacts`).
+fn kinematic_log(run: &MazeRun, s: &mut Staging) -> Result<SensingLog> {
+    let (g, truth) = (&run.setup.geometry, &run.setup.truth);
+    let whiskers = kinematic_whiskers();
+    let noise = if run.clean {
+        ContactNoise::NONE
+    } else {
+        run.scenario.kinematic.noise(run.file)?
+    };
+    let key = substream_key(run.seed, "maze-slam/sensing");
+    let cycles = kinematic_contacts(truth, run.target, noise, key, g);
+    let labels = array_info(&whiskers).labels;
+    s.put(
+        "log/contacts.csv",
+        Role::Log,
+        records::contacts_csv(&cycles, &labels).as_bytes(),
+    )?;
+    Ok(SensingLog {
+        anticipated: kinematic_contacts(truth, run.target, ContactNoise::NONE, 0, g),
+        level: Level::Contacts,
+        whiskers,
+        sensor: None,
+        frontend: None,
+        sensor_noise: None,
+        contact_noise: ContactNoiseInfo::of(noise),
+        image_sets: vec![(run.setup.set_names[0].clone(), "contacts".to_string())],
+        whisk_hz: UPDATE_HZ,
+    })
+}
+
+/// Physics sensing: one whisk file of 2 kHz streams per whisk cycle (level `streams`), and
+/// the rigid sweep at each cycle's start pose as ground truth.
+fn physics_log(
+    run: &MazeRun,
+    physics: &maze_physics::PhysicsWhiskers,
+    environment: &whisker_sim::environment::Environment,
+    s: &mut Staging,
+    reporter: &dyn Reporter,
+) -> Result<SensingLog> {
+    let (g, truth) = (&run.setup.geometry, &run.setup.truth);
+    let (mut configs, rcp) = (physics.configs.clone(), &physics.rcp);
+    if run.clean {
+        for c in &mut configs {
+            c.sensor.noise_counts = 0.0;
+            c.sensor.angle_noise_rad = 0.0;
+        }
+    }
+    let key = substream_key(run.seed, "maze-slam/physics");
+    let configs = maze_physics::calibrated(configs, *rcp, key);
+    let front = ImageFrontEnd::new(&configs, &run.scenario.frontend.detection);
+    let whiskers = front.rigid.clone();
+    let labels = array_info(&whiskers).labels;
+    let model = configs[0].sensor;
+    let whisk_hz = front.frequency;
+    let whisks = maze_physics::cycles(truth.len(), whisk_hz);
+    let mut sweep = KinematicArray::new(
+        whiskers.clone(),
+        vec![WhiskingPattern::default(); whiskers.len()],
+        ContactNoise::NONE,
+        0,
+    );
+    let pieces = environment.physics_pieces();
+    let mut anticipated = Vec::new();
+    maze_physics::simulate(truth, &pieces, configs, key, g, reporter, |c, streams| {
+        let csv = records::whisk_csv(&labels, &streams, model.angle_resolution_rad)?;
+        s.put(
+            &format!("log/whisks/{}", records::whisk_name(c)),
+            Role::Log,
+            csv.as_bytes(),
+        )?;
+        let t = c as f64 / whisk_hz;
+        let pose = maze_physics::pose_at(truth, t, g);
+        anticipated.push(sweep.sense(run.target, c as u64, t, &pose));
+        Ok::<(), Error>(())
+    })?;
+    Ok(SensingLog {
+        level: Level::Streams,
+        whiskers,
+        sensor: Some(SensorInfo {
+            sample_rate_hz: SAMPLE_RATE_HZ,
+            whisk_hz,
+            samples_per_whisk: maze_physics::per_cycle(whisk_hz),
+            whisks,
+            angle_resolution_rad: model.angle_resolution_rad,
+            saturation_counts: model.saturation_counts,
+        }),
+        sensor_noise: (model.noise_counts > 0.0 || model.angle_noise_rad > 0.0).then_some(
+            SensorNoise {
+                deflection_counts: model.noise_counts,
+                angle_rad: model.angle_noise_rad,
+            },
+        ),
+        contact_noise: None,
+        frontend: Some(front.params.clone()),
+        image_sets: run
+            .scenario
+            .maze_slam
+            .images
+            .iter()
+            .zip(&run.setup.set_names)
+            .map(|(e, n)| (n.clone(), e.name().to_string()))
+            .collect(),
+        whisk_hz,
+        anticipated,
     })
 }
 
@@ -309,55 +371,15 @@ fn pose_log(
 pub fn read(dir: &Path, m: &Manifest) -> Result<(Sensed, RatSlamParams, bool)> {
     let info = m.maze.as_ref().expect("checked by Manifest::read");
     let file = dir.join(crate::dataset::manifest::FILE);
-    if info.update_hz != UPDATE_HZ {
-        return Err(Error::field(
-            &file,
-            "maze.update_hz",
-            format!("expected {UPDATE_HZ} (the rate of §3.1.2)"),
-        ));
-    }
+    check_info(&file, info)?;
     let n = info.updates;
-    let starts = &info.circuit_starts;
-    if n < 2
-        || starts.len() < 2
-        || starts.windows(2).any(|w| w[0] >= w[1])
-        || starts[starts.len() - 1] >= n
-    {
-        return Err(Error::field(
-            &file,
-            "maze.circuit_starts",
-            "expected at least 2 increasing updates below maze.updates (at least 2)",
-        ));
-    }
-    if info.kidnap && starts.len() < 4 {
-        return Err(Error::field(
-            &file,
-            "maze.kidnap",
-            "the kidnapped variant needs 4 circuits",
-        ));
-    }
     let g = geometry(info);
     let whiskers = rigid_whiskers(dir, &m.array)?;
     // The odometry.
     let steps = read_odometry(&m.file(dir, "log/odometry.csv")?, Some(n))?;
     // Ground truth, if present; else the estimate starts at the pose log's first pose.
     let truth = if m.has_truth(dir) {
-        let table = Table::read(&m.file(dir, "truth/poses.csv")?, &columns(TRUTH_COLUMNS))?;
-        let mut truth = Vec::with_capacity(n);
-        for row in table.rows() {
-            let row = row?;
-            row.expect(0, truth.len())?;
-            row.f64(1)?;
-            truth.push(Sample {
-                x: row.f64(2)?,
-                y: row.f64(3)?,
-                th: row.f64(4)?,
-            });
-        }
-        if truth.len() != n {
-            return Err(table.error(table.len() + 1, format!("expected {n} updates")));
-        }
-        Some(truth)
+        Some(read_truth(dir, m, n)?)
     } else {
         None
     };
@@ -375,72 +397,134 @@ pub fn read(dir: &Path, m: &Manifest) -> Result<(Sensed, RatSlamParams, bool)> {
                 .collect();
             vec![(info.image_sets[0].0.clone(), images)]
         }
-        Level::Streams => {
-            let sensor = m.sensor.expect("checked by Manifest::read");
-            let params = info.frontend.clone().ok_or_else(|| {
-                Error::field(
-                    &file,
-                    "maze.frontend",
-                    "level \"streams\" needs the front end's parameters",
-                )
-            })?;
-            if sensor.sample_rate_hz != SAMPLE_RATE_HZ || params.len() != whiskers.len() {
-                return Err(Error::field(
-                    &file,
-                    "sensor.sample_rate_hz",
-                    format!("expected {SAMPLE_RATE_HZ} Hz and one front-end entry per whisker"),
-                ));
-            }
-            let front = ImageFrontEnd {
-                params,
-                rigid: whiskers,
-                frequency: sensor.whisk_hz,
-            };
-            if maze_physics::per_cycle(sensor.whisk_hz) != sensor.samples_per_whisk
-                || maze_physics::cycles(n, sensor.whisk_hz) != sensor.whisks
-                || (1.0 / DT - SAMPLE_RATE_HZ).abs() > 1e-9
-            {
-                return Err(Error::field(
-                    &file,
-                    "sensor",
-                    "samples_per_whisk and whisks do not match whisk_hz and the updates",
-                ));
-            }
-            let by_cycle = (0..sensor.whisks)
-                .into_par_iter()
-                .map(|c| {
-                    let streams = crate::dataset::whisk_streams(dir, m, "log/whisks", c)?;
-                    Ok(front.cycle(&streams, &g))
-                })
-                .collect::<Result<Vec<_>>>()?;
-            let (max, contact) = front.per_update(&by_cycle, n);
-            let mut estimates = Vec::new();
-            for (name, e) in &info.image_sets {
-                estimates.push(match e.as_str() {
-                    "max_angle" => AngleEstimate::MaxAngle,
-                    "contact_angle" => AngleEstimate::ContactAngle,
-                    _ => {
-                        return Err(Error::field(
-                            &file,
-                            "maze.image_sets",
-                            format!(
-                                "{name}: expected \"max_angle\" or \"contact_angle\", got {e:?}"
-                            ),
-                        ));
-                    }
-                });
-            }
-            let names: Vec<String> = info.image_sets.iter().map(|(n, _)| n.clone()).collect();
-            physics_sets(&estimates, &names, max, contact)
-        }
+        Level::Streams => stream_images(dir, m, &file, whiskers, &g)?,
     };
     let sensed = Sensed {
         seed: m.seed,
         truth,
         start,
-        starts: starts.clone(),
+        starts: info.circuit_starts.clone(),
         steps,
         image_sets,
     };
     Ok((sensed, info.ratslam, info.kidnap))
+}
+
+/// The `maze` section's rate and circuits, as a maze run can replay them.
+fn check_info(file: &Path, info: &MazeInfo) -> Result {
+    if info.update_hz != UPDATE_HZ {
+        return Err(Error::field(
+            file,
+            "maze.update_hz",
+            format!("expected {UPDATE_HZ} (the rate of §3.1.2)"),
+        ));
+    }
+    let n = info.updates;
+    let starts = &info.circuit_starts;
+    if n < 2
+        || starts.len() < 2
+        || starts.windows(2).any(|w| w[0] >= w[1])
+        || starts[starts.len() - 1] >= n
+    {
+        return Err(Error::field(
+            file,
+            "maze.circuit_starts",
+            "expected at least 2 increasing updates below maze.updates (at least 2)",
+        ));
+    }
+    if info.kidnap && starts.len() < 4 {
+        return Err(Error::field(
+            file,
+            "maze.kidnap",
+            "the kidnapped variant needs 4 circuits",
+        ));
+    }
+    Ok(())
+}
+
+/// `truth/poses.csv`: the true planar pose of each of the `n` updates.
+fn read_truth(dir: &Path, m: &Manifest, n: usize) -> Result<Vec<Sample>> {
+    let table = Table::read(&m.file(dir, "truth/poses.csv")?, &columns(TRUTH_COLUMNS))?;
+    let mut truth = Vec::with_capacity(n);
+    for row in table.rows() {
+        let row = row?;
+        row.expect(0, truth.len())?;
+        row.f64(1)?;
+        truth.push(Sample {
+            x: row.f64(2)?,
+            y: row.f64(3)?,
+            th: row.f64(4)?,
+        });
+    }
+    if truth.len() != n {
+        return Err(table.error(table.len() + 1, format!("expected {n} updates")));
+    }
+    Ok(truth)
+}
+
+/// The image sets of level `streams`: the front end run again on every whisk file, each
+/// update's images from the cycles around it (§3.1.3).
+fn stream_images(
+    dir: &Path,
+    m: &Manifest,
+    file: &Path,
+    whiskers: Vec<whisker_sim::sensing::kinematic::RigidWhisker>,
+    g: &Geometry,
+) -> Result<Vec<super::ImageSet>> {
+    let info = m.maze.as_ref().expect("checked by Manifest::read");
+    let n = info.updates;
+    let sensor = m.sensor.expect("checked by Manifest::read");
+    let params = info.frontend.clone().ok_or_else(|| {
+        Error::field(
+            file,
+            "maze.frontend",
+            "level \"streams\" needs the front end's parameters",
+        )
+    })?;
+    if sensor.sample_rate_hz != SAMPLE_RATE_HZ || params.len() != whiskers.len() {
+        return Err(Error::field(
+            file,
+            "sensor.sample_rate_hz",
+            format!("expected {SAMPLE_RATE_HZ} Hz and one front-end entry per whisker"),
+        ));
+    }
+    let front = ImageFrontEnd {
+        params,
+        rigid: whiskers,
+        frequency: sensor.whisk_hz,
+    };
+    if maze_physics::per_cycle(sensor.whisk_hz) != sensor.samples_per_whisk
+        || maze_physics::cycles(n, sensor.whisk_hz) != sensor.whisks
+        || (1.0 / DT - SAMPLE_RATE_HZ).abs() > 1e-9
+    {
+        return Err(Error::field(
+            file,
+            "sensor",
+            "samples_per_whisk and whisks do not match whisk_hz and the updates",
+        ));
+    }
+    let by_cycle = (0..sensor.whisks)
+        .into_par_iter()
+        .map(|c| {
+            let streams = crate::dataset::whisk_streams(dir, m, "log/whisks", c)?;
+            Ok(front.cycle(&streams, g))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let (max, contact) = front.per_update(&by_cycle, n);
+    let mut estimates = Vec::new();
+    for (name, e) in &info.image_sets {
+        estimates.push(match e.as_str() {
+            "max_angle" => AngleEstimate::MaxAngle,
+            "contact_angle" => AngleEstimate::ContactAngle,
+            _ => {
+                return Err(Error::field(
+                    file,
+                    "maze.image_sets",
+                    format!("{name}: expected \"max_angle\" or \"contact_angle\", got {e:?}"),
+                ));
+            }
+        });
+    }
+    let names: Vec<String> = info.image_sets.iter().map(|(n, _)| n.clone()).collect();
+    Ok(physics_sets(&estimates, &names, max, contact))
 }

@@ -116,49 +116,7 @@ pub fn write(o: &ObjectDataset, s: &mut Staging, ctx: Context) -> Result<Manifes
         let target = SweepTarget::new(generate(asset));
         for (walk, which, laps) in [(a, "A", 2), (b, "B", 1)] {
             let dir = format!("{}/{which}", asset.name);
-            let truth = walk.truth.as_ref().expect("sensed walks have their truth");
-            if physics {
-                for k in 0..walk.cycles.len() {
-                    let name = records::whisk_name(k);
-                    s.register(&format!("log/{dir}/whisks/{name}"), Role::Log)?;
-                }
-            } else {
-                let log_contacts = records::contacts_csv(&walk.cycles, &array.labels);
-                s.put(
-                    &format!("log/{dir}/contacts.csv"),
-                    Role::Log,
-                    log_contacts.as_bytes(),
-                )?;
-            }
-            s.put(
-                &format!("log/{dir}/odometry.csv"),
-                Role::Log,
-                odometry_csv(&walk.odometry).as_bytes(),
-            )?;
-            s.put(
-                &format!("log/{dir}/poses.csv"),
-                Role::Log,
-                pose_log(&truth[0], &walk.odometry, false, None).as_bytes(),
-            )?;
-            let times: Vec<f64> = (0..truth.len()).map(|k| k as f64).collect();
-            let poses = records::truth_poses_csv(truth, &times);
-            s.put(
-                &format!("truth/{dir}/poses.csv"),
-                Role::Truth,
-                poses.as_bytes(),
-            )?;
-            let clean = whisker_slam::whisker_ratslam::walk_odometry::clean_odometry(truth);
-            s.put(
-                &format!("truth/{dir}/odometry.csv"),
-                Role::Truth,
-                odometry_csv(&clean).as_bytes(),
-            )?;
-            let anticipated = object_slam::anticipated(&target, truth);
-            s.put(
-                &format!("truth/{dir}/contacts.csv"),
-                Role::Truth,
-                records::contacts_csv(&anticipated, &array.labels).as_bytes(),
-            )?;
+            write_walk(s, &dir, walk, &target, &array.labels, physics)?;
             walks.push(WalkInfo {
                 object: asset.name.to_string(),
                 trajectory: which.to_string(),
@@ -167,6 +125,74 @@ pub fn write(o: &ObjectDataset, s: &mut Staging, ctx: Context) -> Result<Manifes
             });
         }
     }
+    Ok(manifest(o, walks, array))
+}
+
+/// One walk's files: its whisk files (registered: physics wrote them as it ran) or its
+/// contacts, its odometry and pose log, and ground truth (poses, clean odometry, the rigid
+/// sweep's contacts).
+fn write_walk(
+    s: &mut Staging,
+    dir: &str,
+    walk: &super::walk::Walk,
+    target: &SweepTarget,
+    labels: &[String],
+    physics: bool,
+) -> Result {
+    let truth = walk.truth.as_ref().expect("sensed walks have their truth");
+    if physics {
+        for k in 0..walk.cycles.len() {
+            let name = records::whisk_name(k);
+            s.register(&format!("log/{dir}/whisks/{name}"), Role::Log)?;
+        }
+    } else {
+        let log_contacts = records::contacts_csv(&walk.cycles, labels);
+        s.put(
+            &format!("log/{dir}/contacts.csv"),
+            Role::Log,
+            log_contacts.as_bytes(),
+        )?;
+    }
+    s.put(
+        &format!("log/{dir}/odometry.csv"),
+        Role::Log,
+        odometry_csv(&walk.odometry).as_bytes(),
+    )?;
+    s.put(
+        &format!("log/{dir}/poses.csv"),
+        Role::Log,
+        pose_log(&truth[0], &walk.odometry, false, None).as_bytes(),
+    )?;
+    let times: Vec<f64> = (0..truth.len()).map(|k| k as f64).collect();
+    let poses = records::truth_poses_csv(truth, &times);
+    s.put(
+        &format!("truth/{dir}/poses.csv"),
+        Role::Truth,
+        poses.as_bytes(),
+    )?;
+    let clean = whisker_slam::whisker_ratslam::walk_odometry::clean_odometry(truth);
+    s.put(
+        &format!("truth/{dir}/odometry.csv"),
+        Role::Truth,
+        odometry_csv(&clean).as_bytes(),
+    )?;
+    let anticipated = object_slam::anticipated(target, truth);
+    s.put(
+        &format!("truth/{dir}/contacts.csv"),
+        Role::Truth,
+        records::contacts_csv(&anticipated, labels).as_bytes(),
+    )?;
+    Ok(())
+}
+
+/// The manifest of an object-slam dataset of `walks`.
+fn manifest(
+    o: &ObjectDataset,
+    walks: Vec<WalkInfo>,
+    array: crate::dataset::manifest::ArrayInfo,
+) -> Manifest {
+    let physics = o.sensing == SensingMode::Physics;
+    let sensor = sensing_configs()[0].sensor;
     let noise = if o.clean || physics {
         ContactNoise::NONE
     } else {
@@ -178,7 +204,7 @@ pub fn write(o: &ObjectDataset, s: &mut Staging, ctx: Context) -> Result<Manifes
     } else {
         Level::Contacts
     };
-    Ok(Manifest {
+    Manifest {
         sensor: physics.then_some(SensorInfo {
             sample_rate_hz: SAMPLE_RATE_HZ,
             whisk_hz: 1.0,
@@ -203,7 +229,7 @@ pub fn write(o: &ObjectDataset, s: &mut Staging, ctx: Context) -> Result<Manifes
             walks,
         }),
         ..Manifest::new(Experiment::ObjectSlam, level, o.seed, array)
-    })
+    }
 }
 
 /// A 6-D odometry file's text: per whisk, v (m/s) and ω (rad/s) in the body frame at the

@@ -148,8 +148,44 @@ impl ArrayConfig {
     }
 
     /// The 18 whiskers' configurations (RCP thresholds not yet calibrated), checking every
-    /// value and naming the offending field.
+    /// value and naming the offending field. [`crate::scenario::Scenario`] checks them once
+    /// when it is loaded and keeps them.
     pub fn whisker_configs(&self, file: &Path) -> Result<Vec<WhiskerConfig>> {
+        let modules = array::modules();
+        self.check_overrides(file, &modules)?;
+        let follicle = self.follicle(file)?;
+        if let Some(n) = self.substeps
+            && !(1..=64).contains(&n)
+        {
+            return Err(field_error(
+                file,
+                "array.substeps",
+                format!("expected 1 to 64, got {n}"),
+            ));
+        }
+        let sensor = self.sensor_model(file)?;
+        let mut out = Vec::with_capacity(modules.len());
+        for mut module in modules {
+            let ring = self.rings.get(module.ring).cloned().unwrap_or_default();
+            let ring_field = format!("array.rings[{}]", module.ring);
+            self.shaft(file, &mut module, &ring, &ring_field)?;
+            let pattern = whisking_pattern(file, &ring, &ring_field)?;
+            out.push(WhiskerConfig {
+                module,
+                follicle,
+                pattern,
+                rcp_threshold: None,
+                sensor,
+                substeps: self.substeps.unwrap_or(DEFAULT_SUBSTEPS),
+                solver: Default::default(),
+                adaptive_steps: true,
+            });
+        }
+        Ok(out)
+    }
+
+    /// At most three rings, per-whisker keys that name whiskers, a positive RCP multiple.
+    fn check_overrides(&self, file: &Path, modules: &[array::Module]) -> Result {
         if self.rings.len() > RINGS.len() {
             return Err(field_error(
                 file,
@@ -161,7 +197,6 @@ impl ArrayConfig {
                 ),
             ));
         }
-        let modules = array::modules();
         for key in self.whiskers.keys() {
             if !modules.iter().any(|m| &m.pixel() == key) {
                 return Err(field_error(
@@ -183,34 +218,32 @@ impl ArrayConfig {
                 format!("expected a positive number, got {k}"),
             ));
         }
-        let follicle = match finite(
+        Ok(())
+    }
+
+    /// The follicle (§2.1.2): the default design, another stiffness, or none (0: clamped).
+    fn follicle(&self, file: &Path) -> Result<Option<FollicleDesign>> {
+        match finite(
             file,
             "array.follicle_stiffness_nm_per_rad",
             self.follicle_stiffness_nm_per_rad,
         )? {
-            None => Some(FollicleDesign::default()),
-            Some(0.0) => None,
-            Some(k) if k > 0.0 => Some(FollicleDesign {
+            None => Ok(Some(FollicleDesign::default())),
+            Some(0.0) => Ok(None),
+            Some(k) if k > 0.0 => Ok(Some(FollicleDesign {
                 stiffness: k,
                 ..FollicleDesign::default()
-            }),
-            Some(k) => {
-                return Err(field_error(
-                    file,
-                    "array.follicle_stiffness_nm_per_rad",
-                    format!("expected a number ≥ 0, got {k}"),
-                ));
-            }
-        };
-        if let Some(n) = self.substeps
-            && !(1..=64).contains(&n)
-        {
-            return Err(field_error(
+            })),
+            Some(k) => Err(field_error(
                 file,
-                "array.substeps",
-                format!("expected 1 to 64, got {n}"),
-            ));
+                "array.follicle_stiffness_nm_per_rad",
+                format!("expected a number ≥ 0, got {k}"),
+            )),
         }
+    }
+
+    /// The Hall-effect sensor model of `[array.sensor]` over the defaults.
+    fn sensor_model(&self, file: &Path) -> Result<SensorModel> {
         let s = &self.sensor;
         let d = SensorModel::default();
         let sensor = SensorModel {
@@ -232,104 +265,103 @@ impl ArrayConfig {
         sensor
             .validate()
             .map_err(|e| field_error(file, "array.sensor", e))?;
-
-        let mut out = Vec::with_capacity(modules.len());
-        for mut module in modules {
-            let pixel = module.pixel();
-            let ring = self.rings.get(module.ring).cloned().unwrap_or_default();
-            let ring_field = format!("array.rings[{}]", module.ring);
-            let none = ShaftConfig::default();
-            let levels = [
-                ("array.shaft".to_string(), &self.shaft),
-                (ring_field.clone(), &ring.shaft),
-                (
-                    format!("array.whiskers.{pixel}"),
-                    self.whiskers.get(&pixel).unwrap_or(&none),
-                ),
-            ];
-            let b = &mut module.beam;
-            for (field, shaft) in &levels {
-                let set = |target: &mut f64, name: &str, v: Option<f64>| -> Result {
-                    if let Some(x) = finite(file, &format!("{field}.{name}"), v)? {
-                        *target = x;
-                    }
-                    Ok(())
-                };
-                set(&mut b.length, "length_m", shaft.length_m)?;
-                set(
-                    &mut b.base_diameter,
-                    "base_diameter_m",
-                    shaft.base_diameter_m,
-                )?;
-                set(&mut b.tip_diameter, "tip_diameter_m", shaft.tip_diameter_m)?;
-                set(
-                    &mut b.youngs_modulus,
-                    "youngs_modulus_pa",
-                    shaft.youngs_modulus_pa,
-                )?;
-                set(&mut b.density, "density_kg_m3", shaft.density_kg_m3)?;
-                set(&mut b.damping_ratio, "damping_ratio", shaft.damping_ratio)?;
-            }
-            if let Some(n) = self.segments {
-                b.segments = n;
-            }
-            b.bending = match self.bending {
-                BendingConfig::Spatial => Bending::Spatial,
-                BendingConfig::SweepPlane => Bending::SweepPlane,
-            };
-            b.validate()
-                .map_err(|e| field_error(file, &format!("array (whisker {pixel})"), e))?;
-
-            let default = WhiskingPattern::default();
-            let angle = |name: &str, v: Option<f64>, d: f64| -> Result<f64> {
-                Ok(finite(file, &format!("{ring_field}.{name}"), v)?.map_or(d, f64::to_radians))
-            };
-            let pattern = WhiskingPattern {
-                retracted: angle("retracted_deg", ring.retracted_deg, default.retracted)?,
-                protracted: angle("protracted_deg", ring.protracted_deg, default.protracted)?,
-                frequency: finite(
-                    file,
-                    &format!("{ring_field}.frequency_hz"),
-                    ring.frequency_hz,
-                )?
-                .unwrap_or(default.frequency),
-                phase: angle("phase_deg", ring.phase_deg, default.phase)?,
-            };
-            if !(pattern.frequency > 0.0 && pattern.frequency <= 20.0) {
-                return Err(field_error(
-                    file,
-                    &format!("{ring_field}.frequency_hz"),
-                    format!(
-                        "expected a frequency in (0, 20] Hz, got {}",
-                        pattern.frequency
-                    ),
-                ));
-            }
-            if !(0.0 <= pattern.retracted
-                && pattern.retracted < pattern.protracted
-                && pattern.protracted <= std::f64::consts::PI)
-            {
-                return Err(field_error(
-                    file,
-                    &ring_field,
-                    format!(
-                        "expected 0° ≤ retracted_deg < protracted_deg ≤ 180°, got {:.1}° and {:.1}°",
-                        pattern.retracted.to_degrees(),
-                        pattern.protracted.to_degrees()
-                    ),
-                ));
-            }
-            out.push(WhiskerConfig {
-                module,
-                follicle,
-                pattern,
-                rcp_threshold: None,
-                sensor,
-                substeps: self.substeps.unwrap_or(DEFAULT_SUBSTEPS),
-                solver: Default::default(),
-                adaptive_steps: true,
-            });
-        }
-        Ok(out)
+        Ok(sensor)
     }
+
+    /// The shaft of one whisker: `[array.shaft]`, then its ring's, then its own values over
+    /// the thesis' defaults; segments and joint model; checked.
+    fn shaft(
+        &self,
+        file: &Path,
+        module: &mut array::Module,
+        ring: &RingConfig,
+        ring_field: &str,
+    ) -> Result {
+        let pixel = module.pixel();
+        let none = ShaftConfig::default();
+        let levels = [
+            ("array.shaft".to_string(), &self.shaft),
+            (ring_field.to_string(), &ring.shaft),
+            (
+                format!("array.whiskers.{pixel}"),
+                self.whiskers.get(&pixel).unwrap_or(&none),
+            ),
+        ];
+        let b = &mut module.beam;
+        for (field, shaft) in &levels {
+            let set = |target: &mut f64, name: &str, v: Option<f64>| -> Result {
+                if let Some(x) = finite(file, &format!("{field}.{name}"), v)? {
+                    *target = x;
+                }
+                Ok(())
+            };
+            set(&mut b.length, "length_m", shaft.length_m)?;
+            set(
+                &mut b.base_diameter,
+                "base_diameter_m",
+                shaft.base_diameter_m,
+            )?;
+            set(&mut b.tip_diameter, "tip_diameter_m", shaft.tip_diameter_m)?;
+            set(
+                &mut b.youngs_modulus,
+                "youngs_modulus_pa",
+                shaft.youngs_modulus_pa,
+            )?;
+            set(&mut b.density, "density_kg_m3", shaft.density_kg_m3)?;
+            set(&mut b.damping_ratio, "damping_ratio", shaft.damping_ratio)?;
+        }
+        if let Some(n) = self.segments {
+            b.segments = n;
+        }
+        b.bending = match self.bending {
+            BendingConfig::Spatial => Bending::Spatial,
+            BendingConfig::SweepPlane => Bending::SweepPlane,
+        };
+        b.validate()
+            .map_err(|e| field_error(file, &format!("array (whisker {pixel})"), e))
+    }
+}
+
+/// A ring's whisking pattern (§2.1.3) over the defaults, checked.
+fn whisking_pattern(file: &Path, ring: &RingConfig, ring_field: &str) -> Result<WhiskingPattern> {
+    let default = WhiskingPattern::default();
+    let angle = |name: &str, v: Option<f64>, d: f64| -> Result<f64> {
+        Ok(finite(file, &format!("{ring_field}.{name}"), v)?.map_or(d, f64::to_radians))
+    };
+    let pattern = WhiskingPattern {
+        retracted: angle("retracted_deg", ring.retracted_deg, default.retracted)?,
+        protracted: angle("protracted_deg", ring.protracted_deg, default.protracted)?,
+        frequency: finite(
+            file,
+            &format!("{ring_field}.frequency_hz"),
+            ring.frequency_hz,
+        )?
+        .unwrap_or(default.frequency),
+        phase: angle("phase_deg", ring.phase_deg, default.phase)?,
+    };
+    if !(pattern.frequency > 0.0 && pattern.frequency <= 20.0) {
+        return Err(field_error(
+            file,
+            &format!("{ring_field}.frequency_hz"),
+            format!(
+                "expected a frequency in (0, 20] Hz, got {}",
+                pattern.frequency
+            ),
+        ));
+    }
+    if !(0.0 <= pattern.retracted
+        && pattern.retracted < pattern.protracted
+        && pattern.protracted <= std::f64::consts::PI)
+    {
+        return Err(field_error(
+            file,
+            ring_field,
+            format!(
+                "expected 0° ≤ retracted_deg < protracted_deg ≤ 180°, got {:.1}° and {:.1}°",
+                pattern.retracted.to_degrees(),
+                pattern.protracted.to_degrees()
+            ),
+        ));
+    }
+    Ok(pattern)
 }

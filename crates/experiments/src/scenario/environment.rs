@@ -219,178 +219,221 @@ pub fn load(
     let mut environment = Environment::default();
     let mut report = Vec::new();
     for (i, o) in objects.iter().enumerate() {
-        let field = format!("objects[{i}]");
-        // A keyword field: parsed, or an error naming the field and the choices.
-        let keyword = |name: &str, value: &str, choices: &str| {
-            Error::field(
-                file,
-                &format!("{field}.{name}"),
-                format!("{value:?}: expected {choices}"),
-            )
-        };
-        let units = Units::parse(&o.units)
-            .ok_or_else(|| keyword("units", &o.units, "\"m\", \"cm\", \"mm\" or \"in\""))?;
-        let up = match o.up.as_str() {
-            "z" => UpAxis::Z,
-            "y" => UpAxis::Y,
-            other => return Err(keyword("up", other, "\"z\" or \"y\"")),
-        };
-        if !(o.scale.is_finite() && o.scale > 0.0) {
-            return Err(Error::field(
-                file,
-                &format!("{field}.scale"),
-                format!("expected a positive number, got {}", o.scale),
-            ));
-        }
-        let repair = Repair::parse(&o.repair)
-            .ok_or_else(|| keyword("repair", &o.repair, Repair::CHOICES))?;
-        for (name, value) in [
-            ("voxel_size_m", o.voxel_size_m),
-            ("voxel_closing_m", o.voxel_closing_m),
-        ] {
-            let Some(v) = value else { continue };
-            if !(v.is_finite() && v > 0.0) {
-                return Err(Error::field(
-                    file,
-                    &format!("{field}.{name}"),
-                    format!("expected a positive length, got {v}"),
-                ));
-            }
-            if repair != Repair::Voxel {
-                return Err(Error::field(
-                    file,
-                    &format!("{field}.{name}"),
-                    format!("applies to repair = \"voxel\" only, not {:?}", o.repair),
-                ));
-            }
-        }
-        let decimate = match (o.decimate, o.decimate_tolerance_m) {
-            (None, None) => None,
-            (None, Some(_)) => {
-                return Err(Error::field(
-                    file,
-                    &format!("{field}.decimate_tolerance_m"),
-                    "applies with decimate only: expected decimate = <triangles> too",
-                ));
-            }
-            (Some(n), tolerance) => {
-                let tolerance = tolerance.unwrap_or(DECIMATE_TOLERANCE_M);
-                if n < 4 {
-                    return Err(Error::field(
-                        file,
-                        &format!("{field}.decimate"),
-                        format!("expected a target of at least 4 triangles, got {n}"),
-                    ));
-                }
-                if !(tolerance.is_finite() && tolerance > 0.0) {
-                    return Err(Error::field(
-                        file,
-                        &format!("{field}.decimate_tolerance_m"),
-                        format!("expected a positive length, got {tolerance}"),
-                    ));
-                }
-                if repair == Repair::Soup {
-                    return Err(Error::field(
-                        file,
-                        &format!("{field}.decimate"),
-                        "a triangle soup (repair = \"soup\") is kept as it is: expected a solid \
-                         repair (\"auto\", \"hull\" or \"voxel\") to decimate",
-                    ));
-                }
-                Some(Decimation {
-                    triangles: n,
-                    tolerance,
-                })
-            }
-        };
-        let origin = Origin::parse(&o.origin)
-            .ok_or_else(|| keyword("origin", &o.origin, "\"file\" or \"base\""))?;
-        let pose = pose_of(file, &field, o.position_m, o.rpy_deg)?;
-        let path = relative_to(file, &o.mesh);
-        let options = MeshOptions {
-            units,
-            scale: o.scale,
-            up,
-            repair,
-            origin,
-            voxel_size: o.voxel_size_m,
-            voxel_closing: o.voxel_closing_m,
-            decimate,
-        };
-        let loaded = mesh::load(&path, &options)
-            .map_err(|e| Error::field(file, &format!("{field}.mesh"), e))?;
-        let shape = if loaded.solid {
-            loaded.mesh.shape()
-        } else {
-            loaded.mesh.soup_shape()
-        }
-        .map_err(|e| Error::field(file, &format!("{field}.mesh"), e))?;
-        let name = o.display_name(i);
-        let (lo, hi) = mesh::bounds(&loaded.mesh.vertices);
-        let size = hi - lo;
-        report.push(format!(
-            "object     {name}: {} ({} triangles, {} {}, {:.3} x {:.3} x {:.3} m, from ({:.3}, {:.3}, {:.3}) to ({:.3}, {:.3}, {:.3}) m about its origin) at ({:.3}, {:.3}, {:.3}) m{}",
-            path.display(),
-            loaded.mesh.triangles.len(),
-            loaded.mesh.component_volumes().len(),
-            if loaded.solid {
-                "solid part(s)"
-            } else {
-                "connected part(s) of a triangle soup"
-            },
-            size.x,
-            size.y,
-            size.z,
-            lo.x,
-            lo.y,
-            lo.z,
-            hi.x,
-            hi.y,
-            hi.z,
-            o.position_m[0],
-            o.position_m[1],
-            o.position_m[2],
-            if loaded.repairs.is_empty() {
-                String::new()
-            } else {
-                format!("\nwarning    {name}: mesh repaired: {}", loaded.repairs.join("; "))
-            }
-        ));
-        environment.pieces.push(Piece {
-            name: format!("object {name}"),
-            shape,
-            mesh: loaded.mesh,
-            pose,
-            soup: !loaded.solid,
-        });
+        let (piece, line) = load_object(file, i, o)?;
+        environment.pieces.push(piece);
+        report.push(line);
     }
     if let Some(m) = maze {
-        let layout = MazeLayout {
-            board: m.board_m,
-            walls: m.walls.clone(),
-            posts: m.posts.clone(),
-            deformities: m.deformities.clone(),
-        };
-        layout
-            .validate()
-            .map_err(|(f, msg)| Error::field(file, &format!("maze.{f}"), msg))?;
-        let pose = pose_of(file, "maze", m.position_m, m.rpy_deg)?;
-        let built = layout.build(&pose, seed);
-        report.push(format!(
-            "maze       {} x {} m board, {} walls, {} posts, {} deformities at ({:.3}, {:.3}, {:.3}) m",
-            m.board_m[0],
-            m.board_m[1],
-            m.walls.len(),
-            m.posts.len(),
-            m.deformities.as_ref().map_or(0, |d| d.count),
-            m.position_m[0],
-            m.position_m[1],
-            m.position_m[2]
-        ));
-        environment.pieces.extend(built.pieces);
+        let (pieces, line) = load_maze(file, m, seed)?;
+        environment.pieces.extend(pieces);
+        report.push(line);
     }
     Ok(LoadedEnvironment {
         environment,
         report,
     })
+}
+
+/// One `[[objects]]` entry: its mesh loaded, repaired and placed, and its line of the report.
+fn load_object(file: &Path, i: usize, o: &ObjectConfig) -> Result<(Piece, String)> {
+    let field = format!("objects[{i}]");
+    let options = mesh_options(file, &field, o)?;
+    let pose = pose_of(file, &field, o.position_m, o.rpy_deg)?;
+    let path = relative_to(file, &o.mesh);
+    let loaded =
+        mesh::load(&path, &options).map_err(|e| Error::field(file, &format!("{field}.mesh"), e))?;
+    let shape = if loaded.solid {
+        loaded.mesh.shape()
+    } else {
+        loaded.mesh.soup_shape()
+    }
+    .map_err(|e| Error::field(file, &format!("{field}.mesh"), e))?;
+    let name = o.display_name(i);
+    let line = object_report(&name, &path, &loaded, o.position_m);
+    let piece = Piece {
+        name: format!("object {name}"),
+        shape,
+        mesh: loaded.mesh,
+        pose,
+        soup: !loaded.solid,
+    };
+    Ok((piece, line))
+}
+
+/// How an object's mesh file is read and repaired: units, scale, up axis, repair, origin,
+/// voxel sizes and decimation, each checked and named by its field.
+fn mesh_options(file: &Path, field: &str, o: &ObjectConfig) -> Result<MeshOptions> {
+    // A keyword field: parsed, or an error naming the field and the choices.
+    let keyword = |name: &str, value: &str, choices: &str| {
+        Error::field(
+            file,
+            &format!("{field}.{name}"),
+            format!("{value:?}: expected {choices}"),
+        )
+    };
+    let units = Units::parse(&o.units)
+        .ok_or_else(|| keyword("units", &o.units, "\"m\", \"cm\", \"mm\" or \"in\""))?;
+    let up = match o.up.as_str() {
+        "z" => UpAxis::Z,
+        "y" => UpAxis::Y,
+        other => return Err(keyword("up", other, "\"z\" or \"y\"")),
+    };
+    if !(o.scale.is_finite() && o.scale > 0.0) {
+        return Err(Error::field(
+            file,
+            &format!("{field}.scale"),
+            format!("expected a positive number, got {}", o.scale),
+        ));
+    }
+    let repair =
+        Repair::parse(&o.repair).ok_or_else(|| keyword("repair", &o.repair, Repair::CHOICES))?;
+    for (name, value) in [
+        ("voxel_size_m", o.voxel_size_m),
+        ("voxel_closing_m", o.voxel_closing_m),
+    ] {
+        let Some(v) = value else { continue };
+        if !(v.is_finite() && v > 0.0) {
+            return Err(Error::field(
+                file,
+                &format!("{field}.{name}"),
+                format!("expected a positive length, got {v}"),
+            ));
+        }
+        if repair != Repair::Voxel {
+            return Err(Error::field(
+                file,
+                &format!("{field}.{name}"),
+                format!("applies to repair = \"voxel\" only, not {:?}", o.repair),
+            ));
+        }
+    }
+    let decimate = decimation(file, field, o, repair)?;
+    let origin = Origin::parse(&o.origin)
+        .ok_or_else(|| keyword("origin", &o.origin, "\"file\" or \"base\""))?;
+    Ok(MeshOptions {
+        units,
+        scale: o.scale,
+        up,
+        repair,
+        origin,
+        voxel_size: o.voxel_size_m,
+        voxel_closing: o.voxel_closing_m,
+        decimate,
+    })
+}
+
+/// `decimate` and `decimate_tolerance_m` of an object: none, or a checked target.
+fn decimation(
+    file: &Path,
+    field: &str,
+    o: &ObjectConfig,
+    repair: Repair,
+) -> Result<Option<Decimation>> {
+    let (n, tolerance) = match (o.decimate, o.decimate_tolerance_m) {
+        (None, None) => return Ok(None),
+        (None, Some(_)) => {
+            return Err(Error::field(
+                file,
+                &format!("{field}.decimate_tolerance_m"),
+                "applies with decimate only: expected decimate = <triangles> too",
+            ));
+        }
+        (Some(n), tolerance) => (n, tolerance.unwrap_or(DECIMATE_TOLERANCE_M)),
+    };
+    if n < 4 {
+        return Err(Error::field(
+            file,
+            &format!("{field}.decimate"),
+            format!("expected a target of at least 4 triangles, got {n}"),
+        ));
+    }
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(Error::field(
+            file,
+            &format!("{field}.decimate_tolerance_m"),
+            format!("expected a positive length, got {tolerance}"),
+        ));
+    }
+    if repair == Repair::Soup {
+        return Err(Error::field(
+            file,
+            &format!("{field}.decimate"),
+            "a triangle soup (repair = \"soup\") is kept as it is: expected a solid \
+             repair (\"auto\", \"hull\" or \"voxel\") to decimate",
+        ));
+    }
+    Ok(Some(Decimation {
+        triangles: n,
+        tolerance,
+    }))
+}
+
+/// `whisker check`'s line about a loaded object: file, triangles, parts, size, extent about
+/// its origin, position, and the repairs made.
+fn object_report(
+    name: &str,
+    path: &Path,
+    loaded: &mesh::LoadedMesh,
+    position_m: [f64; 3],
+) -> String {
+    let (lo, hi) = mesh::bounds(&loaded.mesh.vertices);
+    let size = hi - lo;
+    format!(
+        "object     {name}: {} ({} triangles, {} {}, {:.3} x {:.3} x {:.3} m, from ({:.3}, {:.3}, {:.3}) to ({:.3}, {:.3}, {:.3}) m about its origin) at ({:.3}, {:.3}, {:.3}) m{}",
+        path.display(),
+        loaded.mesh.triangles.len(),
+        loaded.mesh.component_volumes().len(),
+        if loaded.solid {
+            "solid part(s)"
+        } else {
+            "connected part(s) of a triangle soup"
+        },
+        size.x,
+        size.y,
+        size.z,
+        lo.x,
+        lo.y,
+        lo.z,
+        hi.x,
+        hi.y,
+        hi.z,
+        position_m[0],
+        position_m[1],
+        position_m[2],
+        if loaded.repairs.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "\nwarning    {name}: mesh repaired: {}",
+                loaded.repairs.join("; ")
+            )
+        }
+    )
+}
+
+/// The `[maze]` board built at its pose (deformities drawn from `seed`), and its report line.
+fn load_maze(file: &Path, m: &MazeConfig, seed: u64) -> Result<(Vec<Piece>, String)> {
+    let layout = MazeLayout {
+        board: m.board_m,
+        walls: m.walls.clone(),
+        posts: m.posts.clone(),
+        deformities: m.deformities.clone(),
+    };
+    layout
+        .validate()
+        .map_err(|(f, msg)| Error::field(file, &format!("maze.{f}"), msg))?;
+    let pose = pose_of(file, "maze", m.position_m, m.rpy_deg)?;
+    let built = layout.build(&pose, seed);
+    let line = format!(
+        "maze       {} x {} m board, {} walls, {} posts, {} deformities at ({:.3}, {:.3}, {:.3}) m",
+        m.board_m[0],
+        m.board_m[1],
+        m.walls.len(),
+        m.posts.len(),
+        m.deformities.as_ref().map_or(0, |d| d.count),
+        m.position_m[0],
+        m.position_m[1],
+        m.position_m[2]
+    );
+    Ok((built.pieces, line))
 }

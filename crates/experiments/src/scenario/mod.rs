@@ -19,6 +19,7 @@ use crate::error::{Error, Result};
 use paths::relative_to;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
+use whisker_sim::sensing::physics::WhiskerConfig;
 
 /// Default joint-speed limit (rad/s): the thesis moved the arm at 0.1 rad/s (§2.2.1).
 pub const DEFAULT_JOINT_SPEED_RAD_S: f64 = 0.1;
@@ -67,6 +68,10 @@ pub struct Scenario {
     /// `[trials]`: a batch of runs over seeds and factors (`whisker trials`); `whisker run`
     /// ignores it.
     pub trials: Option<trials::TrialsConfig>,
+    /// The whiskers of `[array]`, checked once when the scenario was loaded (with sensing);
+    /// see [`Scenario::whisker_configs`].
+    #[serde(skip)]
+    whiskers: Option<Vec<WhiskerConfig>>,
 }
 
 /// `[frontend]`: the signal front end of `sensing = "physics"` (thesis Ch 4).
@@ -306,7 +311,7 @@ impl Scenario {
     /// The scenario of `table` (read from `path`, base merged in, then changed as
     /// `context` says), checked.
     pub fn from_table(path: &Path, table: toml::Table, context: &str) -> Result<Self> {
-        let scenario: Self = table.try_into().map_err(|e: toml::de::Error| {
+        let mut scenario: Self = table.try_into().map_err(|e: toml::de::Error| {
             Error::Input(format!(
                 "{} ({context}): {}",
                 path.display(),
@@ -325,14 +330,23 @@ impl Scenario {
             let merged = base::resolve(path, table, 0)?;
             return Self::from_table(path, merged, "merged over its base");
         }
-        let scenario: Self = toml::from_str(&text).map_err(|e| {
+        let mut scenario: Self = toml::from_str(&text).map_err(|e| {
             Error::Input(format!("{}: {}", path.display(), e.to_string().trim_end()))
         })?;
         scenario.validate(path)?;
         Ok(scenario)
     }
 
-    fn validate(&self, file: &Path) -> Result {
+    /// The 18 whiskers' configurations of `[array]` (RCP thresholds not yet calibrated):
+    /// those checked at loading, or, for a scenario without sensing, checked now.
+    pub fn whisker_configs(&self, file: &Path) -> Result<Vec<WhiskerConfig>> {
+        match &self.whiskers {
+            Some(w) => Ok(w.clone()),
+            None => self.array.whisker_configs(file),
+        }
+    }
+
+    fn validate(&mut self, file: &Path) -> Result {
         let bad = |field: &str, msg: String| Err(Error::field(file, field, msg));
         if self.version != 1 {
             return bad("version", format!("expected 1, got {}", self.version));
@@ -355,12 +369,12 @@ impl Scenario {
                     ),
                 );
             }
-            self.array.whisker_configs(file)?;
+            self.whiskers = Some(self.array.whisker_configs(file)?);
             self.frontend.validate(file)?;
         }
         if self.sensing == Sensing::Kinematic {
             self.kinematic.noise(file)?;
-            self.array.whisker_configs(file)?;
+            self.whiskers = Some(self.array.whisker_configs(file)?);
         }
         self.maze_slam.validate(file)?;
         // A triangle soup serves the kinematic sweep only.

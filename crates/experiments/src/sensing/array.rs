@@ -11,7 +11,7 @@ use whisker_sim::whisker::control::RcpThreshold;
 
 /// A description of the array of `scenario` for `whisker check`: one line per whisker.
 pub fn describe(scenario: &Scenario, file: &Path) -> Result<String> {
-    let configs = scenario.array.whisker_configs(file)?;
+    let configs = scenario.whisker_configs(file)?;
     let a = &scenario.array;
     let rcp = match a.rcp_mode() {
         None => "off".to_string(),

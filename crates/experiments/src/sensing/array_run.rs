@@ -39,7 +39,7 @@ impl ArraySimulation {
         recording: Option<&dyn Recorder>,
         reporter: &dyn Reporter,
     ) -> Result<Self> {
-        let mut configs = scenario.array.whisker_configs(file)?;
+        let mut configs = scenario.whisker_configs(file)?;
         let chain = super::array::array_chain(scenario, file, plan)?;
         let dt = whisker_sim::sensing::physics::DT;
         if let Some(mode) = scenario.array.rcp_mode() {

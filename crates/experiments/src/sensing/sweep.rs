@@ -49,7 +49,7 @@ impl ContactSensing {
         noise: ContactNoise,
         name: &'static str,
     ) -> Result<Self> {
-        let configs = scenario.array.whisker_configs(file)?;
+        let configs = scenario.whisker_configs(file)?;
         let chain = crate::sensing::array::array_chain(scenario, file, plan)?;
         let whiskers = configs
             .iter()

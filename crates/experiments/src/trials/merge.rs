@@ -9,12 +9,38 @@ use crate::error::{Error, Result};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+/// The trials found in the shard directories, by key, with the directory of each copy.
+type Found<'a> = BTreeMap<String, Vec<(&'a Path, Entry)>>;
+
 /// Merges the shard directories `dirs` into `out` (created; not one of the shards);
 /// returns the number of trials.
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<usize> {
     let metas: Vec<Meta> = dirs.iter().map(|d| Meta::read(d)).collect::<Result<_>>()?;
+    same_batch(dirs, &metas, out)?;
+    let mut found: Found = BTreeMap::new();
+    for d in dirs {
+        for e in journal::read(d)? {
+            found
+                .entry(e.key.clone())
+                .or_default()
+                .push((d.as_path(), e));
+        }
+    }
+    let problems = problems(&metas, &found);
+    if !problems.is_empty() {
+        return Err(Error::Input(format!(
+            "cannot merge into {}: {}",
+            out.display(),
+            problems.join("; ")
+        )));
+    }
+    write_merged(&metas[0], found, out)
+}
+
+/// Refuses shards of different batches or splits, and an `out` that is one of them.
+fn same_batch(dirs: &[PathBuf], metas: &[Meta], out: &Path) -> Result {
     let first = &metas[0];
-    for (d, m) in dirs.iter().zip(&metas) {
+    for (d, m) in dirs.iter().zip(metas) {
         if m.scenario_hash != first.scenario_hash
             || m.keys != first.keys
             || m.factors != first.factors
@@ -49,15 +75,13 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<usize> {
             )));
         }
     }
-    let mut found: BTreeMap<String, Vec<(&Path, Entry)>> = BTreeMap::new();
-    for d in dirs {
-        for e in journal::read(d)? {
-            found
-                .entry(e.key.clone())
-                .or_default()
-                .push((d.as_path(), e));
-        }
-    }
+    Ok(())
+}
+
+/// What keeps the shards from making the whole batch: shards not given, trials missing,
+/// present twice or not part of the batch.
+fn problems(metas: &[Meta], found: &Found) -> Vec<String> {
+    let first = &metas[0];
     let mut problems = Vec::new();
     if let Some(count) = first.shard.map(|s| s.count) {
         let given: Vec<usize> = metas
@@ -90,7 +114,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<usize> {
             if missing.len() > 10 { ", …" } else { "" }
         ));
     }
-    for (key, copies) in &found {
+    for (key, copies) in found {
         if copies.len() > 1 {
             let dirs: Vec<String> = copies
                 .iter()
@@ -102,13 +126,12 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<usize> {
             problems.push(format!("trial {key} is not part of the batch"));
         }
     }
-    if !problems.is_empty() {
-        return Err(Error::Input(format!(
-            "cannot merge into {}: {}",
-            out.display(),
-            problems.join("; ")
-        )));
-    }
+    problems
+}
+
+/// Writes the merged directory: every trial's outputs, the metadata without a shard, the
+/// journal in trial order, `trials.csv` and the report.
+fn write_merged(first: &Meta, found: Found, out: &Path) -> Result<usize> {
     crate::output::create_dir(out)?;
     let mut entries: Vec<(&Path, Entry)> = found.into_values().flatten().collect();
     entries.sort_by_key(|(_, e)| e.index);

@@ -262,6 +262,34 @@ fn section(
     groups: &[Group],
 ) -> Result {
     let _ = writeln!(md, "### {metric}\n");
+    let (boxes, colours) = table(md, metric, groups);
+    let strata: BTreeSet<&str> = groups.iter().map(|g| g.stratum.as_str()).collect();
+    for stratum in strata {
+        let in_stratum: Vec<(&Group, Vec<f64>)> = groups
+            .iter()
+            .filter(|g| g.stratum == stratum)
+            .map(|g| (g, values(g, metric)))
+            .filter(|(_, v)| !v.is_empty())
+            .collect();
+        tests(md, stratum, &in_stratum);
+    }
+    if !boxes.is_empty() {
+        let name = format!("{}--by--{}.svg", slug(metric), slug(factor));
+        notched_boxes(
+            &figures.join(&name),
+            &format!("{metric} by {factor}"),
+            metric,
+            &boxes,
+            &colours,
+        )?;
+        let _ = writeln!(md, "![{metric} by {factor}]({FIGURES}/{name})\n");
+    }
+    Ok(())
+}
+
+/// A metric's table (n, median, IQR, mean per stratum and level); returns the box of each
+/// row and its level's colour index.
+fn table(md: &mut String, metric: &str, groups: &[Group]) -> (Vec<BoxGroup>, Vec<usize>) {
     md.push_str("| stratum | level | n | median | IQR | mean |\n|---|---|---:|---:|---:|---:|\n");
     let mut boxes = Vec::new();
     let mut colours = Vec::new();
@@ -287,81 +315,71 @@ fn section(
         colours.push(g.level_index);
     }
     md.push('\n');
-    let strata: BTreeSet<&str> = groups.iter().map(|g| g.stratum.as_str()).collect();
-    for stratum in strata {
-        let in_stratum: Vec<(&Group, Vec<f64>)> = groups
-            .iter()
-            .filter(|g| g.stratum == stratum)
-            .map(|g| (g, values(g, metric)))
-            .filter(|(_, v)| !v.is_empty())
-            .collect();
-        let at = if stratum.is_empty() {
-            String::new()
-        } else {
-            format!(" ({stratum})")
-        };
-        match in_stratum.len() {
-            0 | 1 => {}
-            2 => {
-                if let Some(t) = mann_whitney(&in_stratum[0].1, &in_stratum[1].1) {
-                    let _ = writeln!(
-                        md,
-                        "Mann–Whitney{at}: {} vs {}: U = {}, p = {}\n",
-                        in_stratum[0].0.level,
-                        in_stratum[1].0.level,
-                        num(t.u),
-                        p_text(t.p(), t.p_exact.is_some())
-                    );
-                }
+    (boxes, colours)
+}
+
+/// The tests between the levels of one stratum: Mann–Whitney for two levels; for more,
+/// Kruskal–Wallis and the pairwise Mann–Whitney tests with Holm's adjustment.
+fn tests(md: &mut String, stratum: &str, in_stratum: &[(&Group, Vec<f64>)]) {
+    let at = if stratum.is_empty() {
+        String::new()
+    } else {
+        format!(" ({stratum})")
+    };
+    match in_stratum.len() {
+        0 | 1 => {}
+        2 => {
+            if let Some(t) = mann_whitney(&in_stratum[0].1, &in_stratum[1].1) {
+                let _ = writeln!(
+                    md,
+                    "Mann–Whitney{at}: {} vs {}: U = {}, p = {}\n",
+                    in_stratum[0].0.level,
+                    in_stratum[1].0.level,
+                    num(t.u),
+                    p_text(t.p(), t.p_exact.is_some())
+                );
             }
-            _ => {
-                let refs: Vec<&[f64]> = in_stratum.iter().map(|(_, v)| v.as_slice()).collect();
-                if let Some(t) = kruskal_wallis(&refs) {
-                    let _ = writeln!(
-                        md,
-                        "Kruskal–Wallis{at}: H = {} (df {}), p = {}\n",
-                        num(t.h),
-                        t.df,
-                        p_text(t.p(), t.p_exact.is_some())
-                    );
-                }
-                let mut pairs = Vec::new();
-                for i in 0..in_stratum.len() {
-                    for j in i + 1..in_stratum.len() {
-                        if let Some(t) = mann_whitney(&in_stratum[i].1, &in_stratum[j].1) {
-                            pairs.push((i, j, t));
-                        }
-                    }
-                }
-                let adjusted = holm(&pairs.iter().map(|(_, _, t)| t.p()).collect::<Vec<_>>());
-                md.push_str("| pair | U | p | Holm p |\n|---|---:|---:|---:|\n");
-                for ((i, j, t), a) in pairs.iter().zip(adjusted) {
-                    let _ = writeln!(
-                        md,
-                        "| {} vs {} | {} | {} | {} |",
-                        in_stratum[*i].0.level,
-                        in_stratum[*j].0.level,
-                        num(t.u),
-                        p_text(t.p(), t.p_exact.is_some()),
-                        num(a)
-                    );
-                }
-                md.push('\n');
+        }
+        _ => {
+            let refs: Vec<&[f64]> = in_stratum.iter().map(|(_, v)| v.as_slice()).collect();
+            if let Some(t) = kruskal_wallis(&refs) {
+                let _ = writeln!(
+                    md,
+                    "Kruskal–Wallis{at}: H = {} (df {}), p = {}\n",
+                    num(t.h),
+                    t.df,
+                    p_text(t.p(), t.p_exact.is_some())
+                );
+            }
+            pairwise(md, in_stratum);
+        }
+    }
+}
+
+/// The table of pairwise Mann–Whitney tests, with Holm-adjusted p.
+fn pairwise(md: &mut String, in_stratum: &[(&Group, Vec<f64>)]) {
+    let mut pairs = Vec::new();
+    for i in 0..in_stratum.len() {
+        for j in i + 1..in_stratum.len() {
+            if let Some(t) = mann_whitney(&in_stratum[i].1, &in_stratum[j].1) {
+                pairs.push((i, j, t));
             }
         }
     }
-    if !boxes.is_empty() {
-        let name = format!("{}--by--{}.svg", slug(metric), slug(factor));
-        notched_boxes(
-            &figures.join(&name),
-            &format!("{metric} by {factor}"),
-            metric,
-            &boxes,
-            &colours,
-        )?;
-        let _ = writeln!(md, "![{metric} by {factor}]({FIGURES}/{name})\n");
+    let adjusted = holm(&pairs.iter().map(|(_, _, t)| t.p()).collect::<Vec<_>>());
+    md.push_str("| pair | U | p | Holm p |\n|---|---:|---:|---:|\n");
+    for ((i, j, t), a) in pairs.iter().zip(adjusted) {
+        let _ = writeln!(
+            md,
+            "| {} vs {} | {} | {} | {} |",
+            in_stratum[*i].0.level,
+            in_stratum[*j].0.level,
+            num(t.u),
+            p_text(t.p(), t.p_exact.is_some()),
+            num(a)
+        );
     }
-    Ok(())
+    md.push('\n');
 }
 
 /// A batch without factors: n, median, IQR and mean of every metric over all trials.
