@@ -102,6 +102,7 @@ pub fn write(
         &outcome,
         &configs,
         &whiskers,
+        &array.labels,
         &environment,
         scenario_text,
         s,
@@ -194,6 +195,7 @@ fn put_truth(
     outcome: &super::Outcome,
     configs: &[whisker_sim::sensing::physics::WhiskerConfig],
     whiskers: &[RigidWhisker],
+    labels: &[String],
     environment: &whisker_sim::environment::Environment,
     scenario_text: &str,
     s: &mut Staging,
@@ -219,7 +221,7 @@ fn put_truth(
     s.put(
         "truth/contacts.csv",
         Role::Truth,
-        records::contacts_csv(&anticipated, &array_info(whiskers).labels).as_bytes(),
+        records::contacts_csv(&anticipated, labels).as_bytes(),
     )?;
     s.put("truth/explore.csv", Role::Truth, outcome.csv.as_bytes())?;
     let summary = serde_json::to_string_pretty(&outcome.summary).expect("plain JSON") + "\n";

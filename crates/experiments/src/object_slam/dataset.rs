@@ -192,7 +192,8 @@ fn manifest(
     array: crate::dataset::manifest::ArrayInfo,
 ) -> Manifest {
     let physics = o.sensing == SensingMode::Physics;
-    let sensor = sensing_configs()[0].sensor;
+    let first = sensing_configs().swap_remove(0);
+    let sensor = first.sensor;
     let noise = if o.clean || physics {
         ContactNoise::NONE
     } else {
@@ -208,8 +209,7 @@ fn manifest(
         sensor: physics.then_some(SensorInfo {
             sample_rate_hz: SAMPLE_RATE_HZ,
             whisk_hz: 1.0,
-            samples_per_whisk: (SAMPLE_RATE_HZ / sensing_configs()[0].pattern.frequency).round()
-                as usize,
+            samples_per_whisk: (SAMPLE_RATE_HZ / first.pattern.frequency).round() as usize,
             whisks,
             angle_resolution_rad: sensor.angle_resolution_rad,
             saturation_counts: sensor.saturation_counts,
