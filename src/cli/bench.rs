@@ -16,7 +16,8 @@ pub enum Command {
     Physics(PhysicsArgs),
     /// Whisk cycles per second of kinematic sensing (the full array near an object).
     Sensing(SensingArgs),
-    /// WhiskerRatSLAM's core: one 6-D pose-cell update against a naive dense convolution.
+    /// The pose-cell networks (planar and 6-D), phase by phase, dense reference against the
+    /// active-set default; a naive dense 6-D convolution; one point feature histogram.
     Slam(SlamArgs),
     /// What the Rerun recording costs a run: wall time with and without, and its size.
     Recording(RecordingArgs),

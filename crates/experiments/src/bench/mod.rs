@@ -8,6 +8,7 @@
 //! - [`trials`]: a batch on 1 against 2 worker threads.
 
 pub mod physics;
+pub mod pose_cells;
 pub mod recording;
 pub mod sensing;
 pub mod slam;

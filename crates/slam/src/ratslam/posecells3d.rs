@@ -24,7 +24,7 @@
 //! experience map takes its positions from odometry, not from the packet (§2.1.2), so
 //! the pinning only delays experience creation at slow speeds.
 
-use crate::pose_grid::{Attractor, NetworkShape, PoseGrid, wrapped_distance};
+use crate::pose_grid::{Attractor, NetworkShape, PoseGrid, ShiftWeights, wrapped_distance};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
@@ -119,6 +119,11 @@ impl PoseCells3 {
         self.grid.inject_nearest(at, amount);
     }
 
+    /// The network's attractor dynamics (its kernels and global inhibition).
+    pub fn attractor(&self) -> &Attractor {
+        &self.attractor
+    }
+
     /// Local excitation and inhibition, global inhibition, normalisation.
     pub fn excite_inhibit(&mut self) {
         self.attractor.apply(&mut self.grid);
@@ -143,12 +148,8 @@ impl PoseCells3 {
             }
             let th = k as f64 * self.params.cell_angle();
             let (dx, dy) = (v * th.cos(), v * th.sin());
-            if dx != 0.0 {
-                self.grid.shift_block_axis(start, block, 0, dx);
-            }
-            if dy != 0.0 {
-                self.grid.shift_block_axis(start, block, 1, dy);
-            }
+            self.grid
+                .shift_block(start, block, &[dx, dy], ShiftWeights::Linear);
         }
     }
 

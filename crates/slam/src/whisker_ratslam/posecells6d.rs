@@ -179,6 +179,11 @@ impl PoseCells6 {
         self.grid.add_shifted_copy(&offset, fraction);
     }
 
+    /// The network's attractor dynamics (its kernels and global inhibition).
+    pub fn attractor(&self) -> &Attractor {
+        &self.attractor
+    }
+
     /// Local excitation, local and global inhibition, normalisation (Alg 3–5).
     pub fn excite_inhibit(&mut self) {
         self.attractor.apply(&mut self.grid);
@@ -200,17 +205,8 @@ impl PoseCells6 {
                         if self.grid.block_is_empty(start, block) {
                             continue;
                         }
-                        for (axis, amount) in w.iter().enumerate() {
-                            if *amount != 0.0 {
-                                self.grid.shift_block_axis_with(
-                                    start,
-                                    block,
-                                    axis,
-                                    *amount,
-                                    self.params.shift,
-                                );
-                            }
-                        }
+                        self.grid
+                            .shift_block(start, block, w.as_slice(), self.params.shift);
                     }
                 }
             }

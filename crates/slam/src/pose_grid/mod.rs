@@ -7,17 +7,53 @@
 //! Every axis wraps (the grid is a torus). Cells are stored with the first axis fastest.
 //! Coordinates of cell i on an axis of n cells stand for the angle 2π·i/n, so the
 //! population vector of an axis is a weighted sum of unit vectors at those angles.
+//!
+//! Two evaluations of the same operations ([`Evaluation`]): the active-set one
+//! ([`active`], the default) works only where activity can be and reuses its buffers;
+//! the dense one ([`dense`]) visits every cell and is the reference. They give the same
+//! bits (`tests/pose_grid_active.rs`).
+
+mod active;
+mod decode;
+mod dense;
+mod shift;
 
 use std::f64::consts::TAU;
 
+/// How a [`PoseGrid`] evaluates its operations. Both give bit-identical activities.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Evaluation {
+    /// Only the lines, rows and columns the activity's per-axis support allows, with the
+    /// taps and buffers kept ([`active`]).
+    #[default]
+    Active,
+    /// Every cell of every line through every tap, taps rebuilt and the grid copied on
+    /// each call: the reference and the baseline of `whisker bench slam` ([`dense`]).
+    Dense,
+}
+
 /// A periodic grid of activities.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct PoseGrid {
     dims: Vec<usize>,
     strides: Vec<usize>,
     /// Activities, first axis fastest.
     pub cells: Vec<f64>,
     scratch: Vec<f64>,
+    /// The activities after local excitation, kept for local inhibition (Alg 3–4).
+    excited: Vec<f64>,
+    evaluation: Evaluation,
+    masks: active::Masks,
+    block_masks: active::Masks,
+    taps: Vec<(usize, f64)>,
+    workspace: active::Workspace,
+}
+
+/// Two grids are equal when their axes and activities are.
+impl PartialEq for PoseGrid {
+    fn eq(&self, other: &Self) -> bool {
+        self.dims == other.dims && self.cells == other.cells
+    }
 }
 
 /// A normalised 1-D Gaussian kernel of odd `width` and `variance` (in cells²): the
@@ -176,6 +212,24 @@ impl Attractor {
     pub fn apply(&self, grid: &mut PoseGrid) {
         grid.excite_inhibit(&self.excite, &self.inhibit, self.global_inhibition);
     }
+
+    /// Local excitation alone (Alg 3, [`PoseGrid::excite`]): the first step of
+    /// [`Attractor::apply`].
+    pub fn excite(&self, grid: &mut PoseGrid) {
+        grid.excite(&self.excite);
+    }
+
+    /// Local inhibition alone (Alg 4, the excited grid convolved with the inhibition
+    /// kernel): the second step.
+    pub fn inhibit(&self, grid: &mut PoseGrid) {
+        grid.convolve(&self.inhibit);
+    }
+
+    /// The difference of the two, global inhibition and normalisation (Alg 5,
+    /// [`PoseGrid::inhibit_globally`]): the last step.
+    pub fn inhibit_globally(&self, grid: &mut PoseGrid) {
+        grid.inhibit_globally(self.global_inhibition);
+    }
 }
 
 impl PoseGrid {
@@ -193,7 +247,23 @@ impl PoseGrid {
             strides,
             cells: vec![0.0; s],
             scratch: vec![0.0; s],
+            excited: Vec::new(),
+            evaluation: Evaluation::default(),
+            masks: Vec::new(),
+            block_masks: Vec::new(),
+            taps: Vec::new(),
+            workspace: active::Workspace::default(),
         }
+    }
+
+    /// How the grid evaluates its operations.
+    pub fn evaluation(&self) -> Evaluation {
+        self.evaluation
+    }
+
+    /// Sets how the grid evaluates its operations (the activities are unchanged).
+    pub fn set_evaluation(&mut self, evaluation: Evaluation) {
+        self.evaluation = evaluation;
     }
 
     /// Axis lengths.
@@ -238,33 +308,39 @@ impl PoseGrid {
     /// Periodic convolution of every line along `axis` with an odd-width `kernel`: each
     /// cell spreads its activity to its neighbours with the kernel's weights (Alg 3).
     pub fn convolve_axis(&mut self, axis: usize, kernel: &[f64]) {
-        let (n, stride) = (self.dims[axis], self.strides[axis]);
-        let h = kernel.len() / 2;
-        // For output cell j of a line: Σ_k kernel[k]·in[(j − k + h) mod n].
-        let taps: Vec<Vec<(usize, f64)>> = (0..n)
-            .map(|j| {
-                kernel
-                    .iter()
-                    .enumerate()
-                    .map(|(k, &w)| ((j + n * kernel.len() + h - k) % n, w))
-                    .collect()
-            })
-            .collect();
-        for_each_line(self.cells.len(), n, stride, |base| {
-            for (j, t) in taps.iter().enumerate() {
-                self.scratch[base + j * stride] = t
-                    .iter()
-                    .map(|&(i, w)| w * self.cells[base + i * stride])
-                    .sum();
+        match self.evaluation {
+            Evaluation::Dense => self.convolve_axis_dense(axis, kernel),
+            Evaluation::Active => {
+                active::scan(&self.cells, &self.dims, &mut self.masks);
+                self.convolve_axis_active(axis, kernel);
             }
-        });
-        std::mem::swap(&mut self.cells, &mut self.scratch);
+        }
+    }
+
+    /// [`PoseGrid::convolve_axis`] on the current support (`self.masks`).
+    fn convolve_axis_active(&mut self, axis: usize, kernel: &[f64]) {
+        active::kernel_taps(kernel, self.dims[axis], &mut self.taps);
+        active::pass(
+            &mut self.cells,
+            &self.dims,
+            &self.strides,
+            axis,
+            &self.taps,
+            &mut self.masks,
+            &mut self.workspace,
+        );
     }
 
     /// Periodic convolution along every axis with the same kernel (a separable N-D kernel).
     pub fn convolve(&mut self, kernel: &[f64]) {
-        for axis in 0..self.dims.len() {
-            self.convolve_axis(axis, kernel);
+        match self.evaluation {
+            Evaluation::Dense => {
+                (0..self.dims.len()).for_each(|axis| self.convolve_axis_dense(axis, kernel))
+            }
+            Evaluation::Active => {
+                active::scan(&self.cells, &self.dims, &mut self.masks);
+                (0..self.dims.len()).for_each(|axis| self.convolve_axis_active(axis, kernel));
+            }
         }
     }
 
@@ -272,66 +348,33 @@ impl PoseGrid {
     /// and I = E ∗ inhibit; then global inhibition (Alg 5): cells at or above
     /// `global` lose `global`, the others go to 0; then normalisation to sum 1.
     pub fn excite_inhibit(&mut self, excite: &[f64], inhibit: &[f64], global: f64) {
-        self.convolve(excite);
-        let excited = self.cells.clone();
+        self.excite(excite);
         self.convolve(inhibit);
-        for (c, e) in self.cells.iter_mut().zip(excited) {
+        self.inhibit_globally(global);
+    }
+
+    /// Local excitation (Alg 3): the grid convolved with `kernel`, the result kept for
+    /// [`PoseGrid::inhibit_globally`].
+    pub fn excite(&mut self, kernel: &[f64]) {
+        self.convolve(kernel);
+        match self.evaluation {
+            Evaluation::Dense => self.excited = self.cells.clone(),
+            Evaluation::Active => {
+                self.excited.resize(self.cells.len(), 0.0);
+                self.excited.copy_from_slice(&self.cells);
+            }
+        }
+    }
+
+    /// Given the grid after local inhibition (I = E ∗ inhibit), p ← E − I with E the
+    /// activities [`PoseGrid::excite`] kept; global inhibition (Alg 5): cells at or above
+    /// `global` lose `global`, the others go to 0; then normalisation to sum 1.
+    pub fn inhibit_globally(&mut self, global: f64) {
+        for (c, e) in self.cells.iter_mut().zip(&self.excited) {
             let p = e - *c;
             *c = if p >= global { p - global } else { 0.0 };
         }
         self.normalise();
-    }
-
-    /// Shifts every line along `axis` by `amount` cells (fractional: floor and ceil
-    /// shifts weighted 1 − frac and frac, Fig 5.11), wrapping; mass is conserved.
-    pub fn shift_axis(&mut self, axis: usize, amount: f64) {
-        self.shift_axis_with(axis, amount, ShiftWeights::Linear);
-    }
-
-    /// [`PoseGrid::shift_axis`] with the given fractional-shift `weights`.
-    pub fn shift_axis_with(&mut self, axis: usize, amount: f64, weights: ShiftWeights) {
-        let (n, stride) = (self.dims[axis], self.strides[axis]);
-        let split = weights.split(amount, n);
-        shift_lines(&mut self.cells, &mut self.scratch, n, stride, split);
-    }
-
-    /// Shifts the lines along `axis` inside one block of `len` cells starting at `start`
-    /// (a sub-grid whose axes are the first axes of the grid), by `amount` cells.
-    pub fn shift_block_axis(&mut self, start: usize, len: usize, axis: usize, amount: f64) {
-        self.shift_block_axis_with(start, len, axis, amount, ShiftWeights::Linear);
-    }
-
-    /// [`PoseGrid::shift_block_axis`] with the given fractional-shift `weights`.
-    pub fn shift_block_axis_with(
-        &mut self,
-        start: usize,
-        len: usize,
-        axis: usize,
-        amount: f64,
-        weights: ShiftWeights,
-    ) {
-        let (n, stride) = (self.dims[axis], self.strides[axis]);
-        let split = weights.split(amount, n);
-        let (cells, scratch) = (
-            &mut self.cells[start..start + len],
-            &mut self.scratch[start..start + len],
-        );
-        shift_lines(cells, scratch, n, stride, split);
-    }
-
-    /// Adds `factor` times a copy of the grid moved by the whole cells `offset` (wrapping,
-    /// [`PoseGrid::shift_axis`] per axis): the activity's own shape, re-centred. Used to
-    /// inject a packet-shaped bump.
-    pub fn add_shifted_copy(&mut self, offset: &[i64], factor: f64) {
-        let mut moved = self.clone();
-        for (axis, &o) in offset.iter().enumerate() {
-            if o != 0 {
-                moved.shift_axis(axis, o as f64);
-            }
-        }
-        for (c, m) in self.cells.iter_mut().zip(&moved.cells) {
-            *c += factor * m;
-        }
     }
 
     /// A grid of the given axis lengths with all its activity (unit mass) in the cell
@@ -365,67 +408,6 @@ impl PoseGrid {
             })
             .0
     }
-
-    /// The best pose (§5.1.2.3.4): around the most active cell, a window of `window`
-    /// cells per axis (at most the axis length); the window's activities summed onto each
-    /// axis (Eq 5.11–5.12) and decoded by population vector, as fractional coordinates.
-    pub fn best(&self, window: usize) -> Vec<f64> {
-        let peak = self.coords(self.argmax());
-        let d = self.dims.len();
-        let spans: Vec<usize> = self.dims.iter().map(|&n| window.min(n)).collect();
-        let mut marginals: Vec<Vec<f64>> = self.dims.iter().map(|&n| vec![0.0; n]).collect();
-        let total: usize = spans.iter().product();
-        let mut offset = vec![0usize; d];
-        let mut coords = vec![0i64; d];
-        for _ in 0..total {
-            for a in 0..d {
-                coords[a] = peak[a] as i64 + offset[a] as i64 - (spans[a] / 2) as i64;
-            }
-            let v = self.cells[self.index(&coords)];
-            for a in 0..d {
-                marginals[a][coords[a].rem_euclid(self.dims[a] as i64) as usize] += v;
-            }
-            for a in 0..d {
-                offset[a] += 1;
-                if offset[a] < spans[a] {
-                    break;
-                }
-                offset[a] = 0;
-            }
-        }
-        marginals.iter().map(|m| population_index(m)).collect()
-    }
-}
-
-/// Calls `f` with the first index of every line of `n` cells `stride` apart in a grid of
-/// `len` cells.
-fn for_each_line(len: usize, n: usize, stride: usize, mut f: impl FnMut(usize)) {
-    for outer in (0..len).step_by(n * stride) {
-        for inner in 0..stride {
-            f(outer + inner);
-        }
-    }
-}
-
-/// Shifts, in `cells` (lines of `n` cells `stride` apart), every line by the split shift
-/// (floor, its weight, ceil, its weight), using `scratch` (same length) as the output
-/// buffer.
-fn shift_lines(
-    cells: &mut [f64],
-    scratch: &mut [f64],
-    n: usize,
-    stride: usize,
-    (lo, w_lo, _, w_hi): (i64, f64, i64, f64),
-) {
-    // Output cell j takes w_lo of cell j − lo and w_hi of cell j − lo − 1.
-    let from = |j: usize, s: i64| (j as i64 - s).rem_euclid(n as i64) as usize;
-    for_each_line(cells.len(), n, stride, |base| {
-        for j in 0..n {
-            scratch[base + j * stride] = w_lo * cells[base + from(j, lo) * stride]
-                + w_hi * cells[base + from(j, lo + 1) * stride];
-        }
-    });
-    cells.copy_from_slice(scratch);
 }
 
 #[cfg(test)]
