@@ -15,7 +15,8 @@ pub const SAMPLES_PER_EDGE: usize = 4;
 /// The convex hull of `points` as a closed, outward-oriented mesh.
 pub fn convex_hull(points: &[Point3<f64>]) -> Result<Mesh, String> {
     let input: Vec<Vector> = points.iter().map(|p| Vector::new(p.x, p.y, p.z)).collect();
-    let (vertices, mut triangles) = parry3d_f64::transformation::convex_hull(&input);
+    let (vertices, mut triangles) = parry3d_f64::transformation::try_convex_hull(&input)
+        .map_err(|e| format!("no convex hull of the vertices ({e:?})"))?;
     let vertices: Vec<Point3<f64>> = vertices
         .iter()
         .map(|v| Point3::new(v.x, v.y, v.z))

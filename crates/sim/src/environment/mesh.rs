@@ -244,6 +244,14 @@ fn decimate_loaded(path: &Path, loaded: &mut LoadedMesh, d: Decimation) -> Resul
     Ok(())
 }
 
+/// The largest distance of a used vertex from the file's origin along any axis (m, after
+/// `units` and `scale`): beyond it geometry and contact queries lose their precision (a
+/// whisker is millimetres thick), and near the f64 limit they fail.
+pub const MAX_COORDINATE_M: f64 = 1e3;
+
+/// The smallest bounding-box diagonal of a mesh (m, after `units` and `scale`).
+pub const MIN_DIAGONAL_M: f64 = 1e-5;
+
 fn load_in_file_frame(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, MeshError> {
     if !(options.scale.is_finite() && options.scale > 0.0) {
         return Err(MeshError::new(
@@ -285,6 +293,19 @@ fn load_in_file_frame(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, 
             path,
             "mesh",
             "every vertex is at the same point: expected a solid".into(),
+        ));
+    }
+    let reach = lo.coords.amax().max(hi.coords.amax());
+    if reach > MAX_COORDINATE_M || diagonal < MIN_DIAGONAL_M {
+        return Err(MeshError::new(
+            path,
+            "mesh",
+            format!(
+                "its vertices reach {reach:.3e} m from the file's origin and its bounding box's \
+                 diagonal is {diagonal:.3e} m (after units and scale): expected every vertex \
+                 within {MAX_COORDINATE_M} m of the origin and a diagonal of at least \
+                 {MIN_DIAGONAL_M} m (check `units` and `scale`)"
+            ),
         ));
     }
     let (vertices, map) = weld(&positions, 1e-7 * diagonal);

@@ -365,7 +365,10 @@ struct Element {
 
 /// Where a PLY body is read from: ASCII tokens or binary bytes.
 enum Body<'a> {
-    Ascii(std::iter::Peekable<std::str::SplitWhitespace<'a>>),
+    Ascii {
+        tokens: Vec<&'a str>,
+        pos: usize,
+    },
     Binary {
         bytes: &'a [u8],
         pos: usize,
@@ -376,7 +379,11 @@ enum Body<'a> {
 impl Body<'_> {
     fn value(&mut self, kind: Scalar, at: &str) -> Result<f64, ParseError> {
         match self {
-            Body::Ascii(tokens) => number(tokens.next(), at, "value"),
+            Body::Ascii { tokens, pos } => {
+                let v = number(tokens.get(*pos).copied(), at, "value");
+                *pos += 1;
+                v
+            }
             Body::Binary { bytes, pos, big } => {
                 let end = *pos + kind.size();
                 if end > bytes.len() {
@@ -388,6 +395,64 @@ impl Body<'_> {
             }
         }
     }
+
+    /// What is left to read: tokens (ASCII) or bytes (binary).
+    fn remaining(&self) -> usize {
+        match self {
+            Body::Ascii { tokens, pos } => tokens.len().saturating_sub(*pos),
+            Body::Binary { bytes, pos, .. } => bytes.len().saturating_sub(*pos),
+        }
+    }
+
+    /// What one value of `kind` takes: a token or its size in bytes.
+    fn cost(&self, kind: Scalar) -> usize {
+        match self {
+            Body::Ascii { .. } => 1,
+            Body::Binary { .. } => kind.size(),
+        }
+    }
+
+    /// What `unit` is counted in.
+    fn unit(&self) -> &'static str {
+        match self {
+            Body::Ascii { .. } => "value(s)",
+            Body::Binary { .. } => "byte(s)",
+        }
+    }
+
+    /// Checks a count read from the file (a claim, not a size) against what is left: `count`
+    /// items of at least `each` tokens or bytes must fit in the rest of the file.
+    fn check_count(
+        &self,
+        count: usize,
+        each: usize,
+        at: &str,
+        what: &str,
+    ) -> Result<(), ParseError> {
+        let remaining = self.remaining();
+        if count.checked_mul(each).is_none_or(|need| need > remaining) {
+            return Err((
+                at.into(),
+                format!(
+                    "{what} declares {count} item(s) of at least {each} {unit} each, but only \
+                     {remaining} {unit} remain in the file",
+                    unit = self.unit()
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// A list's length as read (any scalar type): a whole, non-negative number.
+fn list_length(raw: f64, at: &str) -> Result<usize, ParseError> {
+    if raw.fract() != 0.0 || !(0.0..=u32::MAX as f64).contains(&raw) {
+        return Err((
+            at.into(),
+            format!("list length {raw:e} is not a count: expected a whole number from 0"),
+        ));
+    }
+    Ok(raw as usize)
 }
 
 /// Parses PLY: the `vertex` element's `x`, `y`, `z` and the `face` element's
@@ -451,7 +516,10 @@ pub fn parse_ply(bytes: &[u8]) -> Result<PolygonSoup, ParseError> {
     }
     let rest = bytes.get(start + 1..).unwrap_or(&[]);
     let mut body = match format.as_deref() {
-        Some("ascii") => Body::Ascii(text(rest)?.split_whitespace().peekable()),
+        Some("ascii") => Body::Ascii {
+            tokens: text(rest)?.split_whitespace().collect(),
+            pos: 0,
+        },
         Some("binary_little_endian") => Body::Binary {
             bytes: rest,
             pos: 0,
@@ -481,6 +549,16 @@ pub fn parse_ply(bytes: &[u8]) -> Result<PolygonSoup, ParseError> {
         if e.name == "vertex" && xyz.iter().any(Option::is_none) {
             return Err(("header".into(), "vertex element without x, y and z".into()));
         }
+        if e.properties.is_empty() {
+            // Records without properties hold no data, whatever their count.
+            continue;
+        }
+        let record: usize = e
+            .properties
+            .iter()
+            .map(|p| body.cost(p.list_count.unwrap_or(p.kind)))
+            .sum();
+        body.check_count(e.count, record, "header", &format!("element {:?}", e.name))?;
         for r in 0..e.count {
             let at = format!("{} {}", e.name, r);
             let mut v = [0.0; 3];
@@ -488,7 +566,13 @@ pub fn parse_ply(bytes: &[u8]) -> Result<PolygonSoup, ParseError> {
             for (k, p) in e.properties.iter().enumerate() {
                 match p.list_count {
                     Some(c) => {
-                        let len = body.value(c, &at)? as usize;
+                        let len = list_length(body.value(c, &at)?, &at)?;
+                        body.check_count(
+                            len,
+                            body.cost(p.kind),
+                            &at,
+                            &format!("list {:?}", p.name),
+                        )?;
                         let mut items = Vec::with_capacity(len);
                         for _ in 0..len {
                             items.push(body.value(p.kind, &at)?);
