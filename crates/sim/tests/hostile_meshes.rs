@@ -44,10 +44,10 @@ fn a_list_length_is_a_claim_checked_against_the_file() {
     // 2^32 - 1 items of a 4-byte int: 34 GB asked of the allocator before.
     let ascii = tetrahedron(1.0, "", "uint").replacen("3 0 2 1", "4294967295 0 2 1", 1);
     refused(ascii.as_bytes(), &["face 0", "4294967295", "remain"]);
-    let mut binary = format!(
+    let mut binary = String::from(
         "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\n\
          property float y\nproperty float z\nelement face 1\n\
-         property list uint int vertex_indices\nend_header\n"
+         property list uint int vertex_indices\nend_header\n",
     )
     .into_bytes();
     binary.extend(u32::MAX.to_le_bytes());
