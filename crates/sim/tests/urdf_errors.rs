@@ -62,6 +62,28 @@ fn cases() -> Vec<(&'static str, String, &'static str, &'static str)> {
             "cycle",
         ),
         (
+            "a cycle below a chain",
+            robot(&format!(
+                "{LINKS}<link name=\"d\"/>{}{}{}",
+                joint("j1", "b", "c", ""),
+                joint("j2", "c", "b", ""),
+                joint("j3", "b", "d", "")
+            )),
+            "joint",
+            "cycle",
+        ),
+        (
+            // A stack overflow (SIGABRT) in the XML reader before #37.
+            "elements nested 100,000 deep",
+            robot(&format!(
+                "<link name=\"a\"/>\n<gazebo>{}{}</gazebo>",
+                "<a>".repeat(100_000),
+                "</a>".repeat(100_000)
+            )),
+            "<robot>",
+            "line 2: elements nested 65 deep: expected at most 64",
+        ),
+        (
             "two roots",
             robot(&format!("{LINKS}{ab}")),
             "<robot>",
@@ -163,6 +185,28 @@ fn malformed_urdfs_are_reported_with_file_and_element() {
             }
         }
     }
+}
+
+#[test]
+fn a_long_chain_loads_in_linear_time() {
+    // The cycle check walked from every link to the root: quadratic before #37.
+    let n = 20_000;
+    let links: String = (0..n).map(|i| format!("<link name=\"l{i}\"/>")).collect();
+    let joints: String = (1..n)
+        .map(|i| {
+            joint(
+                &format!("j{i}"),
+                &format!("l{}", i - 1),
+                &format!("l{i}"),
+                "",
+            )
+        })
+        .collect();
+    let model = parse(&robot(&format!("{links}{joints}"))).unwrap();
+    assert_eq!(
+        (model.links.len(), model.joints.len(), model.root),
+        (n, n - 1, 0)
+    );
 }
 
 #[test]

@@ -12,6 +12,7 @@ pub mod ik;
 pub mod package_path;
 pub mod trajectory;
 pub mod urdf;
+pub mod urdf_nesting;
 mod urdf_numbers;
 
 pub use chain::Chain;

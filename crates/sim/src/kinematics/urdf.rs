@@ -176,6 +176,15 @@ impl RobotModel {
             element: element.to_string(),
             message,
         };
+        if let Some((line, depth)) = super::urdf_nesting::too_deep(text) {
+            return Err(err(
+                "<robot>",
+                format!(
+                    "line {line}: elements nested {depth} deep: expected at most {}",
+                    super::urdf_nesting::MAX_DEPTH
+                ),
+            ));
+        }
         let robot =
             urdf_rs::read_from_string(text).map_err(
                 |e| match super::urdf_numbers::find_bad_number(text) {
@@ -249,11 +258,16 @@ impl RobotModel {
             .filter(|&i| parent_joint[i].is_none())
             .collect();
         // Every link reaches a root by walking up, unless it sits on a cycle.
+        // Each walk stops at a link an earlier walk finished from (linear in all).
+        let mut done = vec![false; links.len()];
+        let mut seen = vec![usize::MAX; links.len()];
         for start in 0..links.len() {
-            let mut seen = vec![false; links.len()];
             let mut at = start;
             while let Some(j) = parent_joint[at] {
-                if seen[at] {
+                if done[at] {
+                    break;
+                }
+                if seen[at] == start {
                     return Err(err(
                         &format!("<joint name=\"{}\">", joints[j].name),
                         format!(
@@ -262,8 +276,16 @@ impl RobotModel {
                         ),
                     ));
                 }
-                seen[at] = true;
+                seen[at] = start;
                 at = joints[j].parent;
+            }
+            let mut at = start;
+            while !done[at] {
+                done[at] = true;
+                match parent_joint[at] {
+                    Some(j) => at = joints[j].parent,
+                    None => break,
+                }
             }
         }
         let root = match roots.as_slice() {
