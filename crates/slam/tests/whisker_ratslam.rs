@@ -316,6 +316,37 @@ fn object_maps_round_trip_through_their_file_and_bad_files_are_named() {
     broken.save(&bad).unwrap();
     let e = ObjectMap::load(&bad).unwrap_err();
     assert!(e.contains("links[0]"), "{e}");
+    // Features of another shape than the code computes and compares (an assertion in the
+    // similarity code before #37), or not finite: the experience and field named.
+    type Edit = fn(&mut ObjectMap);
+    let edits: [(Edit, &str); 4] = [
+        (
+            |m| m.experiences[1].features.pfh.truncate(80),
+            "experiences[1].features.pfh: 80 bins, expected 81",
+        ),
+        (
+            |m| m.experiences[0].features.pfh.clear(),
+            "experiences[0].features.pfh: 0 bins",
+        ),
+        (
+            |m| m.experiences[1].features.pfh[5] = -1.0,
+            "experiences[1].features.pfh[5]: -1",
+        ),
+        (
+            |m| m.experiences[0].features.sda.0.push(None),
+            "experiences[0].features.sda: 19 slopes, expected 18",
+        ),
+    ];
+    for (edit, expected) in edits {
+        let mut broken = map.clone();
+        edit(&mut broken);
+        std::fs::write(&bad, serde_json::to_string(&broken).unwrap()).unwrap();
+        let e = ObjectMap::load(&bad).unwrap_err();
+        assert!(
+            e.contains("bad.json") && e.contains(expected),
+            "{expected}: {e}"
+        );
+    }
 }
 
 #[test]

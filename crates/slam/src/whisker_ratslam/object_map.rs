@@ -20,7 +20,9 @@
 //! pose(to) ≈ pose(from)·T.
 
 use super::posecells6d::Cell6;
+use crate::features::pfh::PfhParams;
 use crate::features::similarity::Features;
+use crate::sensor::WHISKERS;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -295,15 +297,16 @@ impl ObjectMap {
                     "{at}.orientation_wxyz: norm {norm}, expected a unit quaternion"
                 ));
             }
-            if let Some(other) = self.experiences.first()
-                && e.features.pfh.len() != other.features.pfh.len()
-            {
-                return Err(format!(
-                    "{at}.features.pfh: length differs from experience 0"
-                ));
-            }
+            check_features(&e.features, &at)?;
         }
         for (i, l) in self.links.iter().enumerate() {
+            if l.translation_m
+                .iter()
+                .chain(&l.rotation_wxyz)
+                .any(|x| !x.is_finite())
+            {
+                return Err(format!("links[{i}]: non-finite number"));
+            }
             if l.from >= n || l.to >= n {
                 return Err(format!(
                     "links[{i}]: {} -> {} but there are {n} experiences",
@@ -358,4 +361,38 @@ pub fn standardised_residual(
     (sigma_t, sigma_r): (f64, f64),
 ) -> f64 {
     (translation / sigma_t).powi(2) + (rotation / sigma_r).powi(2)
+}
+
+/// Checks one experience's features against what this code computes and compares
+/// (`whisk_features`): a PFH of d⁴ finite, non-negative bins (d = 3: 81), an SDA of one
+/// finite slope or null per whisker (18). `at` names the experience.
+fn check_features(features: &Features, at: &str) -> Result<(), String> {
+    let bins = PfhParams::default().divisions.pow(4);
+    let pfh = &features.pfh;
+    if pfh.len() != bins {
+        return Err(format!(
+            "{at}.features.pfh: {} bins, expected {bins} (d = {} divisions per feature, d⁴)",
+            pfh.len(),
+            PfhParams::default().divisions
+        ));
+    }
+    if let Some(k) = pfh.iter().position(|x| !(x.is_finite() && *x >= 0.0)) {
+        return Err(format!(
+            "{at}.features.pfh[{k}]: {}, expected a finite number ≥ 0",
+            pfh[k]
+        ));
+    }
+    let sda = &features.sda.0;
+    if sda.len() != WHISKERS {
+        return Err(format!(
+            "{at}.features.sda: {} slopes, expected {WHISKERS} (one per whisker, null without contact)",
+            sda.len()
+        ));
+    }
+    if let Some(k) = sda.iter().position(|x| x.is_some_and(|x| !x.is_finite())) {
+        return Err(format!(
+            "{at}.features.sda[{k}]: expected a finite slope or null"
+        ));
+    }
+    Ok(())
 }
