@@ -169,16 +169,29 @@ fn malformed_datasets_are_refused_naming_file_and_line() {
             edit("log/poses.csv", |t| set_field(&t, 1, 7, "3"), true),
             vec!["log/poses.csv", "line 2", "unit quaternion"],
         ),
+        (
+            // An index out of bounds before #37.
+            "no image sets",
+            json(|m| m["maze"]["image_sets"] = serde_json::json!([])),
+            vec!["dataset.json", "maze.image_sets", "0 set(s)"],
+        ),
+        (
+            "two image sets at level contacts",
+            json(|m| {
+                m["maze"]["image_sets"] = serde_json::json!([["a", "contacts"], ["b", "contacts"]])
+            }),
+            vec![
+                "dataset.json",
+                "maze.image_sets",
+                "exactly one at level contacts",
+            ],
+        ),
     ];
     assert!(cases.len() >= 12);
     for (name, damage, expected) in cases {
         let d = t.join(name.replace(' ', "-"));
         copy_dir(&good, &d);
         damage(&d);
-        // Ground truth deleted, so the pose log (not the true start) is read.
-        if name == "not a unit quaternion" {
-            std::fs::remove_dir_all(d.join("truth")).unwrap();
-        }
         let out = t.join(format!("{}-out", name.replace(' ', "-")));
         let o = whisker(&["slam", s(&d), "--out", s(&out)]);
         refused(&o, name, &expected, &out);

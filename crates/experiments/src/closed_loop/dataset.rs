@@ -294,6 +294,9 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<ReplaySumm
     let n = info.whisks;
     let cycles = read_cycles(dir, m, n)?;
     let odometry = read_odometry(&m.file(dir, "log/odometry.csv")?, n)?;
+    // The pose log is not replayed (SLAM runs on the odometry) but is checked as
+    // docs/dataset.md promises: a malformed log is refused, not ignored.
+    records::read_poses(&m.file(dir, "log/poses.csv")?)?;
     let appended = known_maps(dir, m, info)?;
     // The true object, when the ground truth is there.
     let object = if m.has_truth(dir) {

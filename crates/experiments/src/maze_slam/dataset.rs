@@ -371,7 +371,7 @@ fn pose_log(
 pub fn read(dir: &Path, m: &Manifest) -> Result<(Sensed, RatSlamParams, bool)> {
     let info = m.maze.as_ref().expect("checked by Manifest::read");
     let file = dir.join(crate::dataset::manifest::FILE);
-    check_info(&file, info)?;
+    check_info(&file, info, m.level)?;
     let n = info.updates;
     let g = geometry(info);
     let whiskers = rigid_whiskers(dir, &m.array)?;
@@ -383,10 +383,10 @@ pub fn read(dir: &Path, m: &Manifest) -> Result<(Sensed, RatSlamParams, bool)> {
     } else {
         None
     };
-    let start = match &truth {
-        Some(t) => t[0],
-        None => first_pose(&m.file(dir, "log/poses.csv")?, &g)?,
-    };
+    // The pose log is read (and so checked) either way; ground truth, when present,
+    // gives the true start instead of the log's.
+    let logged = first_pose(&m.file(dir, "log/poses.csv")?, &g)?;
+    let start = truth.as_ref().map_or(logged, |t| t[0]);
     let image_sets = match m.level {
         Level::Contacts => {
             let cycles =
@@ -411,7 +411,7 @@ pub fn read(dir: &Path, m: &Manifest) -> Result<(Sensed, RatSlamParams, bool)> {
 }
 
 /// The `maze` section's rate and circuits, as a maze run can replay them.
-fn check_info(file: &Path, info: &MazeInfo) -> Result {
+fn check_info(file: &Path, info: &MazeInfo, level: Level) -> Result {
     if info.update_hz != UPDATE_HZ {
         return Err(Error::field(
             file,
@@ -419,6 +419,7 @@ fn check_info(file: &Path, info: &MazeInfo) -> Result {
             format!("expected {UPDATE_HZ} (the rate of §3.1.2)"),
         ));
     }
+    check_image_sets(file, info, level)?;
     let n = info.updates;
     let starts = &info.circuit_starts;
     if n < 2
@@ -437,6 +438,30 @@ fn check_info(file: &Path, info: &MazeInfo) -> Result {
             file,
             "maze.kidnap",
             "the kidnapped variant needs 4 circuits",
+        ));
+    }
+    Ok(())
+}
+
+/// The `maze.image_sets`: at least one, names distinct, exactly one at level contacts
+/// (its images come from `log/contacts.csv`); the estimates of level streams are checked
+/// where they are used.
+fn check_image_sets(file: &Path, info: &MazeInfo, level: Level) -> Result {
+    let sets = &info.image_sets;
+    let distinct = sets
+        .iter()
+        .enumerate()
+        .all(|(i, (a, _))| sets[..i].iter().all(|(b, _)| a != b));
+    let one = level != Level::Contacts || sets.len() == 1;
+    if sets.is_empty() || !distinct || !one {
+        return Err(Error::field(
+            file,
+            "maze.image_sets",
+            format!(
+                "{} set(s): expected at least one [name, estimate] pair with distinct names \
+                 (exactly one at level contacts)",
+                sets.len()
+            ),
         ));
     }
     Ok(())
