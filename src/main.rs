@@ -83,7 +83,34 @@ fn main() -> ExitCode {
         recordings: &Rerun,
         reporter: &Console,
     };
-    let result = match Cli::parse().command {
+    let command = Cli::parse().command;
+    // A failed batch keeps its finished trials (they are resumed); any other failed
+    // command removes what it created, panics included.
+    let keep_on_failure = matches!(command, Command::Trials(_));
+    // Nothing the command touched is used after a panic but the list of what it created.
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| dispatch(command, ctx)));
+    let failed = !matches!(result, Ok(Ok(())));
+    if failed && !keep_on_failure {
+        whisker_experiments::output::discard_created();
+    }
+    match result {
+        Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Err(e)) => {
+            eprintln!("error: {e}");
+            // Bad input exits with 2, anything else with 1.
+            ExitCode::from(match e {
+                Error::Input(_) => 2,
+                Error::Failure(_) => 1,
+            })
+        }
+        // The panic's message is printed by the default hook.
+        Err(_) => ExitCode::from(101),
+    }
+}
+
+/// Runs one command.
+fn dispatch(command: Command, ctx: Context) -> whisker_experiments::error::Result {
+    match command {
         Command::Run(a) => cli::run::run(&a, ctx),
         Command::Check(a) => cli::run::check(&a, ctx),
         Command::Characterize(a) => cli::characterize::run(&a),
@@ -97,16 +124,5 @@ fn main() -> ExitCode {
         Command::Radial { command } => cli::radial::run(&command, ctx),
         Command::Assets { command } => cli::tools::assets(&command, ctx),
         Command::Urdf { command } => cli::tools::urdf(&command, ctx),
-    };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            // Bad input exits with 2, anything else with 1.
-            ExitCode::from(match e {
-                Error::Input(_) => 2,
-                Error::Failure(_) => 1,
-            })
-        }
     }
 }

@@ -259,3 +259,77 @@ fn bad_command_lines_exit_2() {
         assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
     }
 }
+
+/// A command that fails after creating its output removes what it created (#37: each of
+/// these left its `--out` behind, with whatever it had written by then).
+#[test]
+fn failed_commands_leave_nothing_behind() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    let file = t.join("a-file");
+    std::fs::write(&file, "not a directory").unwrap();
+    let under_file = file.join("x.rrd");
+    let rrd = under_file.to_str().unwrap();
+    let out = |name: &str| t.join(name).to_str().unwrap().to_string();
+    let quickstart = repo("scenarios/quickstart.toml");
+    let maze = repo("scenarios/maze_short.toml");
+    let (q, m) = (quickstart.to_str().unwrap(), maze.to_str().unwrap());
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec![
+                "run".into(),
+                q.into(),
+                "--out".into(),
+                out("run"),
+                "--rrd".into(),
+                rrd.into(),
+            ],
+            "is a file, not a directory",
+        ),
+        (
+            vec![
+                "maze-slam".into(),
+                m.into(),
+                "--out".into(),
+                out("maze"),
+                "--rrd".into(),
+                rrd.into(),
+            ],
+            "is a file, not a directory",
+        ),
+        (
+            vec![
+                "maze-slam".into(),
+                m.into(),
+                "--out".into(),
+                out("images"),
+                "--images".into(),
+                out("no-such-dir"),
+            ],
+            "no-such-dir",
+        ),
+        (
+            vec![
+                "object-slam".into(),
+                "--objects".into(),
+                "mug".into(),
+                "--out".into(),
+                out("objects"),
+                "--rrd".into(),
+                rrd.into(),
+            ],
+            "is a file, not a directory",
+        ),
+    ];
+    for (args, needle) in cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = whisker(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+        let left: Vec<_> = std::fs::read_dir(t)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(left, vec![std::ffi::OsString::from("a-file")], "{args:?}");
+    }
+}

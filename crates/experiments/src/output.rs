@@ -1,10 +1,36 @@
 //! Writing output files without ever leaving a half-written one: every file is written
-//! to a temporary sibling and renamed into place once complete.
+//! to a temporary sibling and renamed into place once complete, and what a command
+//! created (directories, files that did not exist) is listed so that a command that fails
+//! removes it again ([`discard_created`]): a failed command leaves nothing behind.
 
 use crate::error::{Error, Result};
 use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, PoisonError};
+
+/// What this process created: directories (the top-most one each [`create_dir`] made)
+/// and files [`write_atomic`] or [`commit`] put where none was, in order.
+static CREATED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn created(path: &Path) {
+    let mut list = CREATED.lock().unwrap_or_else(PoisonError::into_inner);
+    list.push(path.to_path_buf());
+}
+
+/// Removes everything this process created, newest first, and forgets it: called by the
+/// command line when a command fails (not after trials, whose finished trials are kept
+/// for resuming). Directories go with their contents.
+pub fn discard_created() {
+    let list = std::mem::take(&mut *CREATED.lock().unwrap_or_else(PoisonError::into_inner));
+    for path in list.iter().rev() {
+        if path.is_dir() {
+            let _ = fs::remove_dir_all(path);
+        } else {
+            let _ = fs::remove_file(path);
+        }
+    }
+}
 
 /// The temporary sibling of `path` that [`write_atomic`] writes first.
 pub fn temporary(path: &Path) -> PathBuf {
@@ -15,35 +41,58 @@ pub fn temporary(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.partial-{}", std::process::id()))
 }
 
-/// Creates `dir` (and parents).
+/// Creates `dir` (and parents). A path whose existing part is a file, not a directory,
+/// is bad input (exit 2); other failures (permissions, a full disk) are failures.
 pub fn create_dir(dir: &Path) -> Result {
+    let mut ancestors = dir.ancestors().filter(|a| !a.as_os_str().is_empty());
+    let first_new = ancestors.by_ref().take_while(|a| !a.exists()).last();
+    if let Some(file) = dir.ancestors().find(|a| a.exists() && !a.is_dir()) {
+        return Err(Error::Input(format!(
+            "cannot create output directory {}: {} is a file, not a directory",
+            dir.display(),
+            file.display()
+        )));
+    }
     fs::create_dir_all(dir).map_err(|e| {
         Error::Failure(format!(
             "cannot create output directory {}: {e}",
             dir.display()
         ))
-    })
+    })?;
+    if let Some(new) = first_new {
+        created(new);
+    }
+    Ok(())
 }
 
 /// Writes `bytes` to `path` atomically (temporary file, then rename).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result {
     let tmp = temporary(path);
-    let result = fs::File::create(&tmp)
-        .and_then(|mut f| {
-            f.write_all(bytes)?;
-            f.sync_all()
-        })
-        .and_then(|_| fs::rename(&tmp, path));
-    result.map_err(|e| {
-        let _ = fs::remove_file(&tmp);
-        Error::Failure(format!("cannot write {}: {e}", path.display()))
-    })
+    let result = fs::File::create(&tmp).and_then(|mut f| {
+        f.write_all(bytes)?;
+        f.sync_all()
+    });
+    match result {
+        Ok(()) => commit(&tmp, path),
+        Err(e) => {
+            let _ = fs::remove_file(&tmp);
+            Err(Error::Failure(format!(
+                "cannot write {}: {e}",
+                path.display()
+            )))
+        }
+    }
 }
 
 /// Renames a completed temporary file into place.
 pub fn commit(tmp: &Path, path: &Path) -> Result {
+    let new = !path.exists();
     fs::rename(tmp, path).map_err(|e| {
         let _ = fs::remove_file(tmp);
         Error::Failure(format!("cannot write {}: {e}", path.display()))
-    })
+    })?;
+    if new {
+        created(path);
+    }
+    Ok(())
 }
