@@ -148,6 +148,24 @@ fn training_writes_loadable_models_and_bad_input_is_refused() {
     let bad_model = tmp.path().join("badmodels");
     std::fs::create_dir_all(&bad_model).unwrap();
     std::fs::write(bad_model.join("svr10.json"), "{\"kind\": \"svr\"}").unwrap();
+    // A trained model with a support vector of another length than its features (ran
+    // and dropped the extra input before #37), and one whose JSON breaks on line 3.
+    let inconsistent = tmp.path().join("inconsistent");
+    std::fs::create_dir_all(&inconsistent).unwrap();
+    let mut svr: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(models.join("svr12.json")).unwrap()).unwrap();
+    svr["model"]["support"][1]
+        .as_array_mut()
+        .unwrap()
+        .push(0.5.into());
+    std::fs::write(inconsistent.join("svr12.json"), svr.to_string()).unwrap();
+    let broken = tmp.path().join("broken");
+    std::fs::create_dir_all(&broken).unwrap();
+    std::fs::write(
+        broken.join("poly8.json"),
+        "{\n\"kind\": \"polynomial\",\n oops",
+    )
+    .unwrap();
     for (args, needles) in [
         (
             vec![
@@ -182,7 +200,32 @@ fn training_writes_loadable_models_and_bad_input_is_refused() {
                 "--models",
                 bad_model.to_str().unwrap(),
             ],
-            vec!["svr10.json", "not a radial-distance model"],
+            vec!["svr10.json", "not a radial-distance model", "missing field"],
+        ),
+        (
+            vec![
+                "radial",
+                "eval",
+                "--data",
+                data.to_str().unwrap(),
+                "--models",
+                inconsistent.to_str().unwrap(),
+            ],
+            vec![
+                "svr12.json",
+                "field `model.support[1]`: 5 values, expected 4",
+            ],
+        ),
+        (
+            vec![
+                "radial",
+                "eval",
+                "--data",
+                data.to_str().unwrap(),
+                "--models",
+                broken.to_str().unwrap(),
+            ],
+            vec!["poly8.json", "line 3, column 2"],
         ),
         (
             vec![

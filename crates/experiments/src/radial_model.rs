@@ -19,18 +19,28 @@ pub fn load_or_default(path: Option<&Path>) -> Result<RadialEstimator> {
     }
 }
 
-/// Reads a model file (a serialised [`RadialEstimator`]); errors name the file.
+/// Reads a model file (a serialised [`RadialEstimator`]) and checks its dimensions and
+/// numbers ([`RadialEstimator::validate`]); errors name the file, and the line and column
+/// (malformed JSON) or the field.
 pub fn load(path: &Path) -> Result<RadialEstimator> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| Error::Input(format!("{}: cannot read the model: {e}", path.display())))?;
-    serde_json::from_str(&text).map_err(|e| {
-        Error::Input(format!(
-            "{}: not a radial-distance model (line {}, column {}): {e}",
-            path.display(),
+    let bad = |m: String| Error::Input(format!("{}: {m}", path.display()));
+    // Two steps: JSON syntax errors have a place; errors of the model's shape (read
+    // through the tagged enum) have none, and say which field or variant.
+    let value: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
+        bad(format!(
+            "line {}, column {}: not JSON: {e}",
             e.line(),
             e.column()
         ))
-    })
+    })?;
+    let model: RadialEstimator = serde_json::from_value(value)
+        .map_err(|e| bad(format!("not a radial-distance model: {e}")))?;
+    model
+        .validate()
+        .map_err(|(field, m)| bad(format!("field `{field}`: {m}")))?;
+    Ok(model)
 }
 
 #[cfg(test)]
@@ -48,5 +58,7 @@ mod tests {
         assert_eq!(features, [Cp, Ca, Dv, Da, Av]);
         assert!(!model.support.is_empty());
         assert!(model.support.iter().all(|s| s.len() == 5));
+        let model = load_or_default(None).unwrap();
+        assert_eq!(model.validate(), Ok(()));
     }
 }

@@ -11,6 +11,7 @@ pub mod pca;
 pub mod polynomial;
 pub mod standardise;
 pub mod svr;
+pub mod validate;
 
 use crate::frontend::features::{ContactFeatures, Feature};
 use rand::RngExt;
