@@ -253,6 +253,17 @@ fn bad_command_lines_exit_2() {
         ),
         (vec!["urdf", "info", "/no/such.urdf"], "/no/such.urdf"),
         (vec!["frobnicate"], "frobnicate"),
+        // Accepted (substeps 0, unknown labels) or run for hours (a 5 m whisker's
+        // ring-down) before #37.
+        (
+            vec!["soak", "--substeps", "0"],
+            "--substeps 0: expected 1 to 64",
+        ),
+        (vec!["soak", "--whiskers", "A1,Z9"], "no whisker \"Z9\""),
+        (
+            vec!["characterize", "--length", "5"],
+            "first mode is about 0.028 Hz",
+        ),
     ] {
         let o = whisker(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));

@@ -5,7 +5,7 @@ use crate::error::{Error, Result};
 use serde::Serialize;
 use std::fmt;
 use whisker_sim::whisker::beam::Bending;
-use whisker_sim::whisker::characterize::{Characterization, characterize};
+use whisker_sim::whisker::characterize::{Characterization, characterize, check_first_mode};
 use whisker_sim::whisker::{BeamDesign, FollicleDesign};
 
 /// One whisker design and its load (SI units).
@@ -63,6 +63,7 @@ pub struct Report {
 pub fn run(s: &Settings) -> Result<Report> {
     let beam = s.beam;
     beam.validate()
+        .and_then(|()| check_first_mode(&beam))
         .map_err(|e| Error::Input(format!("characterize: {e}")))?;
     let follicle = match s.follicle_stiffness {
         0.0 => None,

@@ -390,6 +390,20 @@ pub fn soak(o: &Settings, ctx: Context) -> Result<Vec<CaseReport>> {
             o.duration
         )));
     }
+    if !(1..=64).contains(&o.substeps) {
+        return Err(Error::Input(format!(
+            "--substeps {}: expected 1 to 64 (as `array.substeps`)",
+            o.substeps
+        )));
+    }
+    let labels = whisker_sim::whisker::array::labels();
+    if let Some(w) = o.whiskers.iter().find(|w| !labels.contains(w)) {
+        return Err(Error::Input(format!(
+            "--whiskers: no whisker {w:?}: expected labels of {} … {}",
+            labels[0],
+            labels[labels.len() - 1]
+        )));
+    }
     let mut cases: Vec<(String, Case)> = Vec::new();
     for name in &o.objects {
         if !CATALOGUE.iter().any(|a| a.name == name) {

@@ -176,6 +176,25 @@ pub fn static_load(
 const RING_DOWN_STEPS_PER_PERIOD: f64 = 200.0;
 /// First-mode periods recorded in the ring-down.
 const RING_DOWN_PERIODS: f64 = 12.0;
+/// The lowest first mode characterised (Hz): 12 periods of a lower one at the 0.5 ms
+/// step take more than 48,000 steps (a 1 m long default whisker is at 0.64 Hz; rat
+/// whiskers and the thesis' artificial ones ring at tens to hundreds of Hz).
+pub const MIN_FIRST_MODE_HZ: f64 = 0.5;
+
+/// Refuses a design whose first mode (Euler–Bernoulli estimate) is below
+/// [`MIN_FIRST_MODE_HZ`]: its ring-down would run for hours.
+pub fn check_first_mode(beam: &BeamDesign) -> Result<(), String> {
+    let estimate = beam.first_mode_estimate() / TAU;
+    if estimate >= MIN_FIRST_MODE_HZ {
+        return Ok(());
+    }
+    Err(format!(
+        "the design's first mode is about {estimate:.3} Hz (Euler–Bernoulli estimate): \
+         expected at least {MIN_FIRST_MODE_HZ} Hz, a whisker-like design (its ring-down \
+         would take {:.0} s of simulated time; shorten or stiffen it)",
+        RING_DOWN_PERIODS / estimate
+    ))
+}
 
 /// Runs the whole characterisation of `beam` in `follicle` (None: rigidly clamped)
 /// under a static force `force` (N) at arc length `at` (m): [`static_load`], then, in
@@ -187,6 +206,7 @@ pub fn characterize(
     force: f64,
     at: f64,
 ) -> Result<Characterization, String> {
+    check_first_mode(&beam)?;
     let (mut world, mut whisker, statics) = loaded_rig(beam, follicle, force, at)?;
     // Released from the settled load, now at the ring-down's finer step.
     let period = TAU / beam.first_mode_estimate();
