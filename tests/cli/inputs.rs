@@ -26,6 +26,8 @@ fn malformed_scenarios_exit_2_naming_file_and_field_and_write_nothing() {
     std::fs::write(tmp.path().join("good_base.toml"), good).unwrap();
     let cases: Vec<(&str, String, &str)> = vec![
         ("base_elsewhere", "base = \"../x.toml\"\n".into(), "base"),
+        // "cannot read scenario: Is a directory", naming neither file nor field, before #37.
+        ("base_dot", "base = \".\"\n".into(), "field `base`"),
         ("base_cycle", "base = \"base_cycle.toml\"\n".into(), "base"),
         (
             "base_missing",

@@ -387,6 +387,12 @@ fn bad_trials_input_names_the_field_and_a_changed_scenario_is_refused_on_resume(
             "trials.factors.explore.max_iterations",
         ),
         ("seed = [1, 2]", "trials.factors.seed"),
+        // A NaN inside a table-valued level: passed `check` and failed every trial at
+        // run time (exit 1) before #37.
+        (
+            "objects = [[{ mesh = \"box.obj\", position_m = [nan, 0.0, 0.0] }]]",
+            "trials.factors.objects[0]`: ",
+        ),
     ];
     for (extra, want) in cases {
         let file = scenario(tmp.path(), 20, extra);
@@ -398,6 +404,12 @@ fn bad_trials_input_names_the_field_and_a_changed_scenario_is_refused_on_resume(
             err.contains(want) && err.contains("batch.toml"),
             "{extra}: {err}"
         );
+        if extra.contains("nan") {
+            assert!(
+                err.contains("position_m[0]`: expected a finite number"),
+                "{err}"
+            );
+        }
         assert!(!dir.exists(), "{extra}: wrote output");
     }
     // A batch begun, then the scenario edited: --resume refuses, --force proceeds.

@@ -31,7 +31,12 @@ pub fn resolve(path: &Path, mut table: Table, depth: usize) -> Result<Table> {
     let Value::String(name) = base else {
         return Err(bad(format!("expected a file name, got {base}")));
     };
-    if Path::new(&name).components().count() != 1 {
+    let mut components = Path::new(&name).components();
+    let one_file = matches!(
+        (components.next(), components.next()),
+        (Some(std::path::Component::Normal(_)), None)
+    );
+    if !one_file {
         return Err(bad(format!(
             "expected a file in the scenario's own directory, got \"{name}\""
         )));
@@ -42,6 +47,12 @@ pub fn resolve(path: &Path, mut table: Table, depth: usize) -> Result<Table> {
         )));
     }
     let base_path = path.with_file_name(&name);
+    if !base_path.is_file() {
+        return Err(bad(format!(
+            "\"{name}\": no such file in the scenario's directory ({})",
+            base_path.display()
+        )));
+    }
     let (_, base_table) = read_table(&base_path)?;
     let mut merged = resolve(&base_path, base_table, depth + 1)?;
     merge(&mut merged, table);

@@ -104,8 +104,17 @@ impl Batch {
                 let o = f.set(i);
                 let field = format!("trials.factors.{}[{i}]", f.path);
                 o.apply(&mut t).map_err(|e| Error::field(file, &field, e))?;
-                Scenario::from_table(file, t, &format!("with {} = {}", f.path, show(level)))
-                    .map_err(|e| Error::field(file, &field, e))?;
+                let s =
+                    Scenario::from_table(file, t, &format!("with {} = {}", f.path, show(level)))
+                        .map_err(|e| Error::field(file, &field, e))?;
+                // The environment's fields are checked as it loads (meshes, poses): a
+                // level that changes it is loaded once here, so that a bad value (a NaN
+                // position) is refused now, not by every trial at run time.
+                let root = f.path.split('.').next().unwrap_or_default();
+                if root == "objects" || root == "maze" {
+                    s.environment(file)
+                        .map_err(|e| Error::field(file, &field, e))?;
+                }
             }
         }
         let trials = expand(&factors, &seeds);
