@@ -44,8 +44,12 @@ pub fn temporary(path: &Path) -> PathBuf {
 /// Creates `dir` (and parents). A path whose existing part is a file, not a directory,
 /// is bad input (exit 2); other failures (permissions, a full disk) are failures.
 pub fn create_dir(dir: &Path) -> Result {
-    let mut ancestors = dir.ancestors().filter(|a| !a.as_os_str().is_empty());
-    let first_new = ancestors.by_ref().take_while(|a| !a.exists()).last();
+    // The top-most directory this call creates (removed again if the command fails).
+    let first_new = dir
+        .ancestors()
+        .filter(|a| !a.as_os_str().is_empty())
+        .take_while(|a| !a.exists())
+        .last();
     if let Some(file) = dir.ancestors().find(|a| a.exists() && !a.is_dir()) {
         return Err(Error::Input(format!(
             "cannot create output directory {}: {} is a file, not a directory",
