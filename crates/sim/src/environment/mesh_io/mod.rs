@@ -13,8 +13,11 @@
 //! rather than by that word.
 
 mod ply;
+mod soup;
 
 pub use ply::parse_ply;
+pub use soup::{ParseError, PolygonSoup};
+use soup::{finite, number, text};
 use std::path::{Path, PathBuf};
 
 /// A problem with a mesh file: which file, where in it, what is wrong.
@@ -37,35 +40,6 @@ impl MeshError {
             at: at.to_string(),
             message,
         }
-    }
-}
-
-/// Vertices and polygons as read from a file, before any welding or checks of topology.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct PolygonSoup {
-    /// Vertex positions (file units).
-    pub positions: Vec<[f64; 3]>,
-    /// Polygons: corner indices into `positions`, counter-clockwise seen from outside
-    /// by the formats' convention.
-    pub polygons: Vec<Vec<u32>>,
-    /// Where each polygon came from, e.g. "line 12" or "facet 7".
-    pub origins: Vec<String>,
-    /// Number of objects/groups the file declares (OBJ `o`/`g`; 1 otherwise).
-    pub objects: usize,
-}
-
-impl PolygonSoup {
-    /// Adds a polygon read at `at`, refusing one with fewer than three corners.
-    fn push_polygon(&mut self, polygon: Vec<u32>, at: String) -> Result<(), ParseError> {
-        if polygon.len() < 3 {
-            return Err((
-                at,
-                format!("face has {} corners: expected 3 or more", polygon.len()),
-            ));
-        }
-        self.polygons.push(polygon);
-        self.origins.push(at);
-        Ok(())
     }
 }
 
@@ -113,35 +87,6 @@ pub fn read(path: &Path) -> Result<PolygonSoup, MeshError> {
         return Err(err("file", "empty mesh: no faces".into()));
     }
     Ok(soup)
-}
-
-/// A parse error: (location, message).
-pub type ParseError = (String, String);
-
-fn finite(v: [f64; 3], at: &str) -> Result<[f64; 3], ParseError> {
-    if v.iter().all(|c| c.is_finite()) {
-        Ok(v)
-    } else {
-        Err((
-            at.to_string(),
-            format!("vertex {v:?} is not finite: expected three finite numbers"),
-        ))
-    }
-}
-
-fn number(token: Option<&str>, at: &str, what: &str) -> Result<f64, ParseError> {
-    let t = token.ok_or_else(|| (at.to_string(), format!("missing {what}")))?;
-    t.parse::<f64>()
-        .map_err(|_| (at.to_string(), format!("{what} {t:?} is not a number")))
-}
-
-fn text(bytes: &[u8]) -> Result<&str, ParseError> {
-    std::str::from_utf8(bytes).map_err(|e| {
-        (
-            "file".into(),
-            format!("not text (invalid UTF-8 at byte {})", e.valid_up_to()),
-        )
-    })
 }
 
 /// Parses OBJ text: `v x y z [w]` vertices and `f a b c …` faces (corners `v`, `v/t`,

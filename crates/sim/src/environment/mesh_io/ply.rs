@@ -3,7 +3,7 @@
 //! count the file declares (element records, list lengths) is a claim checked against
 //! what remains of the file before anything is allocated.
 
-use super::{ParseError, PolygonSoup, finite, number, text};
+use super::soup::{ParseError, PolygonSoup, finite, number, text};
 
 /// A scalar type of a PLY property.
 #[derive(Debug, Clone, Copy)]
