@@ -61,6 +61,25 @@ fn malformed_scenarios_exit_2_naming_file_and_field_and_write_nothing() {
             format!("seed = \"one\"\n{ARM}{WAYPOINT}{OUTPUT}"),
             "seed",
         ),
+        // An array where a table is expected was read positionally (dir, sample_period_s,
+        // recording) before #37.
+        (
+            "table_as_array",
+            format!("output = [OUT, 0.01, false]\n{ARM}{WAYPOINT}"),
+            "field `output`: expected a table",
+        ),
+        (
+            "waypoint_as_array",
+            format!(
+                "{ARM}[trajectory]\nwaypoints = [[[0.3, 0, 0.3], [0, 0, 0], [0, -80, 80, -90, -90, 0], 1.0]]\n{OUTPUT}"
+            ),
+            "field `trajectory.waypoints[0]`: expected a table",
+        ),
+        (
+            "base_merged_table_as_array",
+            "base = \"good_base.toml\"\noutput = [OUT, 0.01, true]\n".into(),
+            "field `output`: expected a table",
+        ),
         ("missing_section", format!("{ARM}{OUTPUT}"), "trajectory"),
         (
             "missing_urdf_file",

@@ -13,6 +13,7 @@ pub mod explore;
 pub mod maze_slam;
 pub mod overrides;
 mod paths;
+mod strict;
 pub mod trials;
 
 use crate::error::{Error, Result};
@@ -311,13 +312,14 @@ impl Scenario {
     /// The scenario of `table` (read from `path`, base merged in, then changed as
     /// `context` says), checked.
     pub fn from_table(path: &Path, table: toml::Table, context: &str) -> Result<Self> {
-        let mut scenario: Self = table.try_into().map_err(|e: toml::de::Error| {
+        let mut scenario: Self = table.clone().try_into().map_err(|e: toml::de::Error| {
             Error::Input(format!(
                 "{} ({context}): {}",
                 path.display(),
                 e.to_string().trim_end()
             ))
         })?;
+        Self::check_shapes(path, &table)?;
         scenario.validate(path)?;
         Ok(scenario)
     }
@@ -333,8 +335,16 @@ impl Scenario {
         let mut scenario: Self = toml::from_str(&text).map_err(|e| {
             Error::Input(format!("{}: {}", path.display(), e.to_string().trim_end()))
         })?;
+        Self::check_shapes(path, &table)?;
         scenario.validate(path)?;
         Ok(scenario)
+    }
+
+    /// Refuses an array (or any non-table) where a table is expected, which serde would
+    /// read positionally (see [`strict`]); after the `toml` reading, whose errors carry
+    /// the line.
+    fn check_shapes(path: &Path, table: &toml::Table) -> Result {
+        strict::check::<Self>(table).map_err(|(field, message)| Error::field(path, &field, message))
     }
 
     /// The 18 whiskers' configurations of `[array]` (RCP thresholds not yet calibrated):
