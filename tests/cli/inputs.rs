@@ -39,6 +39,19 @@ fn malformed_scenarios_exit_2_naming_file_and_field_and_write_nothing() {
             "base = \"good_base.toml\"\ncolour = 1\n".into(),
             "colour",
         ),
+        // toml names no field for an enum or an untagged enum in a table (a scenario
+        // merged over its base): "wanted exactly 1 element, found 0 elements" and "data
+        // did not match any variant of untagged enum Seeds" before #37.
+        (
+            "base_merged_enum",
+            "base = \"good_base.toml\"\nsensing = {}\n".into(),
+            "field `sensing`",
+        ),
+        (
+            "base_merged_seeds",
+            "base = \"good_base.toml\"\n[trials]\nseeds = \"x\"\n".into(),
+            "field `trials.seeds`: expected a list of seeds",
+        ),
         (
             "base_merged_bad_value",
             "base = \"good_base.toml\"\n[maze_slam]\nimages = []\n".into(),
@@ -282,8 +295,13 @@ fn bad_command_lines_exit_2() {
         ),
         (vec!["soak", "--whiskers", "A1,Z9"], "no whisker \"Z9\""),
         (
-            vec!["characterize", "--length", "5"],
-            "first mode is about 0.028 Hz",
+            vec!["characterize", "--length", "1.5"],
+            "first mode is about 0.312 Hz",
+        ),
+        // A NaN first mode, named neither option nor range, before #37 (fuzzing).
+        (
+            vec!["characterize", "--length", "1e308"],
+            "--length: length must be a number from 0.001 to 2 m, got 1e308",
         ),
     ] {
         let o = whisker(&args);

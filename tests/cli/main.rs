@@ -8,6 +8,7 @@ mod dataset_malformed;
 mod dataset_object;
 mod environment;
 mod explore;
+mod fuzz;
 mod inputs;
 mod maze_slam;
 mod object_slam;

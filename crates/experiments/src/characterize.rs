@@ -6,7 +6,18 @@ use serde::Serialize;
 use std::fmt;
 use whisker_sim::whisker::beam::Bending;
 use whisker_sim::whisker::characterize::{Characterization, characterize, check_first_mode};
+use whisker_sim::whisker::follicle::{MAX_STIFFNESS_NM_PER_RAD, MIN_STIFFNESS_NM_PER_RAD};
+use whisker_sim::whisker::short;
 use whisker_sim::whisker::{BeamDesign, FollicleDesign};
+
+/// The largest static load (N): contact forces on whiskers are millinewtons, and 1 N
+/// already bends the default 10 cm whisker through half its length; far beyond, the
+/// load-point deflection stops growing with the force and then the simulation diverges.
+pub const MAX_FORCE_N: f64 = 10.0;
+
+/// The smallest static load (N): far below contact forces, still well above rounding
+/// (a subnormal load left nothing to ring down).
+pub const MIN_FORCE_N: f64 = 1e-6;
 
 /// One whisker design and its load (SI units).
 #[derive(Debug, Clone)]
@@ -64,16 +75,29 @@ pub fn run(s: &Settings) -> Result<Report> {
     let beam = s.beam;
     beam.validate()
         .and_then(|()| check_first_mode(&beam))
-        .map_err(|e| Error::Input(format!("characterize: {e}")))?;
+        .map_err(|e| {
+            // The design's messages name its fields; the command line knows them as options.
+            let option = ["length", "base_diameter", "tip_diameter", "youngs_modulus"]
+                .into_iter()
+                .chain(["density", "damping_ratio", "segments"])
+                .find(|f| e.starts_with(f))
+                .map(|f| format!("--{}: ", f.replace('_', "-")))
+                .unwrap_or_default();
+            Error::Input(format!("characterize: {option}{e}"))
+        })?;
     let follicle = match s.follicle_stiffness {
         0.0 => None,
-        k if k.is_finite() && k > 0.0 => Some(FollicleDesign {
-            stiffness: k,
-            ..FollicleDesign::default()
-        }),
+        k if (MIN_STIFFNESS_NM_PER_RAD..=MAX_STIFFNESS_NM_PER_RAD).contains(&k) => {
+            Some(FollicleDesign {
+                stiffness: k,
+                ..FollicleDesign::default()
+            })
+        }
         k => {
             return Err(Error::Input(format!(
-                "--follicle-stiffness: expected a number ≥ 0, got {k}"
+                "--follicle-stiffness: expected 0 (a rigid clamp) or a number from \
+                 {MIN_STIFFNESS_NM_PER_RAD} to {MAX_STIFFNESS_NM_PER_RAD:e} N·m/rad, got {}",
+                short(k)
             )));
         }
     };
@@ -84,13 +108,19 @@ pub fn run(s: &Settings) -> Result<Report> {
             beam.length
         )));
     }
-    if !s.force.is_finite() || s.force == 0.0 {
+    if !(MIN_FORCE_N..=MAX_FORCE_N).contains(&s.force.abs()) {
         return Err(Error::Input(format!(
-            "--force: expected a non-zero finite number of newtons, got {}",
-            s.force
+            "--force: expected a load of {MIN_FORCE_N:e} to {MAX_FORCE_N} N (either sign), got {}",
+            short(s.force)
         )));
     }
-    let c: Characterization = characterize(beam, follicle, s.force, at).map_err(Error::Failure)?;
+    // What the simulation cannot measure (a load that does not settle, a ring-down too
+    // damped to show oscillations) is a property of the design: refused as input.
+    let c: Characterization = characterize(beam, follicle, s.force, at).map_err(|e| {
+        Error::Input(format!(
+            "characterize: this design cannot be characterised: {e}"
+        ))
+    })?;
     Ok(Report {
         length_m: beam.length,
         force_n: s.force,

@@ -35,6 +35,12 @@ const TUNNEL_DEPTH: f64 = 1.0e-3;
 /// The step of `--nudges`: the k-th extra run moves the array k × this along world x (m).
 const NUDGE_M: f64 = 1.0e-9;
 
+/// The longest `--duration` (s of simulated time per case).
+pub const MAX_DURATION_S: f64 = 3600.0;
+
+/// The most `--nudges`.
+pub const MAX_NUDGES: usize = 100;
+
 /// What `whisker soak` runs.
 #[derive(Debug, Clone)]
 pub struct Settings {
@@ -384,10 +390,17 @@ pub fn maze_case(file: &Path) -> Result<Case, Error> {
 /// `whisker soak`.
 /// `whisker soak`: every case's runs, failed ones included (see [`CaseReport::passed`]).
 pub fn soak(o: &Settings, ctx: Context) -> Result<Vec<CaseReport>> {
-    if !(o.duration.is_finite() && o.duration > 0.0) {
+    if !(o.duration > 0.0 && o.duration <= MAX_DURATION_S) {
         return Err(Error::Input(format!(
-            "--duration {}: expected a positive number of seconds",
+            "--duration {}: expected a positive number of seconds up to {MAX_DURATION_S} \
+             (simulated per case; an hour of one whisker's physics takes hours)",
             o.duration
+        )));
+    }
+    if o.nudges > MAX_NUDGES {
+        return Err(Error::Input(format!(
+            "--nudges {}: expected 0 to {MAX_NUDGES} (each is one more whole run of every case)",
+            o.nudges
         )));
     }
     if !(1..=64).contains(&o.substeps) {

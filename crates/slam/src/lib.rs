@@ -15,6 +15,7 @@ pub mod contact;
 pub mod exploration;
 pub mod features;
 pub mod frontend;
+pub mod message;
 pub mod pose;
 pub mod pose_grid;
 pub mod radial;

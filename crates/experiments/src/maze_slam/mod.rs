@@ -177,7 +177,8 @@ fn tunings(base: RatSlamParams, o: &Settings) -> Result<Vec<RatSlamParams>> {
         .find(|v| !(v.is_finite() && **v > 0.0))
     {
         return Err(Error::Input(format!(
-            "--match-threshold / --inject-energy: expected positive numbers, got {bad}"
+            "--match-threshold / --inject-energy: expected positive numbers, got {}",
+            whisker_sim::whisker::short(*bad)
         )));
     }
     let mut out = Vec::new();
@@ -186,6 +187,8 @@ fn tunings(base: RatSlamParams, o: &Settings) -> Result<Vec<RatSlamParams>> {
             let mut p = base;
             p.local_view.match_threshold = threshold;
             p.local_view.inject_energy = energy;
+            p.validate()
+                .map_err(|e| Error::Input(format!("--match-threshold / --inject-energy: {e}")))?;
             out.push(p);
         }
     }
@@ -288,7 +291,20 @@ fn run_names(
 fn tuning_tag(params: &RatSlamParams, sweep: bool) -> String {
     if sweep {
         let lv = params.local_view;
-        format!("-t{}-e{}", lv.match_threshold, lv.inject_energy)
+        // Short in any case: a file name holds at most 255 bytes, 1e308 written out 309.
+        let short = |v: f64| {
+            let plain = v.to_string();
+            if plain.len() <= 12 {
+                plain
+            } else {
+                format!("{v:e}")
+            }
+        };
+        format!(
+            "-t{}-e{}",
+            short(lv.match_threshold),
+            short(lv.inject_energy)
+        )
     } else {
         String::new()
     }

@@ -230,15 +230,16 @@ impl ArrayConfig {
         )? {
             None => Ok(Some(FollicleDesign::default())),
             Some(0.0) => Ok(None),
-            Some(k) if k > 0.0 => Ok(Some(FollicleDesign {
-                stiffness: k,
-                ..FollicleDesign::default()
-            })),
-            Some(k) => Err(field_error(
-                file,
-                "array.follicle_stiffness_nm_per_rad",
-                format!("expected a number ≥ 0, got {k}"),
-            )),
+            Some(k) => {
+                let follicle = FollicleDesign {
+                    stiffness: k,
+                    ..FollicleDesign::default()
+                };
+                follicle
+                    .validate()
+                    .map_err(|e| field_error(file, "array.follicle_stiffness_nm_per_rad", e))?;
+                Ok(Some(follicle))
+            }
         }
     }
 

@@ -312,13 +312,25 @@ impl Scenario {
     /// The scenario of `table` (read from `path`, base merged in, then changed as
     /// `context` says), checked.
     pub fn from_table(path: &Path, table: toml::Table, context: &str) -> Result<Self> {
-        let mut scenario: Self = table.clone().try_into().map_err(|e: toml::de::Error| {
-            Error::Input(format!(
-                "{} ({context}): {}",
-                path.display(),
-                e.to_string().trim_end()
-            ))
-        })?;
+        let mut scenario: Self = match table.clone().try_into() {
+            Ok(s) => s,
+            Err(e) => {
+                let e: toml::de::Error = e;
+                // A table has no lines, and toml names the field of only some errors
+                // (not those of enums or untagged enums): the path-keeping reading does.
+                return Err(match strict::check::<Self>(&table) {
+                    Err((field, message)) if !field.is_empty() => Error::Input(format!(
+                        "{} ({context}): field `{field}`: {message}",
+                        path.display()
+                    )),
+                    _ => Error::Input(format!(
+                        "{} ({context}): {}",
+                        path.display(),
+                        e.to_string().trim_end()
+                    )),
+                });
+            }
+        };
         Self::check_shapes(path, &table)?;
         scenario.validate(path)?;
         Ok(scenario)

@@ -197,11 +197,12 @@ impl<'de, 'a, I: Iterator<Item = (usize, &'a toml::Value)>> SeqAccess<'de> for I
         let Some((i, v)) = self.items.next() else {
             return Ok(None);
         };
-        seed.deserialize(Strict {
+        let value = Strict {
             value: Borrowed::Value(v),
             path: format!("{}[{i}]", self.path),
-        })
-        .map(Some)
+        };
+        let path = value.path.clone();
+        seed.deserialize(value).map(Some).map_err(|e| at(e, path))
     }
 }
 
@@ -241,11 +242,22 @@ impl<'de, 'a, I: Iterator<Item = (&'a String, &'a toml::Value)>> MapAccess<'de> 
         } else {
             format!("{}.{k}", self.path)
         };
-        seed.deserialize(Strict {
+        let value = Strict {
             value: Borrowed::Value(v),
-            path,
-        })
+            path: path.clone(),
+        };
+        // An error raised after the value was read (an untagged enum's, a derived
+        // visitor's) belongs to this field too.
+        seed.deserialize(value).map_err(|e| at(e, path))
     }
+}
+
+/// `e` placed at `path` unless it already has a place.
+fn at(mut e: StrictError, path: String) -> StrictError {
+    if e.path.is_empty() {
+        e.path = path;
+    }
+    e
 }
 
 #[cfg(test)]

@@ -32,7 +32,10 @@ pub struct TrialsConfig {
 
 /// `trials.seeds`.
 #[derive(Debug, Clone, Deserialize)]
-#[serde(untagged)]
+#[serde(
+    untagged,
+    expecting = "expected a list of seeds ([0, 1, 2]) or a range ({ from = 0, to = 9 }), whole numbers ≥ 0"
+)]
 pub enum Seeds {
     /// `[0, 1, 2]`.
     List(Vec<u64>),

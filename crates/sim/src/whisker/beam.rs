@@ -57,6 +57,18 @@ impl BeamDesign {
     /// formula for loads at 0.3–0.9 L (0.96 % at 0.3 L; 2.3 % at 10 segments, 0.5 % at
     /// 20; `tests/beam_theory.rs`). The cost of a step grows about as N³ (dense
     /// multibody mass matrix): 20 segments cost 4.6× as much as 10.
+    /// The physical range of each number of a design: (field, min, max, unit). Wide
+    /// enough for rat whiskers (a few mm to 5 cm, 50–200 µm thick, keratin at ~3 GPa) and
+    /// artificial ones (the thesis': 6–16 cm, 2 mm at the base, a photopolymer at 2.5 GPa),
+    /// narrow enough that the beam's modes and masses stay finite in f64.
+    pub const RANGES: [(&'static str, f64, f64, &'static str); 5] = [
+        ("length", 1e-3, 2.0, "m"),
+        ("base_diameter", 1e-5, 0.05, "m"),
+        ("tip_diameter", 1e-6, 0.05, "m"),
+        ("youngs_modulus", 1e4, 1e12, "Pa"),
+        ("density", 10.0, 25_000.0, "kg/m³"),
+    ];
+
     pub fn with_length(length: f64) -> Self {
         Self {
             length,
@@ -70,18 +82,32 @@ impl BeamDesign {
         }
     }
 
-    /// Checks that every value is finite and physical; names the first bad field.
+    /// Checks that every value is finite and physical ([`BeamDesign::RANGES`]); names the
+    /// first bad field.
     pub fn validate(&self) -> Result<(), String> {
-        super::require_positive(
-            "",
-            &[
-                ("length", self.length),
-                ("base_diameter", self.base_diameter),
-                ("tip_diameter", self.tip_diameter),
-                ("youngs_modulus", self.youngs_modulus),
-                ("density", self.density),
-            ],
-        )?;
+        let values = [
+            self.length,
+            self.base_diameter,
+            self.tip_diameter,
+            self.youngs_modulus,
+            self.density,
+        ];
+        for ((name, min, max, unit), v) in Self::RANGES.iter().zip(values) {
+            if !(v.is_finite() && (*min..=*max).contains(&v)) {
+                return Err(format!(
+                    "{name} must be a number from {} to {} {unit}, got {}",
+                    super::short(*min),
+                    super::short(*max),
+                    super::short(v)
+                ));
+            }
+        }
+        if self.base_diameter > self.length / 5.0 {
+            return Err(format!(
+                "base_diameter ({}) must be at most a fifth of length ({}): a beam model needs a slender shaft",
+                self.base_diameter, self.length
+            ));
+        }
         if self.tip_diameter > self.base_diameter {
             return Err(format!(
                 "tip_diameter ({}) must not exceed base_diameter ({})",
@@ -256,5 +282,26 @@ mod tests {
         d.tip_diameter = 3e-3;
         assert!(d.validate().unwrap_err().contains("tip_diameter"));
         assert!(BeamDesign::with_length(0.06).validate().is_ok());
+    }
+
+    /// Absurd magnitudes are refused with the range (#37: a 1e308 m whisker had a NaN
+    /// first mode); the thesis' three lengths and a rat's macrovibrissa pass.
+    #[test]
+    fn values_outside_the_physical_ranges_are_refused_with_the_range() {
+        for length in [0.06, 0.1, 0.16] {
+            assert!(BeamDesign::with_length(length).validate().is_ok());
+        }
+        let mut rat = BeamDesign::with_length(0.04);
+        (rat.base_diameter, rat.tip_diameter, rat.youngs_modulus) = (150e-6, 5e-6, 3e9);
+        rat.density = 1300.0;
+        assert!(rat.validate().is_ok());
+        let e = BeamDesign::with_length(1e308).validate().unwrap_err();
+        assert!(e.contains("length") && e.contains("to 2 m"), "{e}");
+        let mut d = BeamDesign::with_length(0.1);
+        d.youngs_modulus = 1e300;
+        assert!(d.validate().unwrap_err().contains("youngs_modulus"));
+        let mut d = BeamDesign::with_length(0.005);
+        d.tip_diameter = 1e-3;
+        assert!(d.validate().unwrap_err().contains("slender"));
     }
 }

@@ -35,6 +35,14 @@ impl Default for FollicleDesign {
     }
 }
 
+/// The softest follicle (N·m/rad), a two-hundredth of the default: a 5 mN load 8 cm out
+/// already turns it through 20°, and softer shafts swing about the pivot rather than bend.
+pub const MIN_STIFFNESS_NM_PER_RAD: f64 = 1e-3;
+
+/// The stiffest follicle (N·m/rad): ten million times the default's, where the
+/// follicle reading is already below a nanometre; stiffer is a rigid clamp (stiffness 0).
+pub const MAX_STIFFNESS_NM_PER_RAD: f64 = 1e6;
+
 impl FollicleDesign {
     /// Checks that every value is finite and physical; names the first bad field.
     pub fn validate(&self) -> Result<(), String> {
@@ -46,7 +54,16 @@ impl FollicleDesign {
                 ("magnet_lever", self.magnet_lever),
                 ("bulb_mass", self.bulb_mass),
             ],
-        )
+        )?;
+        if self.stiffness < MIN_STIFFNESS_NM_PER_RAD || self.stiffness > MAX_STIFFNESS_NM_PER_RAD {
+            return Err(format!(
+                "follicle stiffness must be from {MIN_STIFFNESS_NM_PER_RAD} to \
+                 {MAX_STIFFNESS_NM_PER_RAD:e} N·m/rad (softer swings freely, stiffer is rigid: \
+                 0 clamps the shaft), got {}",
+                super::short(self.stiffness)
+            ));
+        }
+        Ok(())
     }
 
     /// Principal moments of inertia of the bulb about its centre of mass (kg·m²): a

@@ -19,6 +19,8 @@ pub use follicle::FollicleDesign;
 
 /// Checks that every `(name, value)` is a positive finite number; the error names the
 /// first that is not (`prefix` is prepended to the name).
+pub use whisker_slam::message::short;
+
 pub(crate) fn require_positive(prefix: &str, values: &[(&str, f64)]) -> Result<(), String> {
     match values.iter().find(|(_, v)| !(v.is_finite() && *v > 0.0)) {
         Some((name, v)) => Err(format!("{prefix}{name} must be a positive number, got {v}")),

@@ -131,7 +131,7 @@ pub fn from_csv(text: &str) -> Result<Vec<RadialSample>, String> {
                 .filter(|x| x.is_finite())
                 .ok_or_else(|| {
                     format!(
-                        "line {}, column `{}`: expected a finite number, got `{cell}`",
+                        "line {}, column `{}`: expected a finite number, got {cell:?}",
                         i + 1,
                         columns[k + 3]
                     )

@@ -44,6 +44,9 @@ impl TactileImage {
     }
 }
 
+/// The largest value of Eq 3.1: every pixel 255 apart, 18 · √255 ≈ 287.4.
+pub const MAX_SIMILARITY: f64 = (ROWS * COLUMNS) as f64 * 15.968_719_422_671_311;
+
 /// Eq 3.1: S(A, B) = Σ √|a − b| over all pixels.
 pub fn similarity(a: &TactileImage, b: &TactileImage) -> f64 {
     a.pixels
@@ -185,6 +188,19 @@ mod tests {
         assert_eq!(similarity(&a, &a), 0.0);
         let img = TactileImage::from_heights(&[Some(0.05), None, Some(0.2), Some(-1.0)], 0.1);
         assert_eq!(&img.pixels[..4], &[128, 0, 255, 0]);
+    }
+
+    #[test]
+    fn the_largest_difference_is_black_against_white() {
+        let white = TactileImage {
+            pixels: [255; ROWS * COLUMNS],
+        };
+        let d = similarity(&TactileImage::default(), &white);
+        assert!(
+            (d - MAX_SIMILARITY).abs() < 1e-12,
+            "{d} vs {MAX_SIMILARITY}"
+        );
+        assert!((MAX_SIMILARITY - 18.0 * 255f64.sqrt()).abs() < 1e-12);
     }
 
     #[test]

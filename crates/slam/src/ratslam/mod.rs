@@ -16,6 +16,7 @@ pub mod metrics;
 pub mod odometry;
 pub mod posecells3d;
 
+use crate::message::short;
 use experience_map::{ExperienceMap, ExperienceMapParams, MapEvent};
 use local_view::{LocalView, LocalViewParams, TactileImage};
 use posecells3d::{Cell3, PlanarCellParams, PoseCells3};
@@ -55,8 +56,16 @@ impl RatSlamParams {
         for (name, v, zero_ok) in checks {
             if !(v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0))) {
                 let want = if zero_ok { "≥ 0" } else { "> 0" };
-                return Err(format!("{name} {v}: expected a number {want}"));
+                return Err(format!("{name} {}: expected a number {want}", short(v)));
             }
+        }
+        let most = local_view::MAX_SIMILARITY;
+        if lv.match_threshold > most {
+            return Err(format!(
+                "local_view.match_threshold {}: expected at most {most:.1}, the largest \
+                 difference of two images (Eq 3.1: 18 pixels · √255)",
+                short(lv.match_threshold)
+            ));
         }
         if !(em.correction > 0.0 && em.correction <= 1.0) {
             return Err(format!(

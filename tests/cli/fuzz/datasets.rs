@@ -1,0 +1,129 @@
+//! Fuzzing datasets (docs/dataset.md): the manifest by structured edits, every file it
+//! lists by number replacements or byte edits — relisted with its new size and checksum
+//! half of the time, as a converter that wrote a bad file would, so that the readers and not
+//! only the checksum meet the defect — through `whisker slam`.
+
+use super::mutate::*;
+use super::{Case, config, run, s};
+use crate::repo;
+use proptest::prelude::*;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+/// The three kinds of dataset, written once per test process: a kinematic maze run, an
+/// object-SLAM run (the Mug) and a closed loop (the quickstart, with its object maps).
+fn datasets() -> &'static [PathBuf; 3] {
+    static DATASETS: OnceLock<(tempfile::TempDir, [PathBuf; 3])> = OnceLock::new();
+    &DATASETS
+        .get_or_init(|| {
+            let tmp = tempfile::tempdir().unwrap();
+            let d = [
+                tmp.path().join("maze"),
+                tmp.path().join("object"),
+                tmp.path().join("loop"),
+            ];
+            let maze = s(&repo("scenarios/maze_kinematic.toml"));
+            let quick = s(&repo("scenarios/quickstart.toml"));
+            let runs: [Vec<String>; 3] = [
+                vec!["dataset".into(), maze],
+                vec![
+                    "dataset".into(),
+                    "object-slam".into(),
+                    "--objects".into(),
+                    "mug".into(),
+                ],
+                vec!["dataset".into(), quick],
+            ];
+            for (args, out) in runs.iter().zip(&d) {
+                let o = std::process::Command::new(env!("CARGO_BIN_EXE_whisker"))
+                    .args(args)
+                    .args(["--seed", "0", "--out", &s(out)])
+                    .output()
+                    .unwrap();
+                assert!(
+                    o.status.success(),
+                    "{args:?}: {}",
+                    String::from_utf8_lossy(&o.stderr)
+                );
+            }
+            (tmp, d)
+        })
+        .1
+}
+
+/// Every file of `dir`, relative, sorted.
+fn files(dir: &Path) -> Vec<String> {
+    super::listing(dir)
+        .into_iter()
+        .filter(|(rel, _)| dir.join(rel).is_file())
+        .map(|(rel, _)| rel)
+        .collect()
+}
+
+fn copy(from: &Path, to: &Path) {
+    for rel in files(from) {
+        let p = to.join(&rel);
+        std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+        std::fs::copy(from.join(&rel), p).unwrap();
+    }
+}
+
+/// Lists `rel` in the manifest of `dir` with its current size and checksum.
+fn relist(dir: &Path, rel: &str) {
+    let path = dir.join("dataset.json");
+    let Ok(mut m) = serde_json::from_slice::<serde_json::Value>(&std::fs::read(&path).unwrap())
+    else {
+        return;
+    };
+    let bytes = std::fs::read(dir.join(rel)).unwrap();
+    if let Some(entry) = m["files"]
+        .as_array_mut()
+        .and_then(|f| f.iter_mut().find(|f| f["path"] == rel))
+    {
+        entry["bytes"] = bytes.len().into();
+        entry["sha256"] = whisker_experiments::dataset::manifest::sha256(&bytes).into();
+        std::fs::write(path, m.to_string()).unwrap();
+    }
+}
+
+proptest! {
+    #![proptest_config(config(100))]
+
+    #[test]
+    fn fuzz_datasets(
+        kind in prop::sample::select(&[0usize, 0, 1, 1, 2][..]),
+        file in any::<usize>(),
+        tree in tree_edits(),
+        numbers in number_edits(),
+        bytes in byte_edits(),
+        how in 0..3u8,
+        relisted in any::<bool>(),
+    ) {
+        let tmp = tempfile::tempdir().unwrap();
+        let d = tmp.path().join("d");
+        copy(&datasets()[kind], &d);
+        let all = files(&d);
+        let rel = all[file % all.len()].clone();
+        let path = d.join(&rel);
+        let original = std::fs::read(&path).unwrap();
+        let edited = if rel == "dataset.json" || how == 0 && rel.ends_with(".json") {
+            let v: serde_json::Value = serde_json::from_slice(&original).unwrap();
+            apply_tree(&v, &tree).to_string().into_bytes()
+        } else if how == 1 {
+            apply_numbers(&String::from_utf8_lossy(&original), &numbers).into_bytes()
+        } else {
+            apply_bytes(&original, &bytes)
+        };
+        std::fs::write(&path, &edited).unwrap();
+        if relisted && rel != "dataset.json" {
+            relist(&d, &rel);
+        }
+        let name = rel.rsplit('/').next().unwrap().to_string();
+        run(&Case {
+            args: vec!["slam".into(), s(&d), "--out".into(), s(&tmp.path().join("out"))],
+            cwd: tmp.path(),
+            names: vec![name, "dataset.json".into()],
+            watch: vec![d.clone()],
+        })?;
+    }
+}

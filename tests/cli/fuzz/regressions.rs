@@ -1,0 +1,67 @@
+//! Cases the fuzzing found while it was being built, kept as named tests; each failed
+//! before its fix (their proptest seeds are in `tests/proptest-regressions/fuzz/`).
+
+use crate::{repo, stderr, whisker};
+
+/// (arguments, what the refusal must say). Before #37: `--length 1e308` refused naming a
+/// NaN first mode and no option; `--force 1e308` and `--follicle-stiffness 1e308` diverged
+/// (exit 1), as did 1e-320 of either (a load that never settled, a
+/// ring-down with nothing to measure); `--nudges 4294967295` ran for ever; `--match-threshold 1e308,1e308` failed
+/// writing a file whose name held 309 digits (exit 1).
+#[test]
+fn absurd_command_line_values_are_refused_with_their_range() {
+    let maze = repo("scenarios/maze_kinematic.toml");
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["characterize", "--length=1e308"],
+            "--length: length must be a number from 0.001 to 2 m, got 1e308",
+        ),
+        (
+            vec!["characterize", "--force=1e308"],
+            "--force: expected a load of 1e-6 to 10 N (either sign), got 1e308",
+        ),
+        (
+            vec!["characterize", "--force=1e-320"],
+            "--force: expected a load of 1e-6 to 10 N (either sign), got 1e-320",
+        ),
+        (
+            vec!["characterize", "--follicle-stiffness=1e-320"],
+            "or a number from 0.001 to 1e6 N·m/rad, got 1e-320",
+        ),
+        (
+            vec!["characterize", "--follicle-stiffness=1e308"],
+            "--follicle-stiffness: expected 0 (a rigid clamp) or a number from 0.001 to 1e6 N·m/rad, got 1e308",
+        ),
+        (
+            vec![
+                "soak",
+                "--objects=box",
+                "--duration=0.05",
+                "--nudges=4294967295",
+            ],
+            "--nudges 4294967295: expected 0 to 100",
+        ),
+        (
+            vec!["soak", "--objects=box", "--duration=1e308"],
+            "expected a positive number of seconds up to 3600",
+        ),
+        (
+            vec![
+                "maze-slam",
+                maze.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                "--match-threshold=1e308,1e308",
+            ],
+            "local_view.match_threshold 1e308: expected at most 287.4",
+        ),
+    ];
+    for (args, needle) in cases {
+        let o = whisker(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+        assert!(!out.exists(), "{args:?} wrote {}", out.display());
+    }
+}
