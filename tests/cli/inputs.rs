@@ -101,6 +101,22 @@ fn malformed_scenarios_exit_2_naming_file_and_field_and_write_nothing() {
             ),
             "arm.urdf",
         ),
+        // Positive but absurd: each ran (and wrote rows) for ever before #37.
+        (
+            "nanosecond_period",
+            format!("{ARM}{WAYPOINT}{OUTPUT}sample_period_s = 1e-9\n"),
+            "field `output.sample_period_s`: expected a number from 5e-4 to 1 s, got 1e-9",
+        ),
+        (
+            "crawling_arm",
+            format!("{ARM}joint_speed_limit_rad_s = 1e-300\n{WAYPOINT}{OUTPUT}"),
+            "expected a number of at least 0.001 rad/s, got 1e-300",
+        ),
+        (
+            "endless_hold",
+            format!("{ARM}{WAYPOINT}hold_s = 1e308\n{OUTPUT}"),
+            "field `trajectory.waypoints[0].hold_s`: expected a number of seconds from 0 to 3600",
+        ),
         (
             "negative_speed",
             format!("{ARM}joint_speed_limit_rad_s = -0.1\n{WAYPOINT}{OUTPUT}"),

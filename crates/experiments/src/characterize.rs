@@ -82,7 +82,11 @@ pub fn run(s: &Settings) -> Result<Report> {
                 .chain(["density", "damping_ratio", "segments"])
                 .find(|f| e.starts_with(f))
                 .map(|f| format!("--{}: ", f.replace('_', "-")))
-                .unwrap_or_default();
+                // The first mode depends on all of them.
+                .unwrap_or_else(|| {
+                    "--length, --base-diameter, --tip-diameter, --youngs-modulus, --density: "
+                        .into()
+                });
             Error::Input(format!("characterize: {option}{e}"))
         })?;
     let follicle = match s.follicle_stiffness {

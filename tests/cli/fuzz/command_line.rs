@@ -143,6 +143,10 @@ const SET_FIELDS: &[&str] = &[
     "explore.placement.cone_deg",
     "array.substeps",
     "array.segments",
+    "maze.deformities.count",
+    "maze.deformities.size_m",
+    "maze_slam.circuits",
+    "explore.map_loops",
 ];
 
 proptest! {

@@ -16,7 +16,12 @@ fn datasets() -> &'static [PathBuf; 3] {
     static DATASETS: OnceLock<(tempfile::TempDir, [PathBuf; 3])> = OnceLock::new();
     &DATASETS
         .get_or_init(|| {
-            let tmp = tempfile::tempdir().unwrap();
+            // Under cargo's scratch directory for tests, not the system's: a static is
+            // never dropped, so the directory outlives the run.
+            let tmp = tempfile::Builder::new()
+                .prefix("fuzz-datasets")
+                .tempdir_in(env!("CARGO_TARGET_TMPDIR"))
+                .unwrap();
             let d = [
                 tmp.path().join("maze"),
                 tmp.path().join("object"),

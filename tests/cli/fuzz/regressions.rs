@@ -65,3 +65,54 @@ fn absurd_command_line_values_are_refused_with_their_range() {
         assert!(!out.exists(), "{args:?} wrote {}", out.display());
     }
 }
+
+/// Scenario fields with a physical range, through `run --set` (an audit after the fuzzing:
+/// before #37 a 1e-300 m FEH segment panicked with a capacity overflow, 4294967295 maze
+/// deformities and a 1e-9 s sample period ran for ever).
+#[test]
+fn absurd_scenario_values_are_refused_with_their_range() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let cases = [
+        (
+            "recognise_box_feh.toml",
+            "explore.segment_m=1e-300",
+            "field `explore.segment_m`: expected a length of at least 0.001 m, got 1e-300",
+        ),
+        (
+            "maze_kinematic.toml",
+            "maze.deformities.count=4294967295",
+            "field `maze.deformities.count`: expected 0 to 1000",
+        ),
+        (
+            "recognise_box.toml",
+            "explore.max_iterations=4294967295",
+            "field `explore.max_iterations`: expected 1 to 100000",
+        ),
+        (
+            "explore_map_box.toml",
+            "explore.map_loops=4294967295",
+            "field `explore.map_loops`: expected 1 to 100",
+        ),
+        (
+            "arm_tour.toml",
+            "output.sample_period_s=1e-9",
+            "field `output.sample_period_s`: expected a number from 5e-4 to 1 s",
+        ),
+    ];
+    for (scenario, set, needle) in cases {
+        let path = repo(&format!("scenarios/{scenario}"));
+        let args = [
+            "run",
+            path.to_str().unwrap(),
+            "--set",
+            set,
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        let o = whisker(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+        assert!(!out.exists(), "{args:?} wrote {}", out.display());
+    }
+}

@@ -116,6 +116,15 @@ pub struct ExploreConfig {
 fn yes() -> bool {
     true
 }
+/// The most whisks of one closed loop (the thesis' runs took hundreds).
+pub const MAX_ITERATIONS: usize = 100_000;
+
+/// The most passes over the ellipsoid of `task = "map"`.
+pub const MAX_MAP_LOOPS: usize = 100;
+
+/// The shortest FEH/LSR segment (m).
+pub const MIN_SEGMENT_M: f64 = 1e-3;
+
 fn max_iterations() -> usize {
     1000
 }
@@ -163,11 +172,20 @@ impl ExploreConfig {
         } else if !self.maps.is_empty() {
             return bad("maps", "only used with task = \"recognise\"".into());
         }
-        if self.max_iterations == 0 {
-            return bad("max_iterations", "expected at least 1".into());
+        if !(1..=MAX_ITERATIONS).contains(&self.max_iterations) {
+            return bad(
+                "max_iterations",
+                format!(
+                    "expected 1 to {MAX_ITERATIONS}, got {}",
+                    self.max_iterations
+                ),
+            );
         }
-        if self.map_loops == 0 {
-            return bad("map_loops", "expected at least 1".into());
+        if !(1..=MAX_MAP_LOOPS).contains(&self.map_loops) {
+            return bad(
+                "map_loops",
+                format!("expected 1 to {MAX_MAP_LOOPS}, got {}", self.map_loops),
+            );
         }
         if !(3..=200).contains(&self.mesh_faces) {
             return bad(
@@ -175,10 +193,21 @@ impl ExploreConfig {
                 format!("expected 3 to 200, got {}", self.mesh_faces),
             );
         }
-        for (f, v) in [("stop_ic", self.stop_ic), ("segment_m", self.segment_m)] {
-            if !(v.is_finite() && v > 0.0) {
-                return bad(f, format!("expected a positive number, got {v}"));
-            }
+        if !(self.stop_ic.is_finite() && self.stop_ic > 0.0) {
+            return bad(
+                "stop_ic",
+                format!("expected a positive number, got {}", self.stop_ic),
+            );
+        }
+        // A nanometre segment cut a step into more pieces than memory holds (a panic).
+        if !(self.segment_m.is_finite() && self.segment_m >= MIN_SEGMENT_M) {
+            return bad(
+                "segment_m",
+                format!(
+                    "expected a length of at least {MIN_SEGMENT_M} m, got {}",
+                    whisker_slam::message::short(self.segment_m)
+                ),
+            );
         }
         for (f, v) in [
             ("standoff_m", self.standoff_m),

@@ -25,6 +25,16 @@ use whisker_sim::sensing::physics::WhiskerConfig;
 /// Default joint-speed limit (rad/s): the thesis moved the arm at 0.1 rad/s (§2.2.1).
 pub const DEFAULT_JOINT_SPEED_RAD_S: f64 = 0.1;
 
+/// The slowest joint-speed limit (rad/s): a radian in about 17 minutes.
+pub const MIN_JOINT_SPEED_RAD_S: f64 = 1e-3;
+
+/// The range of `output.sample_period_s` (s): from the sensors' 0.5 ms to one second
+/// (the period is also the arm's physics step).
+pub const SAMPLE_PERIOD_RANGE_S: (f64, f64) = (5e-4, 1.0);
+
+/// The longest hold at a waypoint (s).
+pub const MAX_HOLD_S: f64 = 3600.0;
+
 /// A whole scenario.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -380,6 +390,22 @@ impl Scenario {
             self.arm.joint_speed_limit_rad_s,
         )?;
         positive(file, "output.sample_period_s", self.output.sample_period_s)?;
+        // Positive is not enough: a nanosecond period or a nanoradian per second wrote
+        // rows (and ran) for ever.
+        within(
+            file,
+            "arm.joint_speed_limit_rad_s",
+            self.arm.joint_speed_limit_rad_s,
+            (MIN_JOINT_SPEED_RAD_S, f64::INFINITY),
+            "rad/s",
+        )?;
+        within(
+            file,
+            "output.sample_period_s",
+            self.output.sample_period_s,
+            SAMPLE_PERIOD_RANGE_S,
+            "s",
+        )?;
         if self.sensing == Sensing::Physics {
             let ratio = self.output.sample_period_s * whisker_slam::sensor::SAMPLE_RATE_HZ;
             if (ratio - ratio.round()).abs() > 1e-9 || ratio.round() < 1.0 {
@@ -442,10 +468,13 @@ impl Scenario {
         for (k, w) in self.trajectory.waypoints.iter().enumerate() {
             let field = format!("trajectory.waypoints[{k}]");
             w.target(file, &field)?;
-            if !(w.hold_s.is_finite() && w.hold_s >= 0.0) {
+            if !(w.hold_s >= 0.0 && w.hold_s <= MAX_HOLD_S) {
                 return bad(
                     &format!("{field}.hold_s"),
-                    format!("expected a finite number ≥ 0, got {}", w.hold_s),
+                    format!(
+                        "expected a number of seconds from 0 to {MAX_HOLD_S}, got {}",
+                        whisker_slam::message::short(w.hold_s)
+                    ),
                 );
             }
         }
@@ -516,6 +545,24 @@ fn finite_all(file: &Path, field: &str, values: &[f64]) -> Result {
         )),
         None => Ok(()),
     }
+}
+
+/// `v` within `[min, max]` (`unit` in the message).
+fn within(file: &Path, field: &str, v: f64, (min, max): (f64, f64), unit: &str) -> Result {
+    if (min..=max).contains(&v) {
+        return Ok(());
+    }
+    let short = whisker_slam::message::short;
+    let range = if max.is_finite() {
+        format!("from {} to {} {unit}", short(min), short(max))
+    } else {
+        format!("of at least {} {unit}", short(min))
+    };
+    Err(Error::field(
+        file,
+        field,
+        format!("expected a number {range}, got {}", short(v)),
+    ))
 }
 
 fn positive(file: &Path, field: &str, v: f64) -> Result {

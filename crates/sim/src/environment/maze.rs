@@ -67,6 +67,9 @@ pub struct Post {
     pub shape: PostShape,
 }
 
+/// The most deformities of a maze (each is one more collider).
+pub const MAX_DEFORMITIES: usize = 1000;
+
 /// Seeded random bumps on the walls' sides (scenario fields `count`, `size_m`).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -144,6 +147,12 @@ impl MazeLayout {
                 return Err((
                     "deformities.size_m".into(),
                     "expected [smallest, largest]".into(),
+                ));
+            }
+            if d.count > MAX_DEFORMITIES {
+                return Err((
+                    "deformities.count".into(),
+                    format!("expected 0 to {MAX_DEFORMITIES}, got {}", d.count),
                 ));
             }
             if d.count > 0 && self.walls.is_empty() {

@@ -11,15 +11,28 @@ pub const MAX_DEPTH: usize = 64;
 
 /// The first element nested deeper than [`MAX_DEPTH`]: (its line, its depth). Comments,
 /// processing instructions, declarations, CDATA sections and quoted attribute values
-/// (which may hold `>`) are skipped; malformed text is left to the XML reader.
+/// (which may hold `>`) are skipped when they end; one that does not end hides nothing (its
+/// `<` is passed over and the scan goes on), so malformed text errs towards counting more.
 pub fn too_deep(text: &str) -> Option<(usize, usize)> {
     let bytes = text.as_bytes();
     let mut depth = 0usize;
     let mut i = 0;
+    // Terminators known to be absent from the rest of the text: a search that failed once
+    // fails for every later start, and is not repeated (linear time on `<!--<!--<!--…`).
+    let mut absent: Vec<&str> = Vec::new();
     while let Some(off) = bytes[i..].iter().position(|&b| b == b'<') {
         let start = i + off;
         let rest = &text[start..];
-        let skip_to = |end: &str| rest.find(end).map(|e| start + e + end.len());
+        let mut skip_to = |end: &'static str| {
+            if absent.contains(&end) {
+                return None;
+            }
+            let found = rest.find(end).map(|e| start + e + end.len());
+            if found.is_none() {
+                absent.push(end);
+            }
+            found
+        };
         let next = if rest.starts_with("<!--") {
             skip_to("-->")
         } else if rest.starts_with("<![CDATA[") {
@@ -45,19 +58,21 @@ pub fn too_deep(text: &str) -> Option<(usize, usize)> {
                 None
             }
         };
-        match next {
-            Some(n) => i = n,
-            None => return None,
-        }
+        // A construct that never ends is not trusted to hide what follows (an unclosed
+        // `<?xml …?` hid 20,000 nested elements from this scan while the XML reader, more
+        // lenient, went on and overflowed the stack): the scan goes on after its `<`.
+        i = next.unwrap_or(start + 1);
     }
     None
 }
 
-/// The offset of the `>` that closes the tag starting at `tag[0] == b'<'`, outside quotes.
+/// The offset of the `>` that closes the tag starting at `tag[0] == b'<'`, outside quotes;
+/// none before the next `<` (which XML allows in no tag, not even in a quoted value).
 fn tag_end(tag: &[u8]) -> Option<usize> {
     let mut quote = None;
     for (k, &b) in tag.iter().enumerate().skip(1) {
         match (quote, b) {
+            (_, b'<') => return None,
             (None, b'"' | b'\'') => quote = Some(b),
             (Some(q), _) if b == q => quote = None,
             (None, b'>') => return Some(k),
@@ -91,5 +106,16 @@ mod tests {
         // Closing tags bring the depth back: many siblings are not deep.
         let siblings = format!("<robot>{}</robot>", "<a><b/></a>".repeat(10_000));
         assert_eq!(too_deep(&siblings), None);
+        // Unclosed constructs before deep nesting hide nothing (found by fuzzing #37).
+        for opening in [
+            "<?xml version=\"1.0\"? ",
+            "<!-- ",
+            "<![CDATA[ ",
+            "<!DOCTYPE ",
+            "<a b='",
+        ] {
+            let text = format!("{opening}{}", nested(100_000));
+            assert!(too_deep(&text).is_some(), "{opening}");
+        }
     }
 }
