@@ -7,7 +7,8 @@ use crate::{repo, stderr, whisker};
 /// NaN first mode and no option; `--force 1e308` and `--follicle-stiffness 1e308` diverged
 /// (exit 1), as did 1e-320 of either (a load that never settled, a
 /// ring-down with nothing to measure); `--nudges 4294967295` ran for ever; `--match-threshold 1e308,1e308` failed
-/// writing a file whose name held 309 digits (exit 1).
+/// writing a file whose name held 309 digits (exit 1); `radial eval --max-fraction 1e-320`
+/// named the data file but not the option.
 #[test]
 fn absurd_command_line_values_are_refused_with_their_range() {
     let maze = repo("scenarios/maze_kinematic.toml");
@@ -58,6 +59,24 @@ fn absurd_command_line_values_are_refused_with_their_range() {
             "local_view.match_threshold 1e308: expected at most 287.4",
         ),
     ];
+    let (data, models) = (repo("assets/radial/validation.csv"), repo("assets/models"));
+    let radial = [
+        "radial",
+        "eval",
+        "--data",
+        data.to_str().unwrap(),
+        "--models",
+        models.to_str().unwrap(),
+        "--max-fraction=1e-320",
+    ];
+    let cases = [
+        cases,
+        vec![(
+            radial.to_vec(),
+            "≤ 1e-320 L (--max-fraction): expected a larger fraction",
+        )],
+    ]
+    .concat();
     for (args, needle) in cases {
         let o = whisker(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));

@@ -99,13 +99,15 @@ fn check(o: &Settings, m: &Manifest) -> Result<ContactNoise> {
     contact_noise
         .validate()
         .map_err(|(f, e)| Error::Input(format!("--{}: {e}", f.replace('_', "-"))))?;
-    for (name, v) in [
-        ("deflection-counts", o.deflection_counts),
-        ("angle-deg", o.angle_deg),
+    // σ up to a whole 12-bit range of counts and a whole turn.
+    for (name, v, max) in [
+        ("deflection-counts", o.deflection_counts, 4096.0),
+        ("angle-deg", o.angle_deg, 360.0),
     ] {
-        if !(v.is_finite() && v >= 0.0) {
+        if !(v >= 0.0 && v <= max) {
             return Err(Error::Input(format!(
-                "--{name}: expected a number ≥ 0, got {v}"
+                "--{name}: expected a number from 0 to {max}, got {}",
+                whisker_slam::message::short(v)
             )));
         }
     }

@@ -127,9 +127,9 @@ pub fn run(o: &EvalSettings) -> Result<EvalReport> {
         .collect();
     if set.is_empty() {
         return Err(Error::Input(format!(
-            "{}: no contact with ground truth ≤ {} L",
+            "{}: no contact with ground truth ≤ {} L (--max-fraction): expected a larger fraction",
             o.data.display(),
-            o.max_fraction
+            whisker_slam::message::short(o.max_fraction)
         )));
     }
     let mut objects = BTreeMap::new();

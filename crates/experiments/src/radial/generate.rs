@@ -186,11 +186,9 @@ fn training_jobs(o: &GenerateSettings) -> Result<Vec<Job>> {
     };
     if let Some(bad) = lengths.iter().find(|&&l| !(l > 30.0 && l <= 400.0)) {
         return Err(Error::Input(format!(
-            "--lengths: expected whisker lengths in mm, 30 < L ≤ 400, got {bad}"
+            "--lengths: expected whisker lengths in mm, 30 < L ≤ 400, got {}",
+            whisker_slam::message::short(*bad)
         )));
-    }
-    if o.frequencies == 0 {
-        return Err(Error::Input("--frequencies: expected at least 1".into()));
     }
     let module = array::modules().remove(0);
     let mut jobs = Vec::new();
@@ -238,11 +236,6 @@ fn piece_mesh(piece: &Piece) -> whisker_sim::environment::Mesh {
 }
 
 fn validation_jobs(o: &GenerateSettings) -> Result<Vec<Job>> {
-    if o.waypoints == 0 || o.whisks == 0 {
-        return Err(Error::Input(
-            "--waypoints and --whisks: expected at least 1".into(),
-        ));
-    }
     let asset = CATALOGUE
         .iter()
         .find(|a| a.name == "box")
@@ -356,6 +349,21 @@ fn run_job(job: &Job, seed: u64, params: &FrontEndParams, keep: bool) -> Outcome
 
 /// Runs `whisker radial generate`.
 pub fn run(o: &GenerateSettings, ctx: Context) -> Result<Generated> {
+    // Counts that multiply the physics to run: ranges wide enough for any study, bounded
+    // so that a typo does not start weeks of simulation.
+    let counts = [
+        ("--substeps", o.substeps, 1, 64),
+        ("--frequencies", o.frequencies, 1, 100),
+        ("--waypoints", o.waypoints, 1, 1000),
+        ("--whisks", o.whisks, 1, 100),
+    ];
+    for (option, n, min, max) in counts {
+        if !(min..=max).contains(&n) {
+            return Err(Error::Input(format!(
+                "{option} {n}: expected {min} to {max}"
+            )));
+        }
+    }
     let jobs = match o.set {
         Set::Training => training_jobs(o)?,
         Set::Validation => validation_jobs(o)?,

@@ -42,12 +42,21 @@ impl ContactNoise {
 
     /// Checks the values; names the first bad field.
     pub fn validate(&self) -> Result<(), (String, String)> {
-        for (name, v) in [
-            ("point_fraction", self.point_fraction),
-            ("slope_sigma", self.slope_sigma),
+        // σ beyond these bounds says nothing more (a point scattered over ten whisker
+        // lengths, a slope over ±100) and, near the f64 limit, drew infinite values that
+        // the dataset reader then refused.
+        for (name, v, max) in [
+            ("point_fraction", self.point_fraction, 10.0),
+            ("slope_sigma", self.slope_sigma, 100.0),
         ] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err((name.into(), format!("{v}: expected a number ≥ 0")));
+            if !(v >= 0.0 && v <= max) {
+                return Err((
+                    name.into(),
+                    format!(
+                        "{}: expected a number from 0 to {max}",
+                        whisker_slam::message::short(v)
+                    ),
+                ));
             }
         }
         let p = self.detection_probability;
