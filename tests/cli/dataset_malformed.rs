@@ -70,6 +70,12 @@ fn malformed_datasets_are_refused_naming_file_and_line() {
             json(|m| m["colour"] = "red".into()),
             vec!["dataset.json", "colour", "line"],
         ),
+        // Found by fuzzing (#37): blamed on --match-threshold / --inject-energy before.
+        (
+            "bad RatSLAM parameter in the manifest",
+            json(|m| m["maze"]["ratslam"]["experience_map"]["correction"] = (-1).into()),
+            vec!["dataset.json", "field `maze.ratslam`", "correction -1"],
+        ),
         (
             "path outside the dataset",
             json(|m| m["files"][0]["path"] = "../x.csv".into()),

@@ -113,12 +113,30 @@ fn absurd_scenario_values_are_refused_with_their_range() {
             "explore.map_loops=4294967295",
             "field `explore.map_loops`: expected 1 to 100",
         ),
+        // Named `array (whisker A1)`, not the field, before (a long fuzz run).
+        (
+            "quickstart.toml",
+            "array.segments=0",
+            "field `array.segments`: whisker A1: segments must be between 2 and 200, got 0",
+        ),
         (
             "arm_tour.toml",
             "output.sample_period_s=1e-9",
             "field `output.sample_period_s`: expected a number from 5e-4 to 1 s",
         ),
     ];
+    // 2,000 copies of the Kettle took over a minute to check.
+    let kettles = tmp.path().join("kettles.toml");
+    let text = std::fs::read_to_string(repo("scenarios/objects.toml")).unwrap();
+    let object = &text[text.find("[[objects]]").unwrap()..text.find("[[trajectory").unwrap()];
+    let assets = format!("\"{}/", repo("assets").display());
+    let many = text
+        .replacen(object, &object.repeat(300), 1)
+        .replace("\"../assets/", &assets);
+    std::fs::write(&kettles, many).unwrap();
+    let o = whisker(&["check", kettles.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("field `objects`: 300 objects: expected at most 256"));
     for (scenario, set, needle) in cases {
         let path = repo(&format!("scenarios/{scenario}"));
         let args = [

@@ -385,6 +385,23 @@ impl Manifest {
         if self.level == Level::Streams && self.sensor.is_none() {
             return Err(bad("sensor", "level \"streams\" needs a sensor section"));
         }
+        // The parameters a replay runs with, checked as a scenario's are.
+        if let Some(m) = &self.maze {
+            m.ratslam
+                .validate()
+                .map_err(|e| Error::field(path, "maze.ratslam", e))?;
+        }
+        if let Some(c) = &self.closed_loop {
+            let sub = |name: &str, r: std::result::Result<(), (String, String)>| {
+                r.map_err(|(f, m)| Error::field(path, &format!("closed_loop.{name}.{f}"), m))
+            };
+            sub("odometry_noise", c.odometry_noise.validate())?;
+            sub("recognition", c.recognition.validate())?;
+            c.slam
+                .pose_cells
+                .validate()
+                .map_err(|e| Error::field(path, "closed_loop.slam.pose_cells", e))?;
+        }
         match self.experiment {
             Experiment::MazeSlam if self.maze.is_none() => {
                 Err(bad("maze", "experiment \"maze-slam\" needs a maze section"))

@@ -187,8 +187,13 @@ fn tunings(base: RatSlamParams, o: &Settings) -> Result<Vec<RatSlamParams>> {
             let mut p = base;
             p.local_view.match_threshold = threshold;
             p.local_view.inject_energy = energy;
-            p.validate()
-                .map_err(|e| Error::Input(format!("--match-threshold / --inject-energy: {e}")))?;
+            // The scenario's or the dataset's own parameters were checked where they were
+            // read; what fails here is the options'.
+            if base.validate().is_ok() {
+                p.validate().map_err(|e| {
+                    Error::Input(format!("--match-threshold / --inject-energy: {e}"))
+                })?;
+            }
             out.push(p);
         }
     }

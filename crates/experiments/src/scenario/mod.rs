@@ -32,6 +32,9 @@ pub const MIN_JOINT_SPEED_RAD_S: f64 = 1e-3;
 /// (the period is also the arm's physics step).
 pub const SAMPLE_PERIOD_RANGE_S: (f64, f64) = (5e-4, 1.0);
 
+/// The most `[[objects]]` in one scenario (2,000 kettles took over a minute to check).
+pub const MAX_OBJECTS: usize = 256;
+
 /// The longest hold at a waypoint (s).
 pub const MAX_HOLD_S: f64 = 3600.0;
 
@@ -423,6 +426,15 @@ impl Scenario {
         if self.sensing == Sensing::Kinematic {
             self.kinematic.noise(file)?;
             self.whiskers = Some(self.array.whisker_configs(file)?);
+        }
+        if self.objects.len() > MAX_OBJECTS {
+            return bad(
+                "objects",
+                format!(
+                    "{} objects: expected at most {MAX_OBJECTS} (each mesh is read, repaired and swept)",
+                    self.objects.len()
+                ),
+            );
         }
         self.maze_slam.validate(file)?;
         // A triangle soup serves the kinematic sweep only.
