@@ -153,3 +153,23 @@ fn absurd_scenario_values_are_refused_with_their_range() {
         assert!(!out.exists(), "{args:?} wrote {}", out.display());
     }
 }
+
+/// A maze dataset whose manifest holds an injection energy of 0 (allowed, as in a
+/// scenario) replays; before (a fourth long fuzz run) `slam` refused it blaming the options
+/// `--match-threshold / --inject-energy`, which were not given.
+#[test]
+fn a_manifest_parameter_is_not_blamed_on_options_not_given() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path().join("d");
+    let maze = repo("scenarios/maze_kinematic.toml");
+    let (maze, d_str) = (maze.to_str().unwrap(), d.to_str().unwrap());
+    let o = whisker(&["dataset", maze, "--seed", "0", "--out", d_str]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let path = d.join("dataset.json");
+    let mut m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    m["maze"]["ratslam"]["local_view"]["inject_energy"] = 0.into();
+    std::fs::write(&path, m.to_string()).unwrap();
+    let o = whisker(&["slam", d_str]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}

@@ -171,11 +171,10 @@ fn tunings(base: RatSlamParams, o: &Settings) -> Result<Vec<RatSlamParams>> {
         .clone()
         .unwrap_or(vec![lv.match_threshold]);
     let energies = o.inject_energy.clone().unwrap_or(vec![lv.inject_energy]);
-    if let Some(bad) = thresholds
-        .iter()
-        .chain(&energies)
-        .find(|v| !(v.is_finite() && **v > 0.0))
-    {
+    // Only the options' values: the scenario's or dataset's were checked where read (and
+    // an injection energy of 0 is allowed there).
+    let given = o.match_threshold.iter().chain(&o.inject_energy).flatten();
+    if let Some(bad) = given.into_iter().find(|v| !(v.is_finite() && **v > 0.0)) {
         return Err(Error::Input(format!(
             "--match-threshold / --inject-energy: expected positive numbers, got {}",
             whisker_sim::whisker::short(*bad)
