@@ -73,22 +73,17 @@ pub struct Report {
 /// Loads and rings down the design of `s`.
 pub fn run(s: &Settings) -> Result<Report> {
     let beam = s.beam;
-    beam.validate()
-        .and_then(|()| check_first_mode(&beam))
-        .map_err(|e| {
-            // The design's messages name its fields; the command line knows them as options.
-            let option = ["length", "base_diameter", "tip_diameter", "youngs_modulus"]
-                .into_iter()
-                .chain(["density", "damping_ratio", "segments"])
-                .find(|f| e.starts_with(f))
-                .map(|f| format!("--{}: ", f.replace('_', "-")))
-                // The first mode depends on all of them.
-                .unwrap_or_else(|| {
-                    "--length, --base-diameter, --tip-diameter, --youngs-modulus, --density: "
-                        .into()
-                });
-            Error::Input(format!("characterize: {option}{e}"))
-        })?;
+    // The design names its bad field; the command line knows it as an option.
+    beam.check().map_err(|(field, e)| {
+        Error::Input(format!("characterize: --{}: {e}", field.replace('_', "-")))
+    })?;
+    // The first mode depends on all of them.
+    check_first_mode(&beam).map_err(|e| {
+        Error::Input(format!(
+            "characterize: --length, --base-diameter, --tip-diameter, --youngs-modulus, \
+             --density: {e}"
+        ))
+    })?;
     let follicle = match s.follicle_stiffness {
         0.0 => None,
         k if (MIN_STIFFNESS_NM_PER_RAD..=MAX_STIFFNESS_NM_PER_RAD).contains(&k) => {

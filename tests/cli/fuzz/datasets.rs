@@ -5,90 +5,51 @@
 
 use super::mutate::*;
 use super::{Case, config, run, s};
+use crate::dataset::{copy_dir, files, rehash};
 use crate::repo;
 use proptest::prelude::*;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::OnceLock;
 
 /// The three kinds of dataset, written once per test process: a kinematic maze run, an
 /// object-SLAM run (the Mug) and a closed loop (the quickstart, with its object maps).
 fn datasets() -> &'static [PathBuf; 3] {
-    static DATASETS: OnceLock<(tempfile::TempDir, [PathBuf; 3])> = OnceLock::new();
-    &DATASETS
-        .get_or_init(|| {
-            // Under cargo's scratch directory for tests, not the system's: a static is
-            // never dropped, so the directory outlives the run.
-            let tmp = tempfile::Builder::new()
-                .prefix("fuzz-datasets")
-                .tempdir_in(env!("CARGO_TARGET_TMPDIR"))
+    static DATASETS: OnceLock<[PathBuf; 3]> = OnceLock::new();
+    DATASETS.get_or_init(|| {
+        // Under cargo's scratch directory for tests, not the system's: a static is
+        // never dropped, so the directory outlives the run.
+        let tmp = tempfile::Builder::new()
+            .prefix("fuzz-datasets")
+            .tempdir_in(env!("CARGO_TARGET_TMPDIR"))
+            .unwrap()
+            .keep();
+        let d = [tmp.join("maze"), tmp.join("object"), tmp.join("loop")];
+        let maze = s(&repo("scenarios/maze_kinematic.toml"));
+        let quick = s(&repo("scenarios/quickstart.toml"));
+        let runs: [Vec<String>; 3] = [
+            vec!["dataset".into(), maze],
+            vec![
+                "dataset".into(),
+                "object-slam".into(),
+                "--objects".into(),
+                "mug".into(),
+            ],
+            vec!["dataset".into(), quick],
+        ];
+        for (args, out) in runs.iter().zip(&d) {
+            let o = std::process::Command::new(env!("CARGO_BIN_EXE_whisker"))
+                .args(args)
+                .args(["--seed", "0", "--out", &s(out)])
+                .output()
                 .unwrap();
-            let d = [
-                tmp.path().join("maze"),
-                tmp.path().join("object"),
-                tmp.path().join("loop"),
-            ];
-            let maze = s(&repo("scenarios/maze_kinematic.toml"));
-            let quick = s(&repo("scenarios/quickstart.toml"));
-            let runs: [Vec<String>; 3] = [
-                vec!["dataset".into(), maze],
-                vec![
-                    "dataset".into(),
-                    "object-slam".into(),
-                    "--objects".into(),
-                    "mug".into(),
-                ],
-                vec!["dataset".into(), quick],
-            ];
-            for (args, out) in runs.iter().zip(&d) {
-                let o = std::process::Command::new(env!("CARGO_BIN_EXE_whisker"))
-                    .args(args)
-                    .args(["--seed", "0", "--out", &s(out)])
-                    .output()
-                    .unwrap();
-                assert!(
-                    o.status.success(),
-                    "{args:?}: {}",
-                    String::from_utf8_lossy(&o.stderr)
-                );
-            }
-            (tmp, d)
-        })
-        .1
-}
-
-/// Every file of `dir`, relative, sorted.
-fn files(dir: &Path) -> Vec<String> {
-    super::listing(dir)
-        .into_iter()
-        .filter(|(rel, _)| dir.join(rel).is_file())
-        .map(|(rel, _)| rel)
-        .collect()
-}
-
-fn copy(from: &Path, to: &Path) {
-    for rel in files(from) {
-        let p = to.join(&rel);
-        std::fs::create_dir_all(p.parent().unwrap()).unwrap();
-        std::fs::copy(from.join(&rel), p).unwrap();
-    }
-}
-
-/// Lists `rel` in the manifest of `dir` with its current size and checksum.
-fn relist(dir: &Path, rel: &str) {
-    let path = dir.join("dataset.json");
-    let Ok(mut m) = serde_json::from_slice::<serde_json::Value>(&std::fs::read(&path).unwrap())
-    else {
-        return;
-    };
-    let bytes = std::fs::read(dir.join(rel)).unwrap();
-    if let Some(entry) = m["files"]
-        .as_array_mut()
-        .and_then(|f| f.iter_mut().find(|f| f["path"] == rel))
-    {
-        entry["bytes"] = bytes.len().into();
-        entry["sha256"] = whisker_experiments::dataset::manifest::sha256(&bytes).into();
-        std::fs::write(path, m.to_string()).unwrap();
-    }
+            assert!(
+                o.status.success(),
+                "{args:?}: {}",
+                String::from_utf8_lossy(&o.stderr)
+            );
+        }
+        d
+    })
 }
 
 proptest! {
@@ -106,8 +67,8 @@ proptest! {
     ) {
         let tmp = tempfile::tempdir().unwrap();
         let d = tmp.path().join("d");
-        copy(&datasets()[kind], &d);
-        let all = files(&d);
+        copy_dir(&datasets()[kind], &d);
+        let all: Vec<String> = files(&d).into_keys().collect();
         let rel = all[file % all.len()].clone();
         let path = d.join(&rel);
         let original = std::fs::read(&path).unwrap();
@@ -121,7 +82,7 @@ proptest! {
         };
         std::fs::write(&path, &edited).unwrap();
         if relisted && rel != "dataset.json" {
-            relist(&d, &rel);
+            rehash(&d, &rel);
         }
         let name = rel.rsplit('/').next().unwrap().to_string();
         run(&Case {

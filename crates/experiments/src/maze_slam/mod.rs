@@ -173,8 +173,8 @@ fn tunings(base: RatSlamParams, o: &Settings) -> Result<Vec<RatSlamParams>> {
     let energies = o.inject_energy.clone().unwrap_or(vec![lv.inject_energy]);
     // Only the options' values: the scenario's or dataset's were checked where read (and
     // an injection energy of 0 is allowed there).
-    let given = o.match_threshold.iter().chain(&o.inject_energy).flatten();
-    if let Some(bad) = given.into_iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+    let mut given = o.match_threshold.iter().chain(&o.inject_energy).flatten();
+    if let Some(bad) = given.find(|v| !(v.is_finite() && **v > 0.0)) {
         return Err(Error::Input(format!(
             "--match-threshold / --inject-energy: expected positive numbers, got {}",
             whisker_sim::whisker::short(*bad)
@@ -187,12 +187,9 @@ fn tunings(base: RatSlamParams, o: &Settings) -> Result<Vec<RatSlamParams>> {
             p.local_view.match_threshold = threshold;
             p.local_view.inject_energy = energy;
             // The scenario's or the dataset's own parameters were checked where they were
-            // read; what fails here is the options'.
-            if base.validate().is_ok() {
-                p.validate().map_err(|e| {
-                    Error::Input(format!("--match-threshold / --inject-energy: {e}"))
-                })?;
-            }
+            // read (`Scenario::load`, `Manifest::read`): what fails here is the options'.
+            p.validate()
+                .map_err(|e| Error::Input(format!("--match-threshold / --inject-energy: {e}")))?;
             out.push(p);
         }
     }

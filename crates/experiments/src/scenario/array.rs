@@ -318,21 +318,21 @@ impl ArrayConfig {
             BendingConfig::Spatial => Bending::Spatial,
             BendingConfig::SweepPlane => Bending::SweepPlane,
         };
-        b.validate().map_err(|e| {
-            // The design names its own field (`segments`, `length`…): the scenario's.
-            let field = [
-                ("length", "length_m"),
-                ("base_diameter", "base_diameter_m"),
-                ("tip_diameter", "tip_diameter_m"),
-                ("youngs_modulus", "youngs_modulus_pa"),
-                ("density", "density_kg_m3"),
-                ("damping_ratio", "damping_ratio"),
-                ("segments", "segments"),
-            ]
-            .into_iter()
-            .find(|(f, _)| e.starts_with(f))
-            .map_or_else(|| "array".to_string(), |(_, name)| format!("array.{name}"));
-            field_error(file, &field, format!("whisker {pixel}: {e}"))
+        b.check().map_err(|(field, e)| {
+            // The design names its own field; the scenario's carries its unit.
+            let name = match field {
+                "length" => "length_m",
+                "base_diameter" => "base_diameter_m",
+                "tip_diameter" => "tip_diameter_m",
+                "youngs_modulus" => "youngs_modulus_pa",
+                "density" => "density_kg_m3",
+                other => other,
+            };
+            field_error(
+                file,
+                &format!("array.{name}"),
+                format!("whisker {pixel}: {e}"),
+            )
         })
     }
 }

@@ -82,9 +82,16 @@ impl BeamDesign {
         }
     }
 
-    /// Checks that every value is finite and physical ([`BeamDesign::RANGES`]); names the
-    /// first bad field.
+    /// Checks that every value is finite and physical ([`BeamDesign::RANGES`]); the
+    /// message names the first bad field.
     pub fn validate(&self) -> Result<(), String> {
+        self.check().map_err(|(_, message)| message)
+    }
+
+    /// As [`BeamDesign::validate`], with the bad field apart (`length`, `base_diameter`,
+    /// `tip_diameter`, `youngs_modulus`, `density`, `damping_ratio`, `segments`) for callers
+    /// that name it their own way (a scenario field, a command-line option).
+    pub fn check(&self) -> Result<(), (&'static str, String)> {
         let values = [
             self.length,
             self.base_diameter,
@@ -94,36 +101,48 @@ impl BeamDesign {
         ];
         for ((name, min, max, unit), v) in Self::RANGES.iter().zip(values) {
             if !(v.is_finite() && (*min..=*max).contains(&v)) {
-                return Err(format!(
-                    "{name} must be a number from {} to {} {unit}, got {}",
-                    super::short(*min),
-                    super::short(*max),
-                    super::short(v)
+                return Err((
+                    name,
+                    format!(
+                        "{name} must be a number from {} to {} {unit}, got {}",
+                        super::short(*min),
+                        super::short(*max),
+                        super::short(v)
+                    ),
                 ));
             }
         }
         if self.base_diameter > self.length / 5.0 {
-            return Err(format!(
-                "base_diameter ({}) must be at most a fifth of length ({}): a beam model needs a slender shaft",
-                self.base_diameter, self.length
+            return Err((
+                "base_diameter",
+                format!(
+                    "base_diameter ({}) must be at most a fifth of length ({}): a beam model needs a slender shaft",
+                    self.base_diameter, self.length
+                ),
             ));
         }
         if self.tip_diameter > self.base_diameter {
-            return Err(format!(
-                "tip_diameter ({}) must not exceed base_diameter ({})",
-                self.tip_diameter, self.base_diameter
+            return Err((
+                "tip_diameter",
+                format!(
+                    "tip_diameter ({}) must not exceed base_diameter ({})",
+                    self.tip_diameter, self.base_diameter
+                ),
             ));
         }
         if !(self.damping_ratio.is_finite() && (0.0..1.0).contains(&self.damping_ratio)) {
-            return Err(format!(
-                "damping_ratio must be in [0, 1), got {}",
-                self.damping_ratio
+            return Err((
+                "damping_ratio",
+                format!(
+                    "damping_ratio must be in [0, 1), got {}",
+                    self.damping_ratio
+                ),
             ));
         }
         if !(2..=200).contains(&self.segments) {
-            return Err(format!(
-                "segments must be between 2 and 200, got {}",
-                self.segments
+            return Err((
+                "segments",
+                format!("segments must be between 2 and 200, got {}", self.segments),
             ));
         }
         Ok(())
@@ -303,5 +322,9 @@ mod tests {
         let mut d = BeamDesign::with_length(0.005);
         d.tip_diameter = 1e-3;
         assert!(d.validate().unwrap_err().contains("slender"));
+        assert_eq!(d.check().unwrap_err().0, "base_diameter");
+        d.segments = 1;
+        (d.base_diameter, d.tip_diameter) = (5e-4, 1e-4);
+        assert_eq!(d.check().unwrap_err().0, "segments");
     }
 }
