@@ -255,6 +255,41 @@ fn malformed_scenarios_exit_2_naming_file_and_field_and_write_nothing() {
             ),
             "explore.recognition.decay",
         ),
+        (
+            "whisking_shift_past_the_limit",
+            format!(
+                "sensing = \"physics\"\n{ARM}[array.whisking]\nspread_reduction = true\ncentre_shift_deg = 30\n{WAYPOINT}{OUTPUT}"
+            ),
+            "array.whisking.centre_shift_deg",
+        ),
+        (
+            "whisking_fraction",
+            format!(
+                "sensing = \"kinematic\"\n{ARM}[array.whisking]\nspread_reduction = true\nrange_fraction = 0\n{WAYPOINT}{OUTPUT}"
+            ),
+            "array.whisking.range_fraction",
+        ),
+        (
+            "whisking_release",
+            format!(
+                "sensing = \"physics\"\n{ARM}[array.whisking]\nspread_reduction = true\nrelease_cycles = 0\n{WAYPOINT}{OUTPUT}"
+            ),
+            "array.whisking.release_cycles",
+        ),
+        (
+            "whisking_unknown",
+            format!(
+                "sensing = \"physics\"\n{ARM}[array.whisking]\nspread = true\n{WAYPOINT}{OUTPUT}"
+            ),
+            "spread",
+        ),
+        (
+            "object_jitter",
+            format!(
+                "sensing = \"kinematic\"\n{ARM}{box_object}jitter_yaw_deg = 200\n{WAYPOINT}{OUTPUT}"
+            ),
+            "objects[0].jitter_yaw_deg",
+        ),
     ];
     for (name, body, field) in &cases {
         let (o, path) = run_bad(tmp.path(), name, body);

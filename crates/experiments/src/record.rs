@@ -17,6 +17,7 @@ use crate::error::{Error, Result};
 use nalgebra::Isometry3;
 use std::path::{Path, PathBuf};
 use whisker_sim::environment::{Environment, Mesh};
+use whisker_sim::whisker::control::ControlState;
 use whisker_slam::pose_grid::PoseGrid;
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::sensor::Sample;
@@ -29,11 +30,19 @@ pub const STEPS_PER_CHECKPOINT: usize = 50;
 pub const SIM_TIME: &str = "sim_time";
 
 /// Values per row of a whisker's stream (`sensors/<label>`).
-pub const SENSOR_VALUES: usize = 4;
+pub const SENSOR_VALUES: usize = 6;
 /// The series of a whisker's stream, in row order: the whisk angle (degrees), the x and y
-/// deflections (ADC counts) and the RCP state (1 while the controller retracts early,
-/// §3.2.2; NaN when not known).
-pub const SENSOR_SERIES: [&str; SENSOR_VALUES] = ["angle_deg", "x_counts", "y_counts", "rcp"];
+/// deflections (ADC counts) and the whisking strategies' state (§2.3.1; NaN when not
+/// known): `rcp` 1 while the controller retracts early (§3.2.2), `spread_reduction` 1
+/// while the stroke is narrowed, `asymmetry_hold` 1 while its side holds protraction.
+pub const SENSOR_SERIES: [&str; SENSOR_VALUES] = [
+    "angle_deg",
+    "x_counts",
+    "y_counts",
+    "rcp",
+    "spread_reduction",
+    "asymmetry_hold",
+];
 /// Samples buffered before they are sent (one simulated second at 2 kHz).
 const SENSOR_BATCH: usize = 2000;
 
@@ -404,19 +413,22 @@ impl SensorColumns {
         })
     }
 
-    /// Takes every whisker's sample of time `t` (s) and its RCP state (NaN in the
-    /// recording when not known); sends a full batch.
+    /// Takes every whisker's sample of time `t` (s) and its strategies' state (NaN in
+    /// the recording when not known); sends a full batch.
     pub fn push(
         &mut self,
         rec: &dyn Recorder,
         t: f64,
         samples: &[Sample],
-        rcp: Option<&[bool]>,
+        states: Option<&[ControlState]>,
     ) -> Result {
         self.times.push(t);
+        let flag = |b: bool| f64::from(u8::from(b));
         for (w, (v, s)) in self.values.iter_mut().zip(samples).enumerate() {
-            let r = rcp.map_or(f64::NAN, |r| f64::from(u8::from(r[w])));
-            v.extend([s.angle_rad.to_degrees(), s.x, s.y, r]);
+            let [r, n, h] = states.map_or([f64::NAN; 3], |c| {
+                [flag(c[w].rcp), flag(c[w].narrowed), flag(c[w].held)]
+            });
+            v.extend([s.angle_rad.to_degrees(), s.x, s.y, r, n, h]);
         }
         if self.times.len() >= SENSOR_BATCH {
             self.send(rec)?;
@@ -426,14 +438,14 @@ impl SensorColumns {
 
     /// Takes whole streams: `streams[w]` holds whisker w's samples of steps `first + 1`,
     /// `first + 2` … (step k at `start` + k × 0.5 ms; as many steps as the shortest
-    /// stream), with their RCP states when known ([`Self::push`]).
+    /// stream), with the strategies' states when known ([`Self::push`]).
     pub fn push_streams(
         &mut self,
         rec: &dyn Recorder,
         start: f64,
         first: usize,
         streams: &[Vec<Sample>],
-        rcp: Option<&[bool]>,
+        rcp: Option<&[ControlState]>,
     ) -> Result {
         let dt = 1.0 / whisker_slam::sensor::SAMPLE_RATE_HZ;
         let n = streams.iter().map(Vec::len).min().unwrap_or(0);

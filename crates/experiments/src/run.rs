@@ -15,6 +15,7 @@ use crate::scenario::overrides::Override;
 use crate::scenario::{Scenario, Sensing};
 use crate::sensing::array_run::ArraySimulation;
 use crate::sensing::sweep::ContactSensing;
+use crate::sensing::whisking_metrics::WhiskingSummary;
 use nalgebra::Isometry3;
 use serde_json::json;
 use std::fmt::Write as _;
@@ -222,6 +223,7 @@ impl Sensors {
             .whiskers
             .as_ref()
             .map(ArraySimulation::frontend_contacts);
+        let whisking = self.whiskers.as_ref().map(ArraySimulation::whisking);
         if let Some(w) = self.whiskers {
             w.finish(dir, recording)?;
         }
@@ -232,6 +234,7 @@ impl Sensors {
         Ok(Sensed {
             counts,
             frontend_contacts,
+            whisking,
         })
     }
 }
@@ -242,6 +245,8 @@ struct Sensed {
     counts: Option<(u64, u64)>,
     /// Contacts the front end detected (physics).
     frontend_contacts: Option<u64>,
+    /// What the whisking strategy did to the contacts (physics).
+    whisking: Option<WhiskingSummary>,
 }
 
 impl Sensed {
@@ -263,6 +268,9 @@ impl Sensed {
                 out,
                 "front end  {n} contacts detected in the whisker streams"
             );
+        }
+        if let Some(w) = &self.whisking {
+            let _ = writeln!(out, "{}", w.line());
         }
         let _ = writeln!(
             out,
@@ -380,6 +388,7 @@ impl PathLog {
             "whisk_cycles_swept": contacts.map_or(0, |c| c.counts().0),
             "contacts": contacts.map_or(0, |c| c.counts().1),
             "frontend_contacts": whiskers.map_or(0, ArraySimulation::frontend_contacts),
+            "whisking": whiskers.map(ArraySimulation::whisking),
         })
     }
 

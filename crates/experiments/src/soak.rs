@@ -27,6 +27,7 @@ use whisker_sim::sensing::physics::{DT, PhysicsArray, SolverPath};
 use whisker_sim::sensing::viewpoints;
 use whisker_sim::whisker::array;
 use whisker_sim::whisker::beam::Bending;
+use whisker_sim::whisker::control::ControlState;
 use whisker_slam::sensor::Sample;
 
 /// Depth of a shaft's centre line inside a solid that counts as tunnelling (m).
@@ -160,7 +161,10 @@ impl<'a> CaseRecording<'a> {
             &format!("sensors/{}", crate::record::entity_name(name)),
             &labels,
         )?;
-        let open_loop = array.units.iter().all(|u| u.config.rcp_threshold.is_none());
+        let open_loop = array
+            .units
+            .iter()
+            .all(|u| u.config.control == Default::default());
         Ok(Self {
             rec,
             frame,
@@ -172,7 +176,7 @@ impl<'a> CaseRecording<'a> {
     /// Logs the samples of steps `k0 + 1 ..` (per whisker) and the shafts now.
     fn chunk(&mut self, k0: usize, samples: &[Vec<Sample>], array: &PhysicsArray) -> Result {
         let n = samples.first().map_or(0, Vec::len);
-        let off = vec![false; samples.len()];
+        let off = vec![ControlState::default(); samples.len()];
         let rcp = self.open_loop.then_some(off.as_slice());
         self.columns.push_streams(self.rec, 0.0, k0, samples, rcp)?;
         let shafts: Vec<Vec<[f64; 3]>> = array.units.iter().map(|u| u.shaft()).collect();

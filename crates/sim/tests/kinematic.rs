@@ -320,3 +320,120 @@ fn sweep_matches_brute_force_ray_casts_on_catalogue_objects() {
     }
     assert!(contacts > 250, "only {contacts} contacts");
 }
+
+/// The whole array (noise off) facing a tilted plane 6 cm ahead, and the open-loop
+/// contacts of one whisk there.
+fn array_before_a_plane(
+    control: whisker_sim::whisker::strategies::WhiskingControl,
+) -> (KinematicArray, SweepTarget, Isometry3<f64>) {
+    let whiskers: Vec<RigidWhisker> = modules()
+        .into_iter()
+        .map(|m| RigidWhisker::new(m, BASE_OFFSET))
+        .collect();
+    let patterns = vec![WhiskingPattern::default(); whiskers.len()];
+    let n = -Vector3::new(0.3, 0.2, 1.0).normalize();
+    let target = plane_slab(Point3::new(0.0, 0.0, 0.06), n);
+    let array =
+        KinematicArray::new(whiskers, patterns, ContactNoise::NONE, 1).with_control(control);
+    (array, target, Isometry3::identity())
+}
+
+#[test]
+fn asymmetry_keeps_each_side_s_first_contacts_only() {
+    use whisker_sim::whisker::strategies::WhiskingControl;
+    let (mut open, target, pose) = array_before_a_plane(WhiskingControl::default());
+    let all = open.sense(&target, 0, 0.0, &pose).contacts;
+    let control = WhiskingControl {
+        asymmetry: true,
+        ..Default::default()
+    };
+    let (mut cia, _, _) = array_before_a_plane(control);
+    let kept = cia.sense(&target, 0, 0.0, &pose).contacts;
+    // Sides as documented: columns A–C (whiskers with index % 6 < 3) and D–F.
+    let side = |w: usize| usize::from(w % 6 >= 3);
+    let first = |s: usize| {
+        all.iter()
+            .filter(|c| side(c.whisker) == s)
+            .map(|c| c.time_s)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let expected: Vec<usize> = all
+        .iter()
+        .filter(|c| c.time_s <= first(side(c.whisker)))
+        .map(|c| c.whisker)
+        .collect();
+    assert_eq!(kept.iter().map(|c| c.whisker).collect::<Vec<_>>(), expected);
+    assert!(
+        first(0).is_finite() && first(1).is_finite(),
+        "both sides touch"
+    );
+    assert!(expected.len() < all.len(), "later contacts were cut");
+    assert_eq!(cia.intersects.len(), kept.len());
+}
+
+#[test]
+fn spread_reduction_sweeps_the_narrowed_stroke_after_a_contact() {
+    use whisker_sim::whisker::strategies::{SpreadReduction, WhiskingControl};
+    let control = WhiskingControl {
+        spread_reduction: Some(SpreadReduction::default()),
+        ..Default::default()
+    };
+    let (mut open, target, pose) = array_before_a_plane(WhiskingControl::default());
+    let (mut sr, _, _) = array_before_a_plane(control);
+    let full = open.sense(&target, 0, 0.0, &pose).contacts;
+    assert_eq!(
+        sr.sense(&target, 0, 0.0, &pose).contacts,
+        full,
+        "whisk 0 is open loop"
+    );
+    let deg = f64::to_radians;
+    // The contacts of a stroke from `lo` to `hi` (1° steps from lo): the open-loop
+    // angle if the stroke reaches it, the stroke's start if the shaft starts inside.
+    let expect = |lo: f64, hi: f64, start_s: f64| -> Vec<(usize, f64, f64)> {
+        let stroke = WhiskingPattern {
+            retracted: deg(lo),
+            protracted: deg(hi),
+            ..WhiskingPattern::default()
+        };
+        full.iter()
+            .filter(|c| c.angle_rad <= deg(hi) + 1e-9)
+            .map(|c| {
+                let a = c.angle_rad.max(deg(lo));
+                (c.whisker, a, start_s + stroke.protraction_time(a))
+            })
+            .collect()
+    };
+    let got = |cs: &[whisker_slam::contact::Contact]| -> Vec<(usize, f64, f64)> {
+        cs.iter()
+            .map(|c| (c.whisker, c.angle_rad, c.time_s))
+            .collect()
+    };
+    let close = |a: &[(usize, f64, f64)], b: &[(usize, f64, f64)]| {
+        a.len() == b.len()
+            && a.iter()
+                .zip(b)
+                .all(|(x, y)| x.0 == y.0 && (x.1 - y.1).abs() < 1e-9 && (x.2 - y.2).abs() < 1e-9)
+    };
+    // Whisks 1 and 2 at the plane: the narrowed stroke 85°–135°.
+    for k in 1..3 {
+        let c = sr.sense(&target, k, k as f64, &pose).contacts;
+        let e = expect(85.0, 135.0, k as f64);
+        assert!(close(&got(&c), &e), "whisk {k}: {:?} vs {e:?}", got(&c));
+        assert!(
+            full.iter()
+                .any(|c| c.angle_rad < deg(85.0) || c.angle_rad > deg(135.0))
+        );
+    }
+    // Two whisks away from it: released after them; whisk 5 back at the plane protracts
+    // from 85° (where the last narrowed retraction ended) to 140°, touches and engages
+    // spread reduction again: whisk 6 is narrowed.
+    let away = Isometry3::translation(0.0, 0.0, -10.0);
+    for k in 3..5 {
+        assert!(sr.sense(&target, k, k as f64, &away).contacts.is_empty());
+    }
+    assert!(!sr.narrowed());
+    let c = sr.sense(&target, 5, 5.0, &pose).contacts;
+    assert!(close(&got(&c), &expect(85.0, 140.0, 5.0)));
+    let c = sr.sense(&target, 6, 6.0, &pose).contacts;
+    assert!(close(&got(&c), &expect(85.0, 135.0, 6.0)));
+}

@@ -74,7 +74,7 @@ fn exact_path_is_bit_identical_to_released_rapier() {
     assert_eq!(dense_bodies, truncated_bodies);
 }
 
-/// `PhysicsArray::run` and `run_with_rcp` (one task per whisker for all its steps) give
+/// `PhysicsArray::run` and `run_with_state` (one task per whisker for all its steps) give
 /// the samples, RCP states and bodies of as many `step` calls, on a moving array with
 /// RCP, on 2 threads.
 #[test]
@@ -90,7 +90,8 @@ fn running_per_whisker_equals_stepping_per_sample() {
             .iter()
             .map(|&i| {
                 let mut c = config(i, SolverPath::default());
-                c.rcp_threshold = Some(150.0);
+                c.contact_threshold = Some(150.0);
+                c.control.rcp = true;
                 c
             })
             .collect();
@@ -112,13 +113,14 @@ fn running_per_whisker_equals_stepping_per_sample() {
         let mut ran = build();
         let per_whisker = ran.run(&poses);
         let mut ran_rcp = build();
-        let with_rcp = ran_rcp.run_with_rcp(&poses);
+        let with_rcp = ran_rcp.run_with_state(&poses);
         assert!(per_sample[1].iter().any(|s| s.y.abs() > 150.0), "contact");
         assert!(rcp[1].iter().any(|&r| r), "RCP fired");
         for w in 0..3 {
             assert_eq!(bits(&per_sample[w]), bits(&per_whisker[w]), "whisker {w}");
             let (samples, flags): (Vec<_>, Vec<_>) = with_rcp[w].iter().copied().unzip();
             assert_eq!(bits(&per_sample[w]), bits(&samples), "whisker {w}");
+            let flags: Vec<bool> = flags.iter().map(|f| f.rcp).collect();
             assert_eq!(rcp[w], flags, "whisker {w}");
         }
         assert_eq!(body_bits(&stepped), body_bits(&ran));

@@ -12,6 +12,7 @@ use whisker_sim::whisker::control::RcpThreshold;
 use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_sim::whisker::follicle::FollicleDesign;
 use whisker_sim::whisker::sensor::SensorModel;
+use whisker_sim::whisker::strategies::WhiskingControl;
 
 const POLE_RADIUS: f64 = 0.003;
 
@@ -39,7 +40,11 @@ fn config(module: Module, frequency: f64, rcp: Option<f64>) -> WhiskerConfig {
             frequency,
             ..WhiskingPattern::default()
         },
-        rcp_threshold: rcp,
+        contact_threshold: rcp,
+        control: WhiskingControl {
+            rcp: rcp.is_some(),
+            ..WhiskingControl::default()
+        },
         sensor: SensorModel::default(),
         substeps: DEFAULT_SUBSTEPS,
         solver: Default::default(),

@@ -129,12 +129,10 @@ fn sensor(
             let whiskers = configs.iter().map(|c| c.rigid()).collect();
             let patterns = configs.iter().map(|c| c.pattern).collect();
             let noise = scenario.kinematic.noise(file)?;
-            Sensor::Kinematic(KinematicArray::new(
-                whiskers,
-                patterns,
-                noise,
-                scenario.seed,
-            ))
+            Sensor::Kinematic(
+                KinematicArray::new(whiskers, patterns, noise, scenario.seed)
+                    .with_control(configs[0].control),
+            )
         }
     })
 }

@@ -171,7 +171,8 @@ fn kinematic_log(run: &MazeRun, s: &mut Staging) -> Result<SensingLog> {
         run.scenario.kinematic.noise(run.file)?
     };
     let key = substream_key(run.seed, "maze-slam/sensing");
-    let cycles = kinematic_contacts(truth, run.target, noise, key, g);
+    let control = run.scenario.whisker_configs(run.file)?[0].control;
+    let cycles = kinematic_contacts(truth, run.target, noise, key, g, control);
     let labels = array_info(&whiskers).labels;
     s.put(
         "log/contacts.csv",
@@ -179,7 +180,14 @@ fn kinematic_log(run: &MazeRun, s: &mut Staging) -> Result<SensingLog> {
         records::contacts_csv(&cycles, &labels).as_bytes(),
     )?;
     Ok(SensingLog {
-        anticipated: kinematic_contacts(truth, run.target, ContactNoise::NONE, 0, g),
+        anticipated: kinematic_contacts(
+            truth,
+            run.target,
+            ContactNoise::NONE,
+            0,
+            g,
+            Default::default(),
+        ),
         level: Level::Contacts,
         whiskers,
         sensor: None,
@@ -201,7 +209,7 @@ fn physics_log(
     reporter: &dyn Reporter,
 ) -> Result<SensingLog> {
     let (g, truth) = (&run.setup.geometry, &run.setup.truth);
-    let (mut configs, rcp) = (physics.configs.clone(), &physics.rcp);
+    let (mut configs, rcp) = (physics.configs.clone(), &physics.contact);
     if run.clean {
         for c in &mut configs {
             c.sensor.noise_counts = 0.0;

@@ -351,7 +351,13 @@ pub fn trial(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: Co
     let mut summary = serde_json::Map::new();
     summary.insert("seed".into(), json!(scenario.seed));
     for r in &report.runs {
-        let name = format!("{}.{}", r.variant, r.images);
+        // Keyed by the image estimate, not the whisking control (a factor of the batch,
+        // in the trial's key): the levels' figures share their columns.
+        let estimate = match r.images.starts_with("kinematic") {
+            true => "kinematic",
+            false => r.images.rsplit('/').next().unwrap_or(&r.images),
+        };
+        let name = format!("{}.{estimate}", r.variant);
         let mut figures = match serde_json::to_value(r) {
             Ok(serde_json::Value::Object(m)) => m,
             _ => serde_json::Map::new(),

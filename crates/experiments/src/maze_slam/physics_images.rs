@@ -29,8 +29,9 @@ use whisker_slam::sensor::Sample as Reading;
 pub struct PhysicsWhiskers {
     /// Each whisker's configuration, RCP thresholds not yet calibrated.
     pub configs: Vec<WhiskerConfig>,
-    /// How the RCP thresholds are calibrated (None: open loop).
-    pub rcp: Option<RcpThreshold>,
+    /// How the contact thresholds of RCP and the whisking strategies are calibrated
+    /// (None: open loop).
+    pub contact: Option<RcpThreshold>,
 }
 
 /// The images of every update: (by max_angle, by contact_angle).
@@ -76,7 +77,7 @@ impl ImageFrontEnd {
             .iter()
             .map(|c| {
                 let mut p = *detection;
-                if let Some(t) = c.rcp_threshold
+                if let (true, Some(t)) = (c.control.rcp, c.contact_threshold)
                     && p.confirm_counts > 0.5 * t
                 {
                     let scale = 0.5 * t / p.confirm_counts;
@@ -141,13 +142,14 @@ pub fn cycles(updates: usize, frequency: f64) -> usize {
     (duration * frequency).floor() as usize
 }
 
-/// `configs` with their RCP thresholds calibrated (mode `rcp`, noise from `seed`).
+/// `configs` with their contact thresholds calibrated (mode `contact`, noise from
+/// `seed`).
 pub fn calibrated(
     mut configs: Vec<WhiskerConfig>,
-    rcp: Option<RcpThreshold>,
+    contact: Option<RcpThreshold>,
     seed: u64,
 ) -> Vec<WhiskerConfig> {
-    if let Some(mode) = rcp {
+    if let Some(mode) = contact {
         calibrate_array_rcp(&mut configs, mode, seed, DT);
     }
     configs
@@ -198,7 +200,7 @@ pub fn images(
     g: &Geometry,
     reporter: &dyn Reporter,
 ) -> Images {
-    let configs = calibrated(whiskers.configs.clone(), whiskers.rcp, seed);
+    let configs = calibrated(whiskers.configs.clone(), whiskers.contact, seed);
     let front = ImageFrontEnd::new(&configs, detection);
     let mut by_cycle = Vec::new();
     let done: Result<(), std::convert::Infallible> = simulate(
@@ -254,7 +256,10 @@ mod tests {
         let (max, contact) = images(
             &path,
             &environment.physics_pieces(),
-            &PhysicsWhiskers { configs, rcp: None },
+            &PhysicsWhiskers {
+                configs,
+                contact: None,
+            },
             &detection,
             0,
             &g,
@@ -262,11 +267,17 @@ mod tests {
         );
         let target = whisker_sim::sensing::kinematic::SweepTarget::of(&environment);
         let whiskers = super::super::kinematic_whiskers();
-        let kinematic: Vec<TactileImage> =
-            super::super::kinematic_contacts(&path, &target, ContactNoise::NONE, 0, &g)
-                .iter()
-                .map(|c| g.contact_image(c, &whiskers))
-                .collect();
+        let kinematic: Vec<TactileImage> = super::super::kinematic_contacts(
+            &path,
+            &target,
+            ContactNoise::NONE,
+            0,
+            &g,
+            Default::default(),
+        )
+        .iter()
+        .map(|c| g.contact_image(c, &whiskers))
+        .collect();
         let lit =
             |img: &TactileImage| -> Vec<usize> { (0..18).filter(|&i| img.pixels[i] > 0).collect() };
         assert!(lit(&max[0]).is_empty() && lit(&contact[0]).is_empty());

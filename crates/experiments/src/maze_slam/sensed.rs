@@ -19,6 +19,7 @@ use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget}
 use whisker_sim::whisker::array;
 use whisker_sim::whisker::beam::Bending;
 use whisker_sim::whisker::control::WhiskingPattern;
+use whisker_sim::whisker::strategies::WhiskingControl;
 use whisker_slam::contact::ContactCycle;
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::ratslam::odometry::{noisy_steps, true_steps};
@@ -32,18 +33,20 @@ pub fn kinematic_whiskers() -> Vec<RigidWhisker> {
         .collect()
 }
 
-/// The contacts of every update from the kinematic sweep (the scenario's detection
-/// probability applies; sub-stream `maze-slam/sensing` of the seed, as `key`).
+/// The contacts of every update from the kinematic sweep under the whisking strategies
+/// `control` (the scenario's detection probability applies; sub-stream
+/// `maze-slam/sensing` of the seed, as `key`).
 pub fn kinematic_contacts(
     truth: &[Sample],
     target: &SweepTarget,
     noise: whisker_sim::sensing::noise::ContactNoise,
     key: u64,
     g: &Geometry,
+    control: WhiskingControl,
 ) -> Vec<ContactCycle> {
     let whiskers = kinematic_whiskers();
     let patterns = vec![WhiskingPattern::default(); whiskers.len()];
-    let mut sensing = KinematicArray::new(whiskers, patterns, noise, key);
+    let mut sensing = KinematicArray::new(whiskers, patterns, noise, key).with_control(control);
     truth
         .iter()
         .enumerate()
@@ -105,7 +108,7 @@ fn physics_configs(scenario: &Scenario, file: &Path, o: &Settings) -> Result<Phy
     })?;
     Ok(PhysicsWhiskers {
         configs,
-        rcp: array.rcp_mode(),
+        contact: array.contact_mode(),
     })
 }
 
@@ -164,8 +167,10 @@ impl Setup {
         };
         let (truth, starts) = path::path(&loop_corners, config.circuits);
         let set_names = match &physics {
-            None => vec!["kinematic".into()],
-            Some(w) => image_set_names(w.rcp.is_some(), &config.images),
+            None => vec![kinematic_set_name(
+                &scenario.whisker_configs(file)?[0].control,
+            )],
+            Some(w) => image_set_names(&w.configs[0].control.name(), &config.images),
         };
         Ok(Self {
             geometry,
@@ -177,9 +182,24 @@ impl Setup {
     }
 }
 
-/// The names of physics image sets: `<open-loop|rcp>/<estimate>`.
-pub fn image_set_names(rcp: bool, images: &[AngleEstimate]) -> Vec<String> {
-    let control = if rcp { "rcp" } else { "open-loop" };
+/// The name of the kinematic image set: `kinematic`, or `kinematic/<strategies>` when
+/// spread reduction or asymmetry change the sweep (RCP does not: the sweep stops at the
+/// first contact anyway).
+pub fn kinematic_set_name(control: &WhiskingControl) -> String {
+    let sweep = WhiskingControl {
+        rcp: false,
+        ..*control
+    };
+    match sweep.couples() {
+        false => "kinematic".into(),
+        true => format!("kinematic/{}", sweep.name()),
+    }
+}
+
+/// The names of physics image sets: `<control>/<estimate>`, the control being
+/// `open-loop` or the strategies (`rcp`, `sr`, `rcp+sr`, … as
+/// `WhiskingControl::name`).
+pub fn image_set_names(control: &str, images: &[AngleEstimate]) -> Vec<String> {
     images
         .iter()
         .map(|e| format!("{control}/{}", e.name()))
@@ -229,7 +249,8 @@ pub(super) fn sense(
             let noise = scenario.kinematic.noise(file)?;
             let key = substream_key(seed, "maze-slam/sensing");
             let whiskers = kinematic_whiskers();
-            let images = kinematic_contacts(truth, target, noise, key, g)
+            let control = scenario.whisker_configs(file)?[0].control;
+            let images = kinematic_contacts(truth, target, noise, key, g, control)
                 .iter()
                 .map(|c| g.contact_image(c, &whiskers))
                 .collect();

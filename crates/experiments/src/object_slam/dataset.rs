@@ -363,7 +363,9 @@ fn sensing_configs() -> Vec<WhiskerConfig> {
         .into_iter()
         .map(|m| {
             let mut c = WhiskerConfig::with_defaults(m);
-            c.rcp_threshold.get_or_insert(c.sensor.saturation_counts);
+            c.contact_threshold
+                .get_or_insert(c.sensor.saturation_counts);
+            c.control.rcp = true;
             c
         })
         .collect()

@@ -159,7 +159,8 @@ fn whisker_config(module: Module, frequency: f64, substeps: usize) -> WhiskerCon
         frequency,
         ..WhiskingPattern::default()
     };
-    c.rcp_threshold = Some(c.sensor.saturation_counts);
+    c.contact_threshold = Some(c.sensor.saturation_counts);
+    c.control.rcp = true;
     c.substeps = substeps;
     c
 }

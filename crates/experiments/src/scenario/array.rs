@@ -11,6 +11,7 @@ use whisker_sim::whisker::beam::Bending;
 use whisker_sim::whisker::control::{RcpThreshold, WhiskingPattern};
 use whisker_sim::whisker::follicle::FollicleDesign;
 use whisker_sim::whisker::sensor::SensorModel;
+use whisker_sim::whisker::strategies::{SpreadReduction, WhiskingControl};
 
 /// Shaft joint model, as written in scenarios.
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
@@ -34,6 +35,25 @@ pub enum RcpConfig {
     Noise,
     /// Threshold = the sensor's saturation (§4.1.1).
     Saturation,
+}
+
+/// `[array.whisking]`: the contact-triggered whisking strategies beyond RCP (thesis
+/// §2.3.1, `whisker_sim::whisker::strategies`).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WhiskingConfig {
+    /// Spread reduction: after a contact the stroke narrows and moves towards protraction.
+    #[serde(default)]
+    pub spread_reduction: bool,
+    /// Fraction of the stroke's amplitude kept under spread reduction [0.5].
+    pub range_fraction: Option<f64>,
+    /// How far spread reduction moves the stroke's centre towards protraction (deg) [20].
+    pub centre_shift_deg: Option<f64>,
+    /// Whisk cycles without contact before the full stroke returns [2].
+    pub release_cycles: Option<u32>,
+    /// Contact-induced asymmetry: a contact stops its side's protraction.
+    #[serde(default)]
+    pub asymmetry: bool,
 }
 
 /// Whisker shaft parameters; every field optional (unset: the level above, then the
@@ -104,8 +124,12 @@ pub struct ArrayConfig {
     /// RCP mode.
     #[serde(default)]
     pub rcp: RcpConfig,
-    /// Multiple of the free-whisking σ for `rcp = "noise"`.
+    /// Multiple of the free-whisking σ for `rcp = "noise"` (and for the contact
+    /// threshold of the `[array.whisking]` strategies without RCP).
     pub rcp_noise_multiple: Option<f64>,
+    /// Spread reduction and contact-induced asymmetry.
+    #[serde(default)]
+    pub whisking: WhiskingConfig,
     /// Shaft parameters of every whisker.
     #[serde(default)]
     pub shaft: ShaftConfig,
@@ -136,18 +160,57 @@ fn finite(file: &Path, field: &str, v: Option<f64>) -> Result<Option<f64>> {
 }
 
 impl ArrayConfig {
-    /// The RCP threshold mode, if any.
-    pub fn rcp_mode(&self) -> Option<RcpThreshold> {
+    /// How contacts are detected for RCP and the `[array.whisking]` strategies, if any
+    /// is on: `rcp`'s threshold, or without RCP `rcp_noise_multiple` (20) × the
+    /// free-whisking σ.
+    pub fn contact_mode(&self) -> Option<RcpThreshold> {
+        let noise = RcpThreshold::NoiseMultiple(self.rcp_noise_multiple.unwrap_or(20.0));
         match self.rcp {
+            RcpConfig::Off if self.whisking.spread_reduction || self.whisking.asymmetry => {
+                Some(noise)
+            }
             RcpConfig::Off => None,
-            RcpConfig::Noise => Some(RcpThreshold::NoiseMultiple(
-                self.rcp_noise_multiple.unwrap_or(20.0),
-            )),
+            RcpConfig::Noise => Some(noise),
             RcpConfig::Saturation => Some(RcpThreshold::Saturation),
         }
     }
 
-    /// The 18 whiskers' configurations (RCP thresholds not yet calibrated), checking every
+    /// The whisking strategies (without contact thresholds), checked against `pattern`.
+    pub fn control(
+        &self,
+        file: &Path,
+        pattern: &WhiskingPattern,
+        ring_field: &str,
+    ) -> Result<WhiskingControl> {
+        let w = &self.whisking;
+        let spread_reduction = if w.spread_reduction {
+            let d = SpreadReduction::default();
+            let shift = finite(file, "array.whisking.centre_shift_deg", w.centre_shift_deg)?;
+            let sr = SpreadReduction {
+                range_fraction: finite(file, "array.whisking.range_fraction", w.range_fraction)?
+                    .unwrap_or(d.range_fraction),
+                centre_shift: shift.map_or(d.centre_shift, f64::to_radians),
+                release_cycles: w.release_cycles.unwrap_or(d.release_cycles),
+            };
+            sr.check(pattern).map_err(|(name, e)| {
+                field_error(
+                    file,
+                    &format!("array.whisking.{name}"),
+                    format!("{e} (the stroke of {ring_field})"),
+                )
+            })?;
+            Some(sr)
+        } else {
+            None
+        };
+        Ok(WhiskingControl {
+            rcp: self.rcp != RcpConfig::Off,
+            spread_reduction,
+            asymmetry: w.asymmetry,
+        })
+    }
+
+    /// The 18 whiskers' configurations (contact thresholds not yet calibrated), checking every
     /// value and naming the offending field. [`crate::scenario::Scenario`] checks them once
     /// when it is loaded and keeps them.
     pub fn whisker_configs(&self, file: &Path) -> Result<Vec<WhiskerConfig>> {
@@ -170,11 +233,13 @@ impl ArrayConfig {
             let ring_field = format!("array.rings[{}]", module.ring);
             self.shaft(file, &mut module, &ring, &ring_field)?;
             let pattern = whisking_pattern(file, &ring, &ring_field)?;
+            let control = self.control(file, &pattern, &ring_field)?;
             out.push(WhiskerConfig {
                 module,
                 follicle,
                 pattern,
-                rcp_threshold: None,
+                contact_threshold: None,
+                control,
                 sensor,
                 substeps: self.substeps.unwrap_or(DEFAULT_SUBSTEPS),
                 solver: Default::default(),

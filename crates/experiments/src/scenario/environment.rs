@@ -34,6 +34,12 @@ pub struct ObjectConfig {
     /// Orientation as roll, pitch, yaw (deg).
     #[serde(default)]
     pub rpy_deg: [f64; 3],
+    /// Placement jitter: x and y each moved by a uniform draw in ±this (m, 0–1) from the
+    /// seed's sub-stream `objects/jitter/NN` [0].
+    pub jitter_m: Option<f64>,
+    /// Placement jitter: yaw (about the world's vertical through the origin) changed by a
+    /// uniform draw in ±this (deg, 0–180), same sub-stream [0].
+    pub jitter_yaw_deg: Option<f64>,
     /// The file's length unit: "m", "cm", "mm" or "in".
     #[serde(default = "metres")]
     pub units: String,
@@ -219,7 +225,7 @@ pub fn load(
     let mut environment = Environment::default();
     let mut report = Vec::new();
     for (i, o) in objects.iter().enumerate() {
-        let (piece, line) = load_object(file, i, o)?;
+        let (piece, line) = load_object(file, i, o, seed)?;
         environment.pieces.push(piece);
         report.push(line);
     }
@@ -234,11 +240,47 @@ pub fn load(
     })
 }
 
+/// The object's position and orientation (deg) with its placement jitter drawn from the
+/// sub-stream `objects/jitter/NN` of `seed` (none drawn without jitter).
+fn jittered(
+    file: &Path,
+    field: &str,
+    i: usize,
+    o: &ObjectConfig,
+    seed: u64,
+) -> Result<([f64; 3], [f64; 3])> {
+    let (mut p, mut rpy) = (o.position_m, o.rpy_deg);
+    let check = |name: &str, v: Option<f64>, max: f64| match v {
+        Some(x) if !(0.0..=max).contains(&x) => Err(Error::field(
+            file,
+            &format!("{field}.{name}"),
+            format!(
+                "expected 0 to {max}, got {}",
+                whisker_slam::message::short(x)
+            ),
+        )),
+        _ => Ok(v.unwrap_or(0.0)),
+    };
+    let (d, yaw) = (
+        check("jitter_m", o.jitter_m, 1.0)?,
+        check("jitter_yaw_deg", o.jitter_yaw_deg, 180.0)?,
+    );
+    if d > 0.0 || yaw > 0.0 {
+        use rand::RngExt;
+        let mut rng = whisker_slam::rng::substream(seed, &format!("objects/jitter/{i:02}"));
+        p[0] += rng.random_range(-1.0..=1.0) * d;
+        p[1] += rng.random_range(-1.0..=1.0) * d;
+        rpy[2] += rng.random_range(-1.0..=1.0) * yaw;
+    }
+    Ok((p, rpy))
+}
+
 /// One `[[objects]]` entry: its mesh loaded, repaired and placed, and its line of the report.
-fn load_object(file: &Path, i: usize, o: &ObjectConfig) -> Result<(Piece, String)> {
+fn load_object(file: &Path, i: usize, o: &ObjectConfig, seed: u64) -> Result<(Piece, String)> {
     let field = format!("objects[{i}]");
     let options = mesh_options(file, &field, o)?;
-    let pose = pose_of(file, &field, o.position_m, o.rpy_deg)?;
+    let (position, rpy) = jittered(file, &field, i, o, seed)?;
+    let pose = pose_of(file, &field, position, rpy)?;
     let path = relative_to(file, &o.mesh);
     let loaded =
         mesh::load(&path, &options).map_err(|e| Error::field(file, &format!("{field}.mesh"), e))?;
@@ -249,7 +291,7 @@ fn load_object(file: &Path, i: usize, o: &ObjectConfig) -> Result<(Piece, String
     }
     .map_err(|e| Error::field(file, &format!("{field}.mesh"), e))?;
     let name = o.display_name(i);
-    let line = object_report(&name, &path, &loaded, o.position_m);
+    let line = object_report(&name, &path, &loaded, position);
     let piece = Piece {
         name: format!("object {name}"),
         shape,

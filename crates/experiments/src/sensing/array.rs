@@ -7,22 +7,24 @@ use crate::scenario::Scenario;
 use std::fmt::Write as _;
 use std::path::Path;
 use whisker_sim::kinematics::Chain;
-use whisker_sim::whisker::control::RcpThreshold;
+use whisker_sim::whisker::control::{RcpThreshold, WhiskingPattern};
+use whisker_sim::whisker::strategies::WhiskingControl;
 
 /// A description of the array of `scenario` for `whisker check`: one line per whisker.
 pub fn describe(scenario: &Scenario, file: &Path) -> Result<String> {
     let configs = scenario.whisker_configs(file)?;
     let a = &scenario.array;
-    let rcp = match a.rcp_mode() {
-        None => "off".to_string(),
-        Some(RcpThreshold::Saturation) => "at saturation".to_string(),
+    let contacts = match a.contact_mode() {
+        None => String::new(),
+        Some(RcpThreshold::Saturation) => ", contacts at saturation".to_string(),
         Some(RcpThreshold::NoiseMultiple(k)) => {
-            format!("at {k} × the free-whisking σ (calibrated before the run)")
+            format!(", contacts at {k} × the free-whisking σ (calibrated before the run)")
         }
     };
     let first = &configs[0];
+    let control = strategies(&first.control, &first.pattern);
     let mut s = format!(
-        "array      18 whiskers, {} segments, {:?} bending, {} substep(s), follicle {}, RCP {rcp}\n",
+        "array      18 whiskers, {} segments, {:?} bending, {} substep(s), follicle {}, whisking {control}{contacts}\n",
         first.module.beam.segments,
         first.module.beam.bending,
         first.substeps,
@@ -72,4 +74,32 @@ pub fn array_chain(scenario: &Scenario, file: &Path, plan: &Plan) -> Result<Chai
         ));
     }
     Ok(chain)
+}
+
+/// The whisking strategies in words, e.g. "RCP + spread reduction (50 % of the stroke,
+/// +20° → 85°–135°, released after 2 quiet cycles)".
+fn strategies(c: &WhiskingControl, pattern: &WhiskingPattern) -> String {
+    let mut parts = Vec::new();
+    if c.rcp {
+        parts.push("RCP".to_string());
+    }
+    if let Some(sr) = c.spread_reduction {
+        let (lo, hi) = sr.limits(pattern);
+        parts.push(format!(
+            "spread reduction ({:.0} % of the stroke, +{:.0}° → {:.0}°–{:.0}°, released after {} quiet cycle(s))",
+            sr.range_fraction * 100.0,
+            sr.centre_shift.to_degrees(),
+            lo.to_degrees(),
+            hi.to_degrees(),
+            sr.release_cycles
+        ));
+    }
+    if c.asymmetry {
+        parts.push("contact-induced asymmetry (sides A–C / D–F)".to_string());
+    }
+    if parts.is_empty() {
+        "open loop".into()
+    } else {
+        parts.join(" + ")
+    }
 }

@@ -2,6 +2,7 @@
 //! the arm's `whisker_array` link at the sensors' 2 kHz and their readings are written to
 //! `whiskers.csv` (columns documented in `scenarios/README.md`).
 
+use super::whisking_metrics::{WhiskingMetrics, WhiskingSummary};
 use crate::error::Result;
 use crate::output;
 use crate::plan::Plan;
@@ -13,7 +14,7 @@ use std::path::Path;
 use whisker_sim::environment::Environment;
 use whisker_sim::kinematics::Chain;
 use whisker_sim::sensing::physics::{PhysicsArray, calibrate_array_rcp};
-use whisker_sim::whisker::control::RcpThreshold;
+use whisker_sim::whisker::control::{RcpThreshold, WhiskingPattern};
 
 /// The array being simulated along a run.
 pub struct ArraySimulation {
@@ -27,6 +28,9 @@ pub struct ArraySimulation {
     frontend: super::frontend::FrontEnd,
     /// The 2 kHz streams not yet in the recording.
     columns: Option<SensorColumns>,
+    /// What the whisking strategy does to the contacts, on whisker A1's cycles.
+    metrics: WhiskingMetrics,
+    clock: WhiskingPattern,
 }
 
 impl ArraySimulation {
@@ -42,19 +46,37 @@ impl ArraySimulation {
         let mut configs = scenario.whisker_configs(file)?;
         let chain = super::array::array_chain(scenario, file, plan)?;
         let dt = whisker_sim::sensing::physics::DT;
-        if let Some(mode) = scenario.array.rcp_mode() {
+        if let Some(mode) = scenario.array.contact_mode() {
             calibrate_array_rcp(&mut configs, mode, scenario.seed, dt);
             for c in &configs {
-                if let (RcpThreshold::NoiseMultiple(_), Some(t)) = (mode, c.rcp_threshold)
+                if let (RcpThreshold::NoiseMultiple(_), Some(t)) = (mode, c.contact_threshold)
                     && t >= c.sensor.saturation_counts
                 {
                     reporter.note(&format!(
-                        "warning    whisker {}: RCP threshold {t:.0} counts (from free whisking) is at or above saturation: RCP cannot fire",
+                        "warning    whisker {}: contact threshold {t:.0} counts (from free whisking) is at or above saturation: RCP and the whisking strategies cannot fire",
                         c.module.pixel()
                     ));
                 }
             }
         }
+        // The metrics' contact level: 20 × the free-whisking σ in every condition (the RCP
+        // thresholds themselves when RCP is calibrated so).
+        let metric_thresholds = match scenario.array.contact_mode() {
+            Some(RcpThreshold::NoiseMultiple(20.0)) => {
+                configs.iter().filter_map(|c| c.contact_threshold).collect()
+            }
+            _ => {
+                let mut free = configs.clone();
+                calibrate_array_rcp(
+                    &mut free,
+                    RcpThreshold::NoiseMultiple(20.0),
+                    scenario.seed,
+                    dt,
+                );
+                free.iter().filter_map(|c| c.contact_threshold).collect()
+            }
+        };
+        let clock = configs[0].pattern;
         let mut csv = String::from("t_s");
         for c in &configs {
             let p = c.module.pixel();
@@ -85,6 +107,8 @@ impl ArraySimulation {
             csv,
             frontend,
             columns,
+            metrics: WhiskingMetrics::new(metric_thresholds),
+            clock,
         })
     }
 
@@ -92,7 +116,7 @@ impl ArraySimulation {
     /// end processes every whisk cycle completed.
     ///
     /// The array's poses follow from the plan alone, so every whisker runs all the
-    /// samples up to `t` in one task ([`PhysicsArray::run_with_rcp`]: the same samples as
+    /// samples up to `t` in one task ([`PhysicsArray::run_with_state`]: the same samples as
     /// a step per sample, without a barrier per sample; issue #18, scheduling), and the
     /// samples are then written and passed to the front end in time order.
     pub fn advance_to(&mut self, plan: &Plan, t: f64, recording: Option<&dyn Recorder>) -> Result {
@@ -109,9 +133,16 @@ impl ArraySimulation {
             .iter()
             .map(|&time| self.chain.fk(&plan.trajectory.sample(time)))
             .collect();
-        let streams = self.array.run_with_rcp(&poses);
+        let streams = self.array.run_keeping(&poses, |u, s| {
+            (s, u.control_state(), u.whisker.max_curvature(&u.world))
+        });
         for (k, (&time, pose)) in times.iter().zip(&poses).enumerate() {
-            let (samples, rcp): (Vec<_>, Vec<_>) = streams.iter().map(|w| w[k]).unzip();
+            let samples: Vec<_> = streams.iter().map(|w| w[k].0).collect();
+            let rcp: Vec<_> = streams.iter().map(|w| w[k].1).collect();
+            let ys: Vec<f64> = samples.iter().map(|s| s.y).collect();
+            let curvatures: Vec<f64> = streams.iter().map(|w| w[k].2).collect();
+            self.metrics
+                .push(time, self.clock.cycle(time), &ys, &curvatures);
             let _ = write!(self.csv, "{time}");
             for s in &samples {
                 let _ = write!(self.csv, ",{},{},{}", s.angle_rad, s.x, s.y);
@@ -128,6 +159,11 @@ impl ArraySimulation {
     /// Contacts the front end has detected.
     pub fn frontend_contacts(&self) -> u64 {
         self.frontend.contacts()
+    }
+
+    /// What the whisking strategy did to the contacts (`summary.json`'s `whisking`).
+    pub fn whisking(&self) -> WhiskingSummary {
+        self.metrics.summary()
     }
 
     /// Number of 2 kHz samples simulated.

@@ -61,7 +61,9 @@ impl PhysicsSensing {
         mut configs: Vec<WhiskerConfig>,
     ) -> Self {
         for c in &mut configs {
-            c.rcp_threshold.get_or_insert(c.sensor.saturation_counts);
+            c.contact_threshold
+                .get_or_insert(c.sensor.saturation_counts);
+            c.control.rcp = true;
         }
         let rigid = configs.iter().map(WhiskerConfig::rigid).collect();
         Self {

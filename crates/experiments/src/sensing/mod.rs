@@ -7,7 +7,8 @@
 //!   intersect for the recordings;
 //! - [`sweep`]: the kinematic sweep along a run (`contacts.csv`, `anticipated.csv`);
 //! - [`frontend`]: the signal front end along a physics run (`frontend.csv`);
-//! - [`array_run`]: the physics array along a run (`whiskers.csv`);
+//! - [`array_run`]: the physics array along a run (`whiskers.csv`), and
+//!   [`whisking_metrics`], what its whisking strategy did to its contacts;
 //! - [`held`]: the physics array held still for one whisk at each pose (object walks, the
 //!   closed loop, physics datasets).
 
@@ -17,3 +18,4 @@ pub mod contact;
 pub mod frontend;
 pub mod held;
 pub mod sweep;
+pub mod whisking_metrics;

@@ -63,7 +63,8 @@ impl ContactSensing {
         let patterns: Vec<WhiskingPattern> = configs.iter().map(|c| c.pattern).collect();
         let pattern = patterns[0];
         Ok(Self {
-            array: KinematicArray::new(whiskers, patterns, noise, scenario.seed),
+            array: KinematicArray::new(whiskers, patterns, noise, scenario.seed)
+                .with_control(configs[0].control),
             target: SweepTarget::of(environment),
             chain,
             pattern,

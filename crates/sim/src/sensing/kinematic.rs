@@ -22,6 +22,7 @@ use super::noise::ContactNoise;
 use crate::environment::{Environment, Mesh};
 use crate::whisker::array::{Module, PROTRACTED, RETRACTED};
 use crate::whisker::control::WhiskingPattern;
+use crate::whisker::strategies::{SpreadState, WhiskingControl, side};
 use nalgebra::{Isometry3, Point3, Vector2, Vector3};
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Vector as PVector;
@@ -367,6 +368,15 @@ fn ray_segment(u: Vector2<f64>, a: Vector2<f64>, b: Vector2<f64>) -> Option<f64>
 /// The whole array in kinematic sensing: one rigid whisker per module, its whisking
 /// pattern (for the time of contact) and the contact noise, with one random stream per
 /// whisker (`kinematic/whisker/NN` of the scenario seed).
+///
+/// The whisking strategies ([`crate::whisker::strategies`]) change the sweep where a
+/// contact-triggered change is meaningful for a rigid whisker that reports its first
+/// contact: RCP changes nothing (the sweep stops at the first contact anyway); spread
+/// reduction sweeps the narrowed stroke (from where the last whisk's retraction ended to
+/// the half-cycle's target, as the physics controller does), which changes the angles
+/// reached and the times of contact; contact-induced asymmetry stops a side's sweep at
+/// the time of its first detected contact, so that a whisker of that side whose contact
+/// would come later touches nothing.
 pub struct KinematicArray {
     /// The whiskers, in index order.
     pub whiskers: Vec<RigidWhisker>,
@@ -377,6 +387,11 @@ pub struct KinematicArray {
     /// The last whisk's anticipated intersects before any noise: (whisker index, world
     /// point), every whisker that touched (ground truth for a recording).
     pub intersects: Vec<(usize, Point3<f64>)>,
+    /// The whisking strategies.
+    pub control: WhiskingControl,
+    /// Spread reduction's state, and where each whisker's last retraction ended.
+    spread: SpreadState,
+    starts: Vec<f64>,
     rngs: Vec<StreamRng>,
 }
 
@@ -391,13 +406,68 @@ impl KinematicArray {
         let rngs = (0..whiskers.len())
             .map(|i| rng::substream(seed, &format!("kinematic/whisker/{i:02}")))
             .collect();
+        let starts = patterns.iter().map(|p| p.retracted).collect();
         Self {
             whiskers,
             patterns,
             noise,
             intersects: Vec::new(),
+            control: WhiskingControl::default(),
+            spread: SpreadState::default(),
+            starts,
             rngs,
         }
+    }
+
+    /// The same array whisking under `control`.
+    pub fn with_control(mut self, control: WhiskingControl) -> Self {
+        self.control = control;
+        self
+    }
+
+    /// Each whisker's stroke this whisk: its pattern with the limits spread reduction
+    /// sets (the start where the last retraction ended, the protraction target).
+    fn strokes(&self) -> Vec<WhiskingPattern> {
+        self.patterns
+            .iter()
+            .zip(&self.starts)
+            .map(|(p, &start)| match self.control.spread_reduction {
+                Some(sr) if self.spread.engaged => WhiskingPattern {
+                    retracted: start,
+                    protracted: sr.limits(p).1,
+                    ..*p
+                },
+                Some(_) => WhiskingPattern {
+                    retracted: start,
+                    ..*p
+                },
+                None => *p,
+            })
+            .collect()
+    }
+
+    /// Spread reduction after a whisk with or without a detected contact: the state, and
+    /// where each whisker's retraction ends (the narrowed limit while engaged).
+    fn spread_after(&mut self, touched: bool) {
+        let Some(sr) = self.control.spread_reduction else {
+            return;
+        };
+        if touched {
+            self.spread.contact();
+        }
+        for (start, p) in self.starts.iter_mut().zip(&self.patterns) {
+            *start = if self.spread.engaged {
+                sr.limits(p).0
+            } else {
+                p.retracted
+            };
+        }
+        self.spread.end_cycle(sr.release_cycles);
+    }
+
+    /// Whether spread reduction is engaged (for the next whisk).
+    pub fn narrowed(&self) -> bool {
+        self.spread.engaged
     }
 
     /// One whisk cycle at a fixed array pose (world): every whisker swept, its
@@ -412,11 +482,23 @@ impl KinematicArray {
     ) -> ContactCycle {
         let mut contacts = Vec::new();
         self.intersects.clear();
-        for (i, w) in self.whiskers.iter().enumerate() {
-            let Some(hit) = target.sweep(w, array_pose) else {
+        let strokes = self.strokes();
+        // Per intersect: the whisker's side and time of contact.
+        let mut reached: Vec<(usize, f64)> = Vec::new();
+        for (i, (w, stroke)) in self.whiskers.iter().zip(&strokes).enumerate() {
+            let swept = RigidWhisker {
+                retracted: stroke.retracted,
+                protracted: stroke.protracted,
+                ..w.clone()
+            };
+            let Some(hit) = target.sweep(&swept, array_pose) else {
                 continue;
             };
             self.intersects.push((w.module.index, hit.point));
+            reached.push((
+                side(w.module.column),
+                start_s + stroke.protraction_time(hit.angle),
+            ));
             let length = w.module.beam.length;
             let Some((offset, slope)) = self.noise.draw(length, hit.slope(), &mut self.rngs[i])
             else {
@@ -425,13 +507,33 @@ impl KinematicArray {
             let point = array_pose.inverse_transform_point(&hit.point) + Vector3::from(offset);
             contacts.push(Contact {
                 whisker: w.module.index,
-                time_s: start_s + self.patterns[i].protraction_time(hit.angle),
+                time_s: start_s + stroke.protraction_time(hit.angle),
                 angle_rad: hit.angle,
                 radial_distance: hit.radial_distance,
                 point,
                 slope,
             });
         }
+        if self.control.asymmetry {
+            // Each side stops protracting at its first detected contact: later contacts of
+            // that side are not reached (a tie touches).
+            let side_of = |c: &Contact| {
+                let w = self.whiskers.iter().find(|w| w.module.index == c.whisker);
+                w.map_or(0, |w| side(w.module.column))
+            };
+            let mut first = [f64::INFINITY; 2];
+            for c in &contacts {
+                let s = side_of(c);
+                first[s] = first[s].min(c.time_s);
+            }
+            contacts.retain(|c| c.time_s <= first[side_of(c)]);
+            let mut reached = reached.iter();
+            self.intersects.retain(|_| {
+                let &(s, t) = reached.next().expect("one per intersect");
+                t <= first[s]
+            });
+        }
+        self.spread_after(!contacts.is_empty());
         ContactCycle {
             index,
             start_s,

@@ -14,15 +14,17 @@
 //! 10 µm, penetration corrected at up to 1 m/s, and contacts predicted 0.5 mm ahead.
 
 use super::adaptive_step;
+pub use super::calibration::{calibrate_array_rcp, calibrate_rcp};
 use crate::environment::solids::Solids;
 use crate::sensing::kinematic::RigidWhisker;
 use crate::whisker::array::Module;
 use crate::whisker::beam::Bending;
 use crate::whisker::body::Whisker;
-use crate::whisker::control::{Controller, RcpThreshold, WhiskingPattern};
+use crate::whisker::control::{ControlState, Controller, WhiskingPattern};
 use crate::whisker::follicle::FollicleDesign;
 use crate::whisker::sensor::SensorModel;
 pub use crate::whisker::solver::SolverPath;
+use crate::whisker::strategies::{ArrayController, WhiskingControl};
 use nalgebra::Isometry3;
 use rapier3d_f64::counters::{Counters, Timer};
 use rapier3d_f64::prelude::*;
@@ -44,8 +46,11 @@ pub struct WhiskerConfig {
     pub follicle: Option<FollicleDesign>,
     /// The whisking pattern.
     pub pattern: WhiskingPattern,
-    /// RCP threshold on |y| (counts), or None for open loop.
-    pub rcp_threshold: Option<f64>,
+    /// Contact threshold on |y| (counts) for RCP and the array's strategies (None:
+    /// contacts are not detected, whatever `control` says).
+    pub contact_threshold: Option<f64>,
+    /// The whisking strategies (§2.3.1); the array's must agree for every whisker.
+    pub control: WhiskingControl,
     /// The sensors.
     pub sensor: SensorModel,
     /// Rapier substeps per 0.5 ms step (its `num_solver_iterations`).
@@ -92,7 +97,8 @@ impl WhiskerConfig {
             module,
             follicle: Some(FollicleDesign::default()),
             pattern: WhiskingPattern::default(),
-            rcp_threshold: None,
+            contact_threshold: None,
+            control: WhiskingControl::default(),
             sensor: SensorModel::default(),
             substeps: DEFAULT_SUBSTEPS,
             solver: SolverPath::default(),
@@ -136,7 +142,7 @@ pub struct WhiskerUnit {
     /// Rapier's stage timers summed over every step (zero unless built with the
     /// `profiler` feature).
     pub stages: StageTimes,
-    rng: StreamRng,
+    pub(crate) rng: StreamRng,
     last: Sample,
     steps: u64,
     world_steps: u64,
@@ -254,7 +260,9 @@ impl WhiskerUnit {
                 None,
             );
         }
-        let controller = Controller::new(config.pattern, config.rcp_threshold);
+        let controller = config
+            .control
+            .controller(config.pattern, config.contact_threshold);
         let theta = config.pattern.angle(0.0);
         let pose = array_pose * config.module.whisker_pose(theta);
         let groups =
@@ -349,6 +357,11 @@ impl WhiskerUnit {
         self.controller.retracting_early()
     }
 
+    /// The whisking strategies' state after the last step.
+    pub fn control_state(&self) -> ControlState {
+        self.controller.state()
+    }
+
     /// Whether any body of the world holds a non-finite value or was quarantined.
     pub fn is_broken(&self) -> bool {
         !self.world.quarantine().is_empty()
@@ -391,58 +404,14 @@ impl WhiskerUnit {
     }
 }
 
-/// The RCP threshold (counts) of a whisker, as the thesis calibrated it: for
-/// [`RcpThreshold::NoiseMultiple`]`(k)`, k × the standard deviation of the y deflection
-/// about its mean over one whisk cycle of free whisking (§3.2.2: whisking in the absence
-/// of any obstacle, so it holds sensor noise and the shaft's own whisking dynamics),
-/// simulated in an empty world with noise from the sub-stream
-/// `"calibration/whisker/NN"`; for [`RcpThreshold::Saturation`], the sensor's maximum
-/// detectable deflection (§4.1.1).
-///
-/// The free-whisking deflection grows with the square of the whisking frequency and with
-/// the whisker's length: for the 160 mm whisker at 5 Hz its σ is about 190 counts, so
-/// 20 σ exceeds the default saturation (2047) and RCP by that rule never fires. Callers
-/// should check the result against the sensor's saturation.
-pub fn calibrate_rcp(config: &WhiskerConfig, mode: RcpThreshold, seed: u64, dt: f64) -> f64 {
-    match mode {
-        RcpThreshold::Saturation => config.sensor.saturation_counts,
-        RcpThreshold::NoiseMultiple(k) => {
-            let free = WhiskerConfig {
-                rcp_threshold: None,
-                ..config.clone()
-            };
-            let mut unit = WhiskerUnit::new(free, &[], &Isometry3::identity(), seed, dt);
-            unit.rng = rng::substream(
-                seed,
-                &format!("calibration/whisker/{:02}", config.module.index),
-            );
-            let n = (1.0 / (config.pattern.frequency * dt)).round() as usize;
-            let y: Vec<f64> = (0..n)
-                .map(|_| unit.step(&Isometry3::identity()).y)
-                .collect();
-            let mean = y.iter().sum::<f64>() / n as f64;
-            let var = y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1).max(1) as f64;
-            k * var.sqrt()
-        }
-    }
-}
-
-/// Calibrates every whisker of `configs` by [`calibrate_rcp`] (in parallel) and sets its
-/// `rcp_threshold`.
-pub fn calibrate_array_rcp(configs: &mut [WhiskerConfig], mode: RcpThreshold, seed: u64, dt: f64) {
-    let thresholds: Vec<f64> = configs
-        .par_iter()
-        .map(|c| calibrate_rcp(c, mode, seed, dt))
-        .collect();
-    for (c, t) in configs.iter_mut().zip(thresholds) {
-        c.rcp_threshold = Some(t);
-    }
-}
-
 /// The whole array: one [`WhiskerUnit`] per module, stepped in parallel.
 pub struct PhysicsArray {
     /// The whiskers, in module order.
     pub units: Vec<WhiskerUnit>,
+    /// The strategies that couple the whiskers (spread reduction, contact-induced
+    /// asymmetry), if any: then every sample's contacts reach every controller before the
+    /// next.
+    coupling: Option<ArrayController>,
 }
 
 impl PhysicsArray {
@@ -454,19 +423,40 @@ impl PhysicsArray {
         seed: u64,
         dt: f64,
     ) -> Self {
+        let coupling = configs
+            .first()
+            .filter(|c| c.control.couples())
+            .map(|first| {
+                let columns: Vec<usize> = configs.iter().map(|c| c.module.column).collect();
+                ArrayController::new(first.control, &columns, first.pattern, dt)
+            });
         let units = configs
             .into_par_iter()
             .map(|c| WhiskerUnit::new(c, environment, array_pose, seed, dt))
             .collect();
-        Self { units }
+        Self { units, coupling }
     }
 
     /// Advances every whisker one step; one sample per whisker, in module order.
     pub fn step(&mut self, array_pose: &Isometry3<f64>) -> Vec<Sample> {
-        self.units
+        let samples: Vec<Sample> = self
+            .units
             .par_iter_mut()
             .map(|u| u.step(array_pose))
-            .collect()
+            .collect();
+        if let Some(coupling) = &mut self.coupling {
+            let t = self.units[0].time();
+            let contacts: Vec<bool> = self
+                .units
+                .iter()
+                .zip(&samples)
+                .map(|(u, s)| u.controller.in_contact(s.y))
+                .collect();
+            let mut controllers: Vec<&mut Controller> =
+                self.units.iter_mut().map(|u| &mut u.controller).collect();
+            coupling.update(t, &contacts, &mut controllers);
+        }
+        samples
     }
 
     /// Advances every whisker one step per pose of `poses`, the array frame at `poses[k]`
@@ -475,24 +465,51 @@ impl PhysicsArray {
     /// Each whisker runs all its steps in one task: the whiskers share nothing (RCP is
     /// per whisker and the poses are known in advance), so the samples are the same as
     /// from one [`Self::step`] per pose, without a barrier per sample (§2 L6 of the
-    /// physics-speed note: a whisker in contact costs many times a free one).
+    /// physics-speed note: a whisker in contact costs many times a free one) — unless a
+    /// strategy couples the whiskers (spread reduction, asymmetry): then one
+    /// [`Self::step`] per pose.
     pub fn run(&mut self, poses: &[Isometry3<f64>]) -> Vec<Vec<Sample>> {
         self.run_each(poses, |_, s| s)
     }
 
-    /// As [`Self::run`], each sample with the whisker's RCP state after its step
-    /// ([`WhiskerUnit::rcp_active`]).
-    pub fn run_with_rcp(&mut self, poses: &[Isometry3<f64>]) -> Vec<Vec<(Sample, bool)>> {
-        self.run_each(poses, |u, s| (s, u.rcp_active()))
+    /// As [`Self::run`], each sample with the whisker's strategies' state after its step
+    /// ([`WhiskerUnit::control_state`]).
+    pub fn run_with_state(&mut self, poses: &[Isometry3<f64>]) -> Vec<Vec<(Sample, ControlState)>> {
+        self.run_each(poses, |u, s| (s, u.control_state()))
+    }
+
+    /// As [`Self::run`], keeping `keep(unit, sample)` after every step instead of the
+    /// sample alone.
+    pub fn run_keeping<T: Send>(
+        &mut self,
+        poses: &[Isometry3<f64>],
+        keep: impl Fn(&WhiskerUnit, Sample) -> T + Sync,
+    ) -> Vec<Vec<T>> {
+        self.run_each(poses, keep)
     }
 
     /// Steps every whisker through `poses` in one task each, keeping `keep(unit, sample)`
-    /// after every step.
+    /// after every step; with coupling strategies, all whiskers a sample at a time
+    /// ([`Self::step`]).
     fn run_each<T: Send>(
         &mut self,
         poses: &[Isometry3<f64>],
         keep: impl Fn(&WhiskerUnit, Sample) -> T + Sync,
     ) -> Vec<Vec<T>> {
+        if self.coupling.is_some() {
+            let mut out: Vec<Vec<T>> = self
+                .units
+                .iter()
+                .map(|_| Vec::with_capacity(poses.len()))
+                .collect();
+            for pose in poses {
+                let samples = self.step(pose);
+                for ((o, u), s) in out.iter_mut().zip(&self.units).zip(samples) {
+                    o.push(keep(u, s));
+                }
+            }
+            return out;
+        }
         self.units
             .par_iter_mut()
             .map(|u| {

@@ -239,6 +239,21 @@ impl Whisker {
         Self::pose(world, self.segments[j]) * Point3::new(0.0, 0.0, s - j as f64 * l)
     }
 
+    /// The shaft's largest curvature (1/m): over every joint of the chain (base joint
+    /// included) the bending angle between its two bodies over the segment length — the
+    /// discretised beam's κ = dθ/ds (Eq 2.33).
+    pub fn max_curvature(&self, world: &PhysicsWorld) -> f64 {
+        let l = self.beam.segment_length();
+        let mut previous = self.base_pose(world).rotation;
+        let mut most: f64 = 0.0;
+        for &s in &self.segments {
+            let r = Self::pose(world, s).rotation;
+            most = most.max((previous.inverse() * r).angle() / l);
+            previous = r;
+        }
+        most
+    }
+
     /// Bending moment the shaft's base joint carries (N·m, in the base frame, x and y
     /// components): its spring stiffness times the rotation of the first segment
     /// relative to the base frame.

@@ -1,5 +1,6 @@
 //! Whisking control (thesis §2.2.2, §2.3.1, §3.2.2, §4.1.1): an open-loop cosine
-//! protraction/retraction, optionally modulated by rapid cessation of protraction (RCP).
+//! protraction/retraction, optionally modulated by rapid cessation of protraction (RCP),
+//! and shaped by the array's contact-triggered strategies ([`super::strategies`]).
 //!
 //! Open loop: θ(t) = θ_mid − A·cos(2π f t + φ), with θ_mid = (θ_r + θ_p)/2 and
 //! A = (θ_p − θ_r)/2 — fully retracted (40°) at the start of each cycle, fully protracted
@@ -77,27 +78,131 @@ impl WhiskingPattern {
     }
 }
 
-/// A whisker's motor controller: the pattern, and RCP if enabled.
+/// A whisker's motor controller: the pattern, RCP if enabled, and the stroke shaping of
+/// the array's strategies ([`super::strategies`]: spread reduction, contact-induced
+/// asymmetry) if enabled.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Controller {
     /// The open-loop pattern.
     pub pattern: WhiskingPattern,
-    /// RCP threshold on |y| in ADC counts (None: open loop).
-    pub rcp_threshold: Option<f64>,
-    /// Active early retraction: (cycle, start time, start angle).
-    retraction: Option<(i64, f64, f64)>,
+    /// Contact threshold on |y| in ADC counts (None: contacts are not detected).
+    pub contact_threshold: Option<f64>,
+    /// Whether a contact stops protraction at once and retracts (RCP).
+    pub rcp: bool,
+    /// Stroke shaping (None: the open-loop cosine, bit for bit).
+    shaping: Option<Shaping>,
+    /// Active early retraction: (cycle, start time, start angle, target angle).
+    retraction: Option<(i64, f64, f64, f64)>,
     last_command: f64,
+    protracting: bool,
+}
+
+/// What the array's strategies did to a whisker's stroke at one sample (recorded with
+/// the sensor streams, `docs/recording.md`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ControlState {
+    /// RCP: retracting early after a contact (§3.2.2).
+    pub rcp: bool,
+    /// Spread reduction engaged: the stroke's limits are the narrowed ones.
+    pub narrowed: bool,
+    /// Contact-induced asymmetry: protraction held after a contact on this side.
+    pub held: bool,
+}
+
+/// A stroke made of half-cosines, each from where the command was when the half-cycle
+/// began to that half's target: the protraction half to the (possibly narrowed)
+/// protraction limit, the retraction half to the (possibly narrowed) retraction limit.
+/// With the pattern's own limits throughout it is the open-loop cosine.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Shaping {
+    /// The narrowed (retracted, protracted) limits of spread reduction.
+    narrowed_limits: (f64, f64),
+    /// Whether the next half-cycle takes the narrowed limits.
+    narrowed: bool,
+    /// The current half-cycle: (cycle, retracting).
+    half: (i64, bool),
+    /// This half's start and target angles.
+    from: f64,
+    to: f64,
+    /// A protraction hold (contact-induced asymmetry) until the cycle's retraction half.
+    hold: Option<f64>,
+}
+
+impl Shaping {
+    /// The target of a half-cycle.
+    fn target(&self, pattern: &WhiskingPattern, retracting: bool) -> f64 {
+        match (retracting, self.narrowed) {
+            (true, true) => self.narrowed_limits.0,
+            (true, false) => pattern.retracted,
+            (false, true) => self.narrowed_limits.1,
+            (false, false) => pattern.protracted,
+        }
+    }
+
+    /// The shaped stroke at time `t` of cycle `k`; `rcp_end` is where an RCP retraction
+    /// that has just ended with its cycle left the whisker.
+    fn angle(&mut self, pattern: &WhiskingPattern, t: f64, k: i64, rcp_end: Option<f64>) -> f64 {
+        let u = (pattern.frequency * t + pattern.phase / TAU - k as f64).clamp(0.0, 1.0);
+        let retracting = u >= 0.5;
+        if (k, retracting) != self.half {
+            // Each half starts where the last one ended: its target (or its hold), or
+            // where RCP left the whisker. The first half-cycle of all starts from the
+            // pattern's own limit (the command so far is the open-loop one).
+            self.from = match (rcp_end, self.hold) {
+                _ if self.half.0 == i64::MIN => {
+                    if retracting {
+                        pattern.protracted
+                    } else {
+                        pattern.retracted
+                    }
+                }
+                (Some(end), _) => end,
+                (None, Some(h)) if !self.half.1 => self.to.min(h),
+                (None, _) => self.to,
+            };
+            self.half = (k, retracting);
+            self.to = self.target(pattern, retracting);
+            if !retracting {
+                self.hold = None;
+            }
+        }
+        let s = if retracting { 2.0 * u - 1.0 } else { 2.0 * u };
+        let a = self.from + (self.to - self.from) * (1.0 - (PI * s).cos()) / 2.0;
+        match self.hold {
+            Some(h) if !retracting => a.min(h),
+            _ => a,
+        }
+    }
 }
 
 impl Controller {
-    /// A controller for `pattern`, with RCP at `rcp_threshold` counts if given.
-    pub fn new(pattern: WhiskingPattern, rcp_threshold: Option<f64>) -> Self {
+    /// A controller for `pattern` detecting contacts at `contact_threshold` counts (if
+    /// given), with RCP if `rcp`.
+    pub fn new(pattern: WhiskingPattern, contact_threshold: Option<f64>, rcp: bool) -> Self {
         Self {
             pattern,
-            rcp_threshold,
+            contact_threshold,
+            rcp,
+            shaping: None,
             retraction: None,
             last_command: pattern.angle(0.0),
+            protracting: true,
         }
+    }
+
+    /// The same controller with its stroke shaped by the array's strategies, spread
+    /// reduction narrowing it to `narrowed_limits` (retracted, protracted; rad) when
+    /// engaged.
+    pub fn shaped(mut self, narrowed_limits: (f64, f64)) -> Self {
+        self.shaping = Some(Shaping {
+            narrowed_limits,
+            narrowed: false,
+            half: (i64::MIN, false),
+            from: self.pattern.retracted,
+            to: self.pattern.protracted,
+            hold: None,
+        });
+        self
     }
 
     /// Whether an early retraction is under way.
@@ -105,29 +210,85 @@ impl Controller {
         self.retraction.is_some()
     }
 
+    /// Whether reading `y` (counts) is a contact: |y| reaches the contact threshold.
+    pub fn in_contact(&self, y: f64) -> bool {
+        self.contact_threshold.is_some_and(|t| y.abs() >= t)
+    }
+
+    /// Whether the last command was on a protraction stroke.
+    pub fn protracting(&self) -> bool {
+        self.protracting
+    }
+
+    /// The strategies' state after the last command.
+    pub fn state(&self) -> ControlState {
+        ControlState {
+            rcp: self.retraction.is_some(),
+            narrowed: self.shaping.is_some_and(|s| s.narrowed),
+            held: self.shaping.is_some_and(|s| s.hold.is_some() && !s.half.1),
+        }
+    }
+
+    /// Spread reduction: whether the half-cycles from the next one on take the narrowed
+    /// limits (no effect on an unshaped controller).
+    pub fn set_narrowed(&mut self, narrowed: bool) {
+        if let Some(s) = &mut self.shaping {
+            s.narrowed = narrowed;
+        }
+    }
+
+    /// Contact-induced asymmetry: stop protracting where the whisker is now, until the
+    /// cycle's retraction half (no effect while retracting, when already held, or on an
+    /// unshaped controller).
+    pub fn hold(&mut self) {
+        let last = self.last_command;
+        if let Some(s) = &mut self.shaping
+            && !s.half.1
+            && s.hold.is_none()
+        {
+            s.hold = Some(last);
+        }
+    }
+
     /// The commanded angle at time `t` (s), given the latest y deflection reading
     /// (counts). Call once per sample, in time order.
     pub fn command(&mut self, t: f64, y: f64) -> f64 {
         let k = self.pattern.cycle(t);
-        if self.retraction.is_some_and(|(cycle, _, _)| cycle != k) {
+        let rcp_end = self
+            .retraction
+            .filter(|&(cycle, ..)| cycle != k)
+            .map(|(.., target)| target);
+        if rcp_end.is_some() {
             self.retraction = None;
         }
-        let open = self.pattern.angle(t);
-        if let (Some(threshold), None) = (self.rcp_threshold, self.retraction)
-            && y.abs() >= threshold
-            && open > self.last_command
-        {
-            self.retraction = Some((k, t, self.last_command));
+        let (stroke, protracting) = match &mut self.shaping {
+            None => {
+                let open = self.pattern.angle(t);
+                (open, open > self.last_command)
+            }
+            Some(s) => {
+                let a = s.angle(&self.pattern, t, k, rcp_end);
+                (a, !s.half.1)
+            }
+        };
+        if self.rcp && self.retraction.is_none() && protracting && self.in_contact(y) {
+            // Back to the retraction limit by the cycle's end: the pattern's, or the
+            // narrowed one of spread reduction (never forwards).
+            let target = match &self.shaping {
+                None => self.pattern.retracted,
+                Some(s) => s.target(&self.pattern, true).min(self.last_command),
+            };
+            self.retraction = Some((k, t, self.last_command, target));
         }
         let angle = match self.retraction {
-            Some((cycle, t0, a0)) => {
+            Some((cycle, t0, a0, r)) => {
                 let end = self.pattern.cycle_end(cycle);
                 let s = ((t - t0) / (end - t0)).clamp(0.0, 1.0);
-                let r = self.pattern.retracted;
                 r + (a0 - r) * (1.0 + (PI * s).cos()) / 2.0
             }
-            None => open,
+            None => stroke,
         };
+        self.protracting = protracting && self.retraction.is_none();
         self.last_command = angle;
         angle
     }
@@ -151,7 +312,7 @@ mod tests {
     #[test]
     fn rcp_stops_protraction_and_retracts_by_the_end_of_the_cycle() {
         let p = WhiskingPattern::default();
-        let mut c = Controller::new(p, Some(40.0));
+        let mut c = Controller::new(p, Some(40.0), true);
         let dt = 1.0 / 2000.0;
         let mut trace = Vec::new();
         for i in 0..4000 {

@@ -1,7 +1,8 @@
 //! The actively whisked whisker (thesis §2.2.2, §2.3): the shaft as a discretised beam
 //! ([`beam`]), the compliant follicle ([`follicle`]) and its sensors ([`sensor`]), the
 //! whisker built in Rapier ([`body`]), the array's geometry ([`array`]), whisking
-//! control with RCP ([`control`]), characterisation of one design ([`characterize`]) and
+//! control with RCP ([`control`]) and the array's contact-triggered strategies
+//! ([`strategies`]), characterisation of one design ([`characterize`]) and
 //! the Rapier code path that steps the chain ([`solver`]).
 
 pub mod array;
@@ -12,6 +13,7 @@ pub mod control;
 pub mod follicle;
 pub mod sensor;
 pub mod solver;
+pub mod strategies;
 
 pub use beam::BeamDesign;
 pub use body::Whisker;
