@@ -4,8 +4,9 @@
 
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use rapier3d_f64::prelude::SharedShape;
+use whisker_sim::sensing::calibration::calibrate_rcp;
 use whisker_sim::sensing::physics::{
-    DEFAULT_SUBSTEPS, EnvironmentPiece, PhysicsArray, WhiskerConfig, WhiskerUnit, calibrate_rcp,
+    DEFAULT_SUBSTEPS, EnvironmentPiece, PhysicsArray, WhiskerConfig, WhiskerUnit,
 };
 use whisker_sim::whisker::array::{self, Module};
 use whisker_sim::whisker::control::RcpThreshold;

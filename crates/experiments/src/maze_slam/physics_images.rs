@@ -14,10 +14,9 @@ use super::path::Sample;
 use crate::record::Reporter;
 use crate::sensing::contact::detect_on;
 use nalgebra::Isometry3;
+use whisker_sim::sensing::calibration::calibrate_array_rcp;
 use whisker_sim::sensing::kinematic::RigidWhisker;
-use whisker_sim::sensing::physics::{
-    DT, EnvironmentPiece, PhysicsArray, WhiskerConfig, calibrate_array_rcp,
-};
+use whisker_sim::sensing::physics::{DT, EnvironmentPiece, PhysicsArray, WhiskerConfig};
 use whisker_sim::whisker::control::RcpThreshold;
 use whisker_slam::frontend::contact::FrontEndParams;
 use whisker_slam::ratslam::experience_map::wrap;

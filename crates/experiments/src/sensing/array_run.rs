@@ -13,7 +13,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 use whisker_sim::environment::Environment;
 use whisker_sim::kinematics::Chain;
-use whisker_sim::sensing::physics::{PhysicsArray, calibrate_array_rcp};
+use whisker_sim::sensing::calibration::calibrate_array_rcp;
+use whisker_sim::sensing::physics::PhysicsArray;
 use whisker_sim::whisker::control::{RcpThreshold, WhiskingPattern};
 
 /// The array being simulated along a run.

@@ -14,7 +14,6 @@
 //! 10 µm, penetration corrected at up to 1 m/s, and contacts predicted 0.5 mm ahead.
 
 use super::adaptive_step;
-pub use super::calibration::{calibrate_array_rcp, calibrate_rcp};
 use crate::environment::solids::Solids;
 use crate::sensing::kinematic::RigidWhisker;
 use crate::whisker::array::Module;
