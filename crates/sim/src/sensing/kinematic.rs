@@ -486,12 +486,20 @@ impl KinematicArray {
         // Per intersect: the whisker's side and time of contact.
         let mut reached: Vec<(usize, f64)> = Vec::new();
         for (i, (w, stroke)) in self.whiskers.iter().zip(&strokes).enumerate() {
-            let swept = RigidWhisker {
-                retracted: stroke.retracted,
-                protracted: stroke.protracted,
-                ..w.clone()
+            // Without spread reduction the whisker sweeps its own limits, as before.
+            let narrowed;
+            let swept = match self.control.spread_reduction {
+                None => w,
+                Some(_) => {
+                    narrowed = RigidWhisker {
+                        retracted: stroke.retracted,
+                        protracted: stroke.protracted,
+                        ..w.clone()
+                    };
+                    &narrowed
+                }
             };
-            let Some(hit) = target.sweep(&swept, array_pose) else {
+            let Some(hit) = target.sweep(swept, array_pose) else {
                 continue;
             };
             self.intersects.push((w.module.index, hit.point));
