@@ -4,10 +4,11 @@
 
 mod cli;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
+use whisker_experiments::console::NoRecording;
 use whisker_experiments::error::Error;
-use whisker_experiments::record::{Context, Reporter};
+use whisker_experiments::record::Context;
 use whisker_recording::Rerun;
 
 /// Tactile SLAM and object recognition testbed for an actively whisked artificial
@@ -63,27 +64,22 @@ enum Command {
     },
 }
 
-/// The console: an experiment's account on stdout, its notes and status on stderr.
-struct Console;
-
-impl Reporter for Console {
-    fn say(&self, line: &str) {
-        println!("{line}");
-    }
-    fn note(&self, line: &str) {
-        eprintln!("{line}");
-    }
-    fn status(&self, text: &str) {
-        eprint!("\r{text}");
-    }
-}
-
 fn main() -> ExitCode {
+    // With --json stdout is the JSON alone: the header, the account and the file list go
+    // to stderr.
+    let console = cli::console::Console::new(std::env::args().any(|a| a == "--json"));
     let ctx = Context {
         recordings: &Rerun,
-        reporter: &Console,
+        reporter: &console,
     };
-    let command = Cli::parse().command;
+    let matches = Cli::command().get_matches();
+    let command = match Cli::from_arg_matches(&matches) {
+        Ok(cli) => cli.command,
+        Err(e) => e.exit(),
+    };
+    let header = cli::console::header(&Cli::command(), &matches);
+    let missing = missing_recording(&command);
+    console.account(&header);
     // A failed batch keeps its finished trials (they are resumed); any other failed
     // command removes what it created, panics included.
     let keep_on_failure = matches!(command, Command::Trials(_));
@@ -94,7 +90,10 @@ fn main() -> ExitCode {
         whisker_experiments::output::discard_created();
     }
     match result {
-        Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Ok(())) => {
+            console.account(&cli::console::closing(missing));
+            ExitCode::SUCCESS
+        }
         Ok(Err(e)) => {
             eprintln!("error: {e}");
             // Bad input exits with 2, anything else with 1.
@@ -105,6 +104,24 @@ fn main() -> ExitCode {
         }
         // The panic's message is printed by the default hook.
         Err(_) => ExitCode::from(101),
+    }
+}
+
+/// Why a command that can record wrote no recording, should it write none.
+fn missing_recording(command: &Command) -> Option<NoRecording> {
+    let slam = |rrd: &cli::RrdArgs| match rrd.no_rrd {
+        true => NoRecording::SwitchedOff,
+        false => NoRecording::NoOut,
+    };
+    match command {
+        Command::Run(_) => Some(NoRecording::SwitchedOff),
+        Command::ObjectSlam(a) => Some(slam(&a.rrd)),
+        Command::MazeSlam(a) => Some(slam(&a.rrd)),
+        Command::Soak(_) => Some(NoRecording::NoFile),
+        Command::Radial {
+            command: cli::radial::Command::Generate(_),
+        } => Some(NoRecording::SwitchedOff),
+        _ => None,
     }
 }
 

@@ -118,11 +118,26 @@ pub struct TrialsArgs {
     pub out: Option<PathBuf>,
 }
 
-/// Prints `report`: JSON (pretty or not) or its table.
+/// Prints `report`: JSON (pretty or not) or its table and what its figures mean.
 fn show<R: serde::Serialize + std::fmt::Display>(report: &R, json: Option<bool>) {
     match json {
         Some(pretty) => print_json(report, pretty),
-        None => print!("{report}"),
+        None => print!(
+            "{report}{}",
+            whisker_experiments::console::legend(
+                "how to read it",
+                &[
+                    (
+                        "ratio",
+                        "against the baseline measured in this same run, on this machine (higher = faster unless the column says otherwise); compare ratios, not the absolute times, across machines or runs"
+                    ),
+                    (
+                        "times",
+                        "wall-clock; a busy machine inflates them — benchmarks are never pass/fail tests"
+                    ),
+                ],
+            )
+        ),
     }
 }
 

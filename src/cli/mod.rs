@@ -3,6 +3,7 @@
 
 pub mod bench;
 pub mod characterize;
+pub mod console;
 pub mod dataset;
 pub mod maze_slam;
 pub mod object_slam;

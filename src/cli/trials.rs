@@ -117,15 +117,12 @@ pub fn run(args: &Args, ctx: Context) -> Result {
                 sbatch: a.sbatch.clone(),
                 whisker: a.whisker.clone(),
             })?;
-            println!(
-                "wrote      {}/{{array.sh, merge.sh, submit.sh}}",
-                submit.parent().unwrap_or(&submit).display()
-            );
             println!("submit     bash {}", submit.display());
             Ok(())
         }
         (Some(Command::Report { dir }), _, _) => {
-            println!("wrote      {}", report::write(dir)?.display());
+            report::write(dir)?;
+            print!("{}", report_legend());
             Ok(())
         }
         (None, Some(scenario), Some(a)) => {
@@ -147,6 +144,7 @@ pub fn run(args: &Args, ctx: Context) -> Result {
                 outcome.already,
                 csv.display()
             );
+            print!("{}", report_legend());
             if outcome.failed > 0 {
                 return Err(Error::Failure(format!(
                     "{} trial(s) failed: their errors are in {}",
@@ -160,6 +158,31 @@ pub fn run(args: &Args, ctx: Context) -> Result {
             "whisker trials: expected SCENARIO --out DIR, or one of merge, slurm, report".into(),
         )),
     }
+}
+
+/// What a batch's files hold.
+fn report_legend() -> String {
+    whisker_experiments::console::legend(
+        "what the files hold",
+        &[
+            (
+                "trials.csv",
+                "one row per trial: its factors, seed, status and every metric of its summary.json (docs: scenarios/README.md, [trials])",
+            ),
+            (
+                "report.md",
+                "per metric and stratum: n, median and IQR per factor level, Kruskal–Wallis across levels and pairwise Mann–Whitney, Holm-corrected (exact for small n); p < 0.05 = a difference unlikely by chance",
+            ),
+            (
+                "figures/",
+                "notched box plots per metric and factor (notch = ~95 % interval of the median: notches that do not overlap differ), threshold lines where a metric has one",
+            ),
+            (
+                "runs/",
+                "each trial's own outputs and stdout.txt, named by its key",
+            ),
+        ],
+    )
 }
 
 /// A batch's progress on stderr: a bar with ETA on a terminal, a line per trial otherwise.

@@ -3,6 +3,7 @@
 //! 2, file and field named, nothing written).
 
 mod arm_tour;
+mod console;
 mod dataset;
 mod dataset_malformed;
 mod dataset_object;

@@ -52,7 +52,24 @@ const PHYSICS: &str = "sensing = \"physics\"\n[arm]\nurdf = URDF\ninitial_joints
 fn physics_runs_write_reproducible_2_khz_whisker_streams() {
     let tmp = tempfile::tempdir().unwrap();
     let (o, _) = run_bad(tmp.path(), "physics", PHYSICS);
-    assert!(o.status.success(), "{}", stderr(&o));
+    // The console explains the lines, lists the files and shows progress while it runs
+    // (a line a tenth off a terminal).
+    let out = tmp.path().join("out-physics");
+    super::console::assert_console(&o, "Run a scenario", &["front end", "whisking"], Some(&out));
+    assert!(
+        stdout(&o).contains("recording  none (switched off"),
+        "{}",
+        stdout(&o)
+    );
+    assert!(
+        stderr(&o)
+            .lines()
+            .filter(|l| l.starts_with("progress   "))
+            .count()
+            >= 5,
+        "{}",
+        stderr(&o)
+    );
     let csv = std::fs::read_to_string(tmp.path().join("out-physics/whiskers.csv")).unwrap();
     let mut lines = csv.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();

@@ -19,7 +19,7 @@ fn a_physics_validation_set_is_detected_near_the_anticipated_contacts_and_evalua
         "--out",
         data.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    super::console::assert_console(&o, "Radial distance", &[], Some(tmp.path()));
     let set = rows(&data);
     assert!(set.len() >= 3, "{} contacts", set.len());
     // The recording beside the data set: each simulation's whisker streams, one whisk
@@ -88,6 +88,21 @@ fn a_physics_validation_set_is_detected_near_the_anticipated_contacts_and_evalua
     }
     // The tip assumption never underestimates (the estimate is the whole length).
     assert!(v["models"][0]["radial_error_median"].as_f64().unwrap() >= 0.0);
+    // On the console: the table's columns explained.
+    let o = whisker(&[
+        "radial",
+        "eval",
+        "--data",
+        data.to_str().unwrap(),
+        "--models",
+        repo("assets/models").to_str().unwrap(),
+    ]);
+    super::console::assert_console(
+        &o,
+        "Validate trained regressors",
+        &["model", "δr", "d", "p(tip), p(random)"],
+        None,
+    );
 }
 
 #[test]
@@ -122,7 +137,12 @@ fn training_writes_loadable_models_and_bad_input_is_refused() {
         "--models",
         "poly8,svr12",
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    super::console::assert_console(
+        &o,
+        "Train the twelve regressors",
+        &["PC1…", "R² train", "RMSE", "chosen"],
+        Some(&models),
+    );
     for name in ["poly8", "svr12"] {
         let text = std::fs::read_to_string(models.join(format!("{name}.json"))).unwrap();
         let v: serde_json::Value = serde_json::from_str(&text).unwrap();

@@ -108,7 +108,13 @@ fn rows_do_not_depend_on_jobs_and_equal_single_runs() {
     let (a, b) = (tmp.path().join("j1"), tmp.path().join("j2"));
     let f = file.to_str().unwrap();
     ok(&trials(&[f, "--out", a.to_str().unwrap(), "--jobs", "1"]));
-    ok(&trials(&[f, "--out", b.to_str().unwrap(), "--jobs", "2"]));
+    let o = trials(&[f, "--out", b.to_str().unwrap(), "--jobs", "2"]);
+    super::console::assert_console(
+        &o,
+        "Batch trials",
+        &["trials.csv", "report.md", "figures/", "runs/"],
+        Some(&b),
+    );
     let csv = read(&a.join("trials.csv"));
     assert_eq!(csv, read(&b.join("trials.csv")), "--jobs 1 and 2 differ");
     let text = String::from_utf8(csv).unwrap();

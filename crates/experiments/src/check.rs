@@ -30,7 +30,7 @@ pub fn check(file: &Path, meshes: Option<&Path>, ctx: Context) -> Result {
         ctx.say(line);
     }
     if let Some(dir) = meshes {
-        write_meshes(file, &scenario, &loaded.environment, dir, ctx)?;
+        write_meshes(file, &scenario, &loaded.environment, dir)?;
     }
     let dir = &scenario.output.dir;
     let rrd = if scenario.output.recording {
@@ -73,13 +73,7 @@ pub fn check(file: &Path, meshes: Option<&Path>, ctx: Context) -> Result {
 
 /// Writes each `[[objects]]` mesh of `scenario` (read from `file`) as loaded into
 /// `environment` to `dir/NAME.obj`.
-fn write_meshes(
-    file: &Path,
-    scenario: &Scenario,
-    environment: &Environment,
-    dir: &Path,
-    ctx: Context,
-) -> Result {
+fn write_meshes(file: &Path, scenario: &Scenario, environment: &Environment, dir: &Path) -> Result {
     crate::output::create_dir(dir)?;
     let names = scenario.object_names();
     for (i, (name, piece)) in names.iter().zip(&environment.pieces).enumerate() {
@@ -105,7 +99,6 @@ fn write_meshes(
             ),
         );
         crate::output::write_atomic(&path, text.as_bytes())?;
-        ctx.say(&format!("wrote      {}", path.display()));
     }
     Ok(())
 }

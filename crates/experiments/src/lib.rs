@@ -20,6 +20,7 @@ pub mod characterize;
 pub mod check;
 pub mod choice;
 pub mod closed_loop;
+pub mod console;
 pub mod dataset;
 pub mod datasets;
 pub mod error;

@@ -13,6 +13,25 @@ use std::sync::{Mutex, PoisonError};
 /// and files [`write_atomic`] or [`commit`] put where none was, in order.
 static CREATED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
+/// Every file this process completed ([`commit`]), in order, whether new or replaced: what
+/// the command line lists as written ([`written`]).
+static WRITTEN: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// The files this process has written so far, in order (each once).
+pub fn written() -> Vec<PathBuf> {
+    let list = WRITTEN.lock().unwrap_or_else(PoisonError::into_inner);
+    let mut seen = std::collections::HashSet::new();
+    list.iter().filter(|p| seen.insert(*p)).cloned().collect()
+}
+
+/// Lists `path` (a directory renamed into place whole, e.g. a dataset) as written.
+pub fn wrote(path: &Path) {
+    WRITTEN
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .push(path.to_path_buf());
+}
+
 fn created(path: &Path) {
     let mut list = CREATED.lock().unwrap_or_else(PoisonError::into_inner);
     list.push(path.to_path_buf());
@@ -88,6 +107,14 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result {
     }
 }
 
+/// Writes `value` as compact JSON to `path` atomically: the format of
+/// `ObjectMap::save`, the way every other output is written.
+pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result {
+    let text = serde_json::to_string(value)
+        .map_err(|e| Error::Failure(format!("cannot write {}: {e}", path.display())))?;
+    write_atomic(path, text.as_bytes())
+}
+
 /// Renames a completed temporary file into place.
 pub fn commit(tmp: &Path, path: &Path) -> Result {
     let new = !path.exists();
@@ -98,5 +125,6 @@ pub fn commit(tmp: &Path, path: &Path) -> Result {
     if new {
         created(path);
     }
+    wrote(path);
     Ok(())
 }

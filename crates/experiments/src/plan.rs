@@ -193,12 +193,19 @@ impl Plan {
             c.joint_names.join(", ")
         );
         let speed = plan.speed.iter().cloned().fold(f64::INFINITY, f64::min);
-        let _ = writeln!(
-            s,
-            "trajectory {} waypoints, {:.2} s at joint speeds ≤ {speed} rad/s",
-            plan.waypoints.len() - 1,
-            plan.trajectory.duration()
-        );
+        if scenario.explore.is_some() && plan.waypoints.len() == 1 {
+            let _ = writeln!(
+                s,
+                "trajectory none scripted: the closed loop chooses each whisk's goal (Ch 6); joint speeds ≤ {speed} rad/s"
+            );
+        } else {
+            let _ = writeln!(
+                s,
+                "trajectory {} waypoints, {:.2} s at joint speeds ≤ {speed} rad/s",
+                plan.waypoints.len() - 1,
+                plan.trajectory.duration()
+            );
+        }
         for (k, q) in plan.waypoints.iter().enumerate() {
             let tip = c.fk(q);
             let p = tip.translation.vector;

@@ -266,6 +266,9 @@ pub trait Reporter: Sync {
     fn note(&self, line: &str);
     /// A passing status, replaced by the next one (an empty one clears it).
     fn status(&self, _text: &str) {}
+    /// Progress of a long step: `done` of `total` `what` (e.g. "whisks"); the console
+    /// shows a bar with a time estimate and clears it when `done` reaches `total`.
+    fn progress(&self, _what: &str, _done: u64, _total: u64) {}
 }
 
 /// Hears nothing.
@@ -288,6 +291,11 @@ impl Context<'_> {
     /// Says every line of `text` ([`Reporter::say`]).
     pub fn say(&self, text: &str) {
         text.lines().for_each(|l| self.reporter.say(l));
+    }
+
+    /// Reports progress ([`Reporter::progress`]).
+    pub fn progress(&self, what: &str, done: u64, total: u64) {
+        self.reporter.progress(what, done, total);
     }
 
     /// Notes every line of `text` ([`Reporter::note`]).
@@ -355,20 +363,6 @@ impl Target {
             (Some(p), _) => Some(p.clone()),
             (None, Some(d)) if default_on => Some(d.join("run.rrd")),
             _ => None,
-        }
-    }
-}
-
-impl Target {
-    /// `, NAME` of the recording a command writes into `dir` (for its `wrote` line),
-    /// `; recording PATH` when it goes elsewhere, or nothing.
-    pub fn wrote(&self, dir: &Path, default_on: bool) -> String {
-        match self.path(Some(dir), default_on) {
-            Some(p) if p.parent() == Some(dir) => {
-                format!(", {}", p.file_name().unwrap_or_default().to_string_lossy())
-            }
-            Some(p) => format!("; recording {}", p.display()),
-            None => String::new(),
         }
     }
 }

@@ -109,6 +109,9 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: 
         sensors.advance_to(&plan, t, recording.as_deref())?;
         let tip = plan.chain.fk(&q);
         log.sample(t, &q, &tip, world.arm_collisions());
+        if scenario.sensing == Sensing::Physics {
+            ctx.progress("samples simulated", k as u64, steps as u64);
+        }
         if let Some(rec) = recording.as_deref() {
             sensors.record(rec, (&plan, &skeleton), t, &q, &tip)?;
             // A fixed point every simulated second: the recording's chunks do not depend
@@ -128,11 +131,7 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: 
         rec.finish()?;
     }
     ctx.say(&log.simulated(dt));
-    ctx.say(&finished.lines(
-        scenario.sensing,
-        dir,
-        &rrd.wrote(dir, scenario.output.recording),
-    ));
+    ctx.say(&finished.lines(scenario.sensing));
     Ok(())
 }
 
@@ -250,16 +249,9 @@ struct Sensed {
 }
 
 impl Sensed {
-    /// The lines a run ends with: what was sensed and the files written into `dir`
-    /// (`rrd`: the recording's part of the list).
-    fn lines(&self, sensing: Sensing, dir: &Path, rrd: &str) -> String {
+    /// The lines a run ends with: what was sensed.
+    fn lines(&self, sensing: Sensing) -> String {
         let mut out = String::new();
-        let csv = match (sensing, self.counts.is_some()) {
-            (Sensing::Physics, true) => ", whiskers.csv, frontend.csv, anticipated.csv",
-            (Sensing::Physics, false) => ", whiskers.csv, frontend.csv",
-            (Sensing::Kinematic, _) => ", contacts.csv",
-            (Sensing::None, _) => "",
-        };
         if let (Some((cycles, n)), Sensing::Kinematic) = (self.counts, sensing) {
             let _ = writeln!(out, "sensed     {n} contacts in {cycles} whisk cycles");
         }
@@ -272,11 +264,19 @@ impl Sensed {
         if let Some(w) = &self.whisking {
             let _ = writeln!(out, "{}", w.line());
         }
-        let _ = writeln!(
-            out,
-            "wrote      {}/{{path.csv, summary.json{csv}{rrd}}}",
-            dir.display()
-        );
+        let mut legend = Vec::new();
+        if sensing == Sensing::Kinematic {
+            legend.push(("sensed", "contacts of the rigid whiskers' anticipated-intersect sweep (§4.1.2.3) with the scenario's contact noise; one row each in contacts.csv"));
+        }
+        if self.frontend_contacts.is_some() {
+            legend.push(("front end", "contacts the signal front end found in the 2 kHz deflection streams (§3.1.1: onset, peak, offset; frontend.csv); 0 with objects in reach means the detection threshold is above the peaks"));
+        }
+        if self.whisking.is_some() {
+            legend.push(("whisking", "what the whisking strategy did (§2.3.1), first whisk left out: touching = |deflection| above 20 × the free-whisking noise; spread = range of first-contact times across the array (SR narrows it); curvature = the shafts' bending at contact (SR lowers it)"));
+        }
+        if !legend.is_empty() {
+            out.push_str(&crate::console::legend("what the lines mean", &legend));
+        }
         out
     }
 }

@@ -480,5 +480,15 @@ pub fn soak(o: &Settings, ctx: Context) -> Result<Vec<CaseReport>> {
     if let Some(rec) = recording {
         rec.finish()?;
     }
+    ctx.say(&crate::console::legend(
+        "what the columns mean",
+        &[
+            ("whiskers touching", "whiskers the kinematic sweep says reach the object (those simulated unless --all-whiskers)"),
+            ("centre-line depth", "the deepest any shaft's centre line went inside a solid, mm; below its radius (≤ 1 mm) is contact, deeper is tunnelling"),
+            ("finite", "no position or velocity became NaN or infinite and no whisker was quarantined"),
+            ("world steps/sample", "Rapier steps per 0.5 ms sample (adaptive substepping; 1 = none needed)"),
+            ("ok / FAILED", "passed = finite and no tunnelling"),
+        ],
+    ));
     Ok(records)
 }

@@ -464,9 +464,7 @@ fn write_replay(
     let text = serde_json::to_string_pretty(&value).expect("plain JSON") + "\n";
     crate::output::write_atomic(&out.join("summary.json"), text.as_bytes())?;
     if info.task == "map" {
-        slam.map
-            .save(&out.join("map.json"))
-            .map_err(Error::Failure)?;
+        crate::output::write_json(&out.join("map.json"), &slam.map)?;
     }
     Ok(())
 }

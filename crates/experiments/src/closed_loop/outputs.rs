@@ -86,7 +86,7 @@ pub fn write(
     let text = serde_json::to_string_pretty(&out.summary).expect("plain JSON") + "\n";
     crate::output::write_atomic(&dir.join(SUMMARY_NAME), text.as_bytes())?;
     if let Some(map) = &out.map {
-        map.save(&dir.join("map.json")).map_err(Error::Failure)?;
+        crate::output::write_json(&dir.join("map.json"), map)?;
     }
     if let Some(rec) = recording {
         for (k, q) in out.joints.iter().enumerate() {
@@ -97,34 +97,71 @@ pub fn write(
         rec.tip_path(&tips)?;
         rec.finish()?;
     }
-    let s = &out.summary;
-    ctx.say(&format!("explored   {} whisks ({:.0} s simulated, {wall:.1} s wall): {} experiences, {} re-localisations into the loaded maps",
+    ctx.say(&results(&out.summary, wall));
+    Ok(())
+}
+
+/// The console account of a closed-loop run's `summary.json` (`wall`: seconds it took),
+/// its lines explained below it.
+fn results(s: &serde_json::Value, wall: f64) -> String {
+    use std::fmt::Write as _;
+    let mut out = format!(
+        "explored   {} whisks ({:.0} s simulated, {wall:.1} s wall): {} experiences, {} re-localisations into the loaded maps\n",
         s["iterations"],
         s["simulated_time_s"].as_f64().unwrap_or(0.0),
         s["experiences"],
         s["relocalisations"]
-    ));
-    ctx.say(&format!("fallbacks  {}", s["fallbacks"]));
+    );
+    if let Some(f) = s["fallbacks"].as_object() {
+        let list: Vec<String> = f
+            .iter()
+            .filter(|(_, n)| n.as_u64().is_some_and(|n| n > 0))
+            .map(|(k, n)| format!("{} {n}", k.replace('_', " ")))
+            .collect();
+        let list = match list.is_empty() {
+            true => "none".to_owned(),
+            false => list.join(", "),
+        };
+        let _ = writeln!(out, "fallbacks  {list}");
+    }
+    let mut legend = vec![
+        (
+            "whisks",
+            "one whisk cycle = one WhiskerRatSLAM update (Alg 2); each whisk the arm moves to a new goal",
+        ),
+        (
+            "fallbacks",
+            "goals replaced: collision = the arm or array would have entered the object, unreachable = no IK solution, pushed back = a face goal moved 2 cm outward until clear, lost contact = a whisk touched nothing, SPC limit = the placement control (§6.1.1) gave up after its step limit",
+        ),
+    ];
     if let Some(r) = s["recognition"].as_object() {
-        ctx.say(&format!(
-            "recognised {} (true object {}): outcome {}, SRT {}, IM {}",
-            r["identified"], s["object"], r["outcome"], r["srt"], r["im"]
-        ));
+        let text = |v: &serde_json::Value| v.as_str().map_or_else(|| v.to_string(), str::to_owned);
+        let _ = writeln!(
+            out,
+            "recognised {} (the object is {}): {}; SRT {} whisks, IM {} whisks",
+            text(&r["identified"]),
+            text(&s["object"]),
+            text(&r["outcome"]),
+            r["srt"],
+            r["im"]
+        );
+        legend.push(("recognised", "the first object whose integrated confidence IC (the raw confidence summed over whisks, §6.1.2.4, Fig 6.4) reached the threshold (300, Fig 6.7); correct / wrong / none"));
+        legend.push(("SRT", "successful recognition time (§6.2, Fig 6.9): whisks until the true object's IC reached the threshold; lower is better"));
+        legend.push(("IM", "identity margin (§6.2, Fig 6.8): whisks from the true object's crossing to the next object's (censored at the run's end); larger = a clearer decision"));
     }
     if let Some(m) = s["map_accuracy"].as_object() {
         let f = |v: &serde_json::Value| v.as_f64().unwrap_or(f64::NAN);
         let (a, r) = (&m["aligned"], &m["revisits"]);
-        ctx.say(&format!(
-            "map        {} experiences checked: max error {:.4} m, median {:.4} m, {} over 2 cm \
-             (from the first); after a rigid fit {:.4} / {:.4} m, {} over 2 cm",
+        let _ = writeln!(
+            out,
+            "map error  {} experiences: median {:.3} m, max {:.3} m from the first experience; after a rigid fit median {:.3} m, max {:.3} m; {} over 2 cm",
             m["experiences_checked"],
-            f(&m["max_error_m"]),
             f(&m["median_error_m"]),
-            m["over_2cm"],
-            f(&a["max_error_m"]),
+            f(&m["max_error_m"]),
             f(&a["median_error_m"]),
+            f(&a["max_error_m"]),
             a["over_2cm"]
-        ));
+        );
         // Without revisits the medians are null: say so instead of printing NaN.
         let gap = match (
             r["median_distance_m"].as_f64(),
@@ -133,17 +170,14 @@ pub fn write(
             (Some(d), Some(a)) => format!("median gap {d:.3} m, {a:.0}°"),
             _ => "no gap to measure".to_owned(),
         };
-        ctx.say(&format!(
-            "revisits   {} re-localisations into this run's experiences, {} true (within 2 cm and \
-             10° of where it was made); {gap}",
+        let _ = writeln!(
+            out,
+            "revisits   {} re-localisations into this run's own experiences, {} true; {gap}",
             r["count"], r["true"]
-        ));
+        );
+        legend.push(("map error", "how far each experience of this run sits in the map from where the array truly was (§6.1.3), laid on the truth at the first experience, then by the best rigid fit; a metric map keeps this within a few cm. Ch 6 judges recognition, not this: errors larger than the object mean the map joins views topologically (re-localisations pull distant views together), not metrically"));
+        legend.push(("revisits", "true = the experience re-localised into was made within 2 cm and 10° of where the array is; gap = how far apart they are"));
     }
-    let map = if out.map.is_some() { ", map.json" } else { "" };
-    let rrd = rrd.wrote(dir, scenario.output.recording);
-    ctx.say(&format!(
-        "wrote      {}/{{{CSV_NAME}, {SUMMARY_NAME}, contacts.csv{map}{rrd}}}",
-        dir.display()
-    ));
-    Ok(())
+    out.push_str(&crate::console::legend("what the lines mean", &legend));
+    out
 }

@@ -128,6 +128,7 @@ pub fn write(out: &Path, fill: impl FnOnce(&mut Staging) -> Result<Manifest>) ->
         std::fs::rename(&staging, out).map_err(|e| {
             Error::Failure(format!("cannot move the dataset to {}: {e}", out.display()))
         })?;
+        crate::output::wrote(out);
         Ok(manifest)
     });
     if result.is_err() {

@@ -207,6 +207,10 @@ fn without<T: Copy>(v: &[T], cut: &std::ops::Range<usize>) -> Vec<T> {
 /// `whisker maze-slam`.
 pub fn run(o: &Settings, ctx: Context) -> Result<Report> {
     let scenario = Scenario::load_with(&o.scenario, &o.set)?;
+    ctx.say(&format!(
+        "odometry   {}",
+        scenario.maze_slam.odometry.describe(path::STEP_M)
+    ));
     let runs = evaluate(o, &scenario, ctx)?;
     Ok(Report { runs })
 }
@@ -549,6 +553,21 @@ impl fmt::Display for Report {
                 metric(r.energy_metric, 9),
             )?;
         }
-        Ok(())
+        f.write_str(&crate::console::legend(
+            "columns",
+            &[
+                ("variant", "normal, or kidnapped (carried ahead mid-run, §3.3.1)"),
+                ("images", "how each whisk became a tactile image: whisking control / contact-angle estimate (max_angle or contact_angle, §3.1.1)"),
+                ("thresh", "local-view match threshold (§3.2.1; lower = stricter)"),
+                ("energy", "pose-cell inject energy (§3.2.1)"),
+                ("updates", "whisks = RatSLAM updates"),
+                ("templates", "distinct tactile images kept as local-view templates"),
+                ("experiences", "nodes of the experience map"),
+                ("ARR", "average re-localisation rate (§3.2.3.1, Alg 1): re-localisations per experience after the first loop; 0–1, higher = the loop is recognised more often"),
+                ("ARCR", "average rate of correct re-localisation: the share of re-localisations within 0.1 m and 25° of the truth; 0–1, higher is better"),
+                ("EM", "Energy Metric (Eq 3.2–3.3): mean over consecutive poses of the squared error of their relative pose (m² + rad²); lower is better, 0 = no error (Figs 3.7–3.8)"),
+                ("n/a", "the metric needs ground truth (a dataset without it)"),
+            ],
+        ))
     }
 }

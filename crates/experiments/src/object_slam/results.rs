@@ -4,7 +4,7 @@
 use super::settings::{Combo, Settings};
 use super::trajectory::Trajectory;
 use super::walk::{Event, Sensed};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt;
@@ -180,8 +180,7 @@ pub fn localisation(
         {
             let maps = dir.join("maps");
             crate::output::create_dir(&maps)?;
-            map.save(&maps.join(format!("{}.json", asset.name)))
-                .map_err(Error::Failure)?;
+            crate::output::write_json(&maps.join(format!("{}.json", asset.name)), &map)?;
         }
     }
     if let Some(dir) = &o.out {
@@ -316,6 +315,18 @@ impl fmt::Display for Report {
             }
             writeln!(f)?;
         }
-        Ok(())
+        f.write_str(&crate::console::legend(
+            "columns",
+            &[
+                ("parameters", "features / merging / contact points (Table 5.1): pfh = point feature histogram, sda = slope distribution array, both; merged = a re-localisation averages the matched experience's features with the observed ones (Table 5.1 \"feature update\"); tip = the whisker tip at the contact angle, svr = the radial-distance estimate"),
+                ("exps", "experiences in the object map built on lap 1 of trajectory A"),
+                ("step", "the thesis' step between poses (§5.2.2.1); a re-localisation within it is a true revisit"),
+                ("nA/true", "trajectory A's second lap (the mapped path again): re-localisations / true revisits among them"),
+                ("nB/true", "trajectory B (a novel path, A's map as prior): the same"),
+                ("position, rotation", "error of the re-localised experience's map pose against the true pose, median / 75th percentile (cm, °); lower is better (Fig 5.15)"),
+                ("reloc, right", "re-localisations over one lap, and those onto the true object's map"),
+                ("confidence", "per mapped object, the leaky-integrated share of re-localisations onto it, 0–1 (decay 0.9 per whisk); the true object's should be the highest"),
+            ],
+        ))
     }
 }

@@ -236,6 +236,14 @@ impl fmt::Display for EvalReport {
                 r.face_distance_p_vs_random,
             )?;
         }
-        Ok(())
+        f.write_str(&crate::console::legend(
+            "columns",
+            &[
+                ("model", "a Table 4.1 regressor (svr = support vector regression, poly = polynomial, mlp = perceptron; the number is its feature set), tip = assume the contact at the tip, random = a uniform guess"),
+                ("δr", "normalised radial error (d_estimate − d_true)/L (Eq 4.1): median and SD; 0 is perfect, tip is biased positive (Fig 4.8)"),
+                ("d", "distance from the contact point placed with the estimate (Eq 5.1–5.2) to the object's nearest face, mm; lower is better (Fig 4.9)"),
+                ("p(tip), p(random)", "two-sample Kolmogorov–Smirnov p-values against the tip's and the random guess's distributions; small = significantly different"),
+            ],
+        ))
     }
 }

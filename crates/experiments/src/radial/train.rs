@@ -199,6 +199,10 @@ impl fmt::Display for TrainReport {
                 loadings.join(" ")
             )?;
         }
+        f.write_str(&crate::console::legend(
+            "PCA",
+            &[("PC1…", "principal components of the whitened contact features (§2.7, Fig 4.6): CP CA = contact period and amplitude, DV DA = deflection velocity and acceleration, AV AA = angular velocity and acceleration, WL = whisker length")],
+        ))?;
         writeln!(
             f,
             "{:<7} {:<20} {:>9} {:>11}  chosen",
@@ -211,6 +215,15 @@ impl fmt::Display for TrainReport {
                 m.model, m.features, m.r2_train, m.rmse_mm, m.chosen
             )?;
         }
+        f.write_str(&crate::console::legend(
+            "columns",
+            &[
+                ("model, features", "the Table 4.1 regressors and the contact features each uses"),
+                ("R² train", "coefficient of determination on the training set (1 = perfect fit; judge on `radial eval`, not this)"),
+                ("RMSE", "root-mean-square radial-distance error on the training set, mm"),
+                ("chosen", "the hyper-parameters cross-validation picked"),
+            ],
+        ))?;
         writeln!(
             f,
             "{} models from {} contacts written to {} ({:.0} s)",

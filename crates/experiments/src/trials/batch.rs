@@ -230,6 +230,7 @@ pub fn run_trial(
         let scenario = batch.scenario(trial)?;
         crate::output::create_dir(dir)?;
         let path = dir.join("stdout.txt");
+        crate::output::wrote(&path);
         let mut file = std::fs::File::create(&path)
             .map_err(|e| Error::Failure(format!("{}: {e}", path.display())))?;
         use std::io::Write;

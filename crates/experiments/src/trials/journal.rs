@@ -273,6 +273,8 @@ impl Journal {
     /// Opens (creating) `dir`'s journal and log.
     pub fn open(dir: &Path) -> Result<Self> {
         let open = |name: &str| {
+            // Appended line by line (each line complete), so listed as written at once.
+            crate::output::wrote(&dir.join(name));
             OpenOptions::new()
                 .create(true)
                 .append(true)

@@ -68,6 +68,20 @@ pub fn notched_boxes(
     groups: &[BoxGroup],
     colours: &[usize],
 ) -> Result {
+    let mut svg = String::new();
+    draw_boxes(&mut svg, path, title, y_label, groups, colours)?;
+    crate::output::write_atomic(path, svg.as_bytes())
+}
+
+/// Draws [`notched_boxes`] into `svg` (`path` names it in errors).
+fn draw_boxes(
+    svg: &mut String,
+    path: &Path,
+    title: &str,
+    y_label: &str,
+    groups: &[BoxGroup],
+    colours: &[usize],
+) -> Result {
     let lo = groups
         .iter()
         .flat_map(|g| [g.stats.whisker_low, g.stats.notch_low])
@@ -79,7 +93,7 @@ pub fn notched_boxes(
         .chain(groups.iter().flat_map(|g| g.stats.outliers.iter().copied()))
         .fold(f64::NEG_INFINITY, f64::max);
     let width = (200 + 170 * groups.len()).clamp(480, 2400) as u32;
-    let root = SVGBackend::new(path, (width, 480)).into_drawing_area();
+    let root = SVGBackend::with_string(svg, (width, 480)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| failed(path, e))?;
     let n = groups.len() as f64;
     let mut chart = ChartBuilder::on(&root)
@@ -169,6 +183,20 @@ pub fn band_curves(
     y_label: &str,
     curves: &[Curve],
 ) -> Result {
+    let mut svg = String::new();
+    draw_bands(&mut svg, path, title, x_label, y_label, curves)?;
+    crate::output::write_atomic(path, svg.as_bytes())
+}
+
+/// Draws [`band_curves`] into `svg` (`path` names it in errors).
+fn draw_bands(
+    svg: &mut String,
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    curves: &[Curve],
+) -> Result {
     let xs = curves.iter().flat_map(|c| c.x.iter().copied());
     let x_hi = xs.fold(1.0f64, f64::max);
     let lo = curves
@@ -179,7 +207,7 @@ pub fn band_curves(
         .iter()
         .flat_map(|c| c.q3.iter().copied())
         .fold(f64::NEG_INFINITY, f64::max);
-    let root = SVGBackend::new(path, (900, 520)).into_drawing_area();
+    let root = SVGBackend::with_string(svg, (900, 520)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| failed(path, e))?;
     let mut chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 18))
