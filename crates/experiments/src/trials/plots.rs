@@ -3,16 +3,26 @@
 //! median with its interquartile band over iterations.
 
 use crate::error::{Error, Result};
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
 use whisker_slam::stats::boxplot::BoxStats;
 
 /// One box: its label under the axis and its figures.
 pub struct BoxGroup {
-    /// Label on the x axis.
+    /// Label on the x axis (the level; `n` is added).
     pub label: String,
+    /// The stratum (the other factors' levels), written once under its boxes.
+    pub stratum: String,
     /// The figures.
     pub stats: BoxStats,
+}
+
+/// A horizontal reference line: its value and what it is (a threshold, a perfect score).
+pub struct Reference {
+    pub value: f64,
+    pub label: String,
 }
 
 /// One curve: a median and its interquartile band at each x.
@@ -67,9 +77,10 @@ pub fn notched_boxes(
     y_label: &str,
     groups: &[BoxGroup],
     colours: &[usize],
+    reference: Option<&Reference>,
 ) -> Result {
     let mut svg = String::new();
-    draw_boxes(&mut svg, path, title, y_label, groups, colours)?;
+    draw_boxes(&mut svg, path, (title, y_label), groups, colours, reference)?;
     crate::output::write_atomic(path, svg.as_bytes())
 }
 
@@ -77,20 +88,22 @@ pub fn notched_boxes(
 fn draw_boxes(
     svg: &mut String,
     path: &Path,
-    title: &str,
-    y_label: &str,
+    (title, y_label): (&str, &str),
     groups: &[BoxGroup],
     colours: &[usize],
+    reference: Option<&Reference>,
 ) -> Result {
     let lo = groups
         .iter()
         .flat_map(|g| [g.stats.whisker_low, g.stats.notch_low])
         .chain(groups.iter().flat_map(|g| g.stats.outliers.iter().copied()))
+        .chain(reference.map(|r| r.value))
         .fold(f64::INFINITY, f64::min);
     let hi = groups
         .iter()
         .flat_map(|g| [g.stats.whisker_high, g.stats.notch_high])
         .chain(groups.iter().flat_map(|g| g.stats.outliers.iter().copied()))
+        .chain(reference.map(|r| r.value))
         .fold(f64::NEG_INFINITY, f64::max);
     let width = (200 + 170 * groups.len()).clamp(480, 2400) as u32;
     let root = SVGBackend::with_string(svg, (width, 480)).into_drawing_area();
@@ -103,10 +116,12 @@ fn draw_boxes(
         .y_label_area_size(70)
         .build_cartesian_2d(-0.5..n - 0.5, padded(lo, hi))
         .map_err(|e| failed(path, e))?;
+    // Under each box its level and n; under each run of boxes of one stratum, the stratum.
     let label = |x: &f64| -> String {
         let i = x.round();
         if (x - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < groups.len() {
-            groups[i as usize].label.clone()
+            let g = &groups[i as usize];
+            format!("{} (n={})", g.label, g.stats.n)
         } else {
             String::new()
         }
@@ -120,6 +135,27 @@ fn draw_boxes(
         .y_desc(y_label)
         .draw()
         .map_err(|e| failed(path, e))?;
+    let y_low = padded(lo, hi).start;
+    let mut start = 0;
+    while start < groups.len() {
+        let stratum = &groups[start].stratum;
+        let end = (start..groups.len())
+            .find(|&j| groups[j].stratum != *stratum)
+            .unwrap_or(groups.len());
+        if !stratum.is_empty() {
+            let (px, py) = chart.backend_coord(&((start + end - 1) as f64 / 2.0, y_low));
+            let style = ("sans-serif", 12)
+                .into_font()
+                .color(&BLACK.mix(0.75))
+                .pos(Pos::new(HPos::Center, VPos::Top));
+            root.draw(&Text::new(stratum.clone(), (px, py + 30), style))
+                .map_err(|e| failed(path, e))?;
+        }
+        start = end;
+    }
+    if let Some(r) = reference {
+        reference_line(&mut chart, &root, (-0.5, n - 0.5), r, path)?;
+    }
     for (i, g) in groups.iter().enumerate() {
         let s = &g.stats;
         let c = colour(colours.get(i).copied().unwrap_or(i));
@@ -164,27 +200,47 @@ fn draw_boxes(
                     .map(|&y| Circle::new((x, y), 3, RED.stroke_width(1))),
             )
             .map_err(|e| failed(path, e))?;
-        chart
-            .draw_series([Text::new(
-                format!("n={}", s.n),
-                (x - 0.2, s.whisker_high),
-                ("sans-serif", 11).into_font().color(&BLACK.mix(0.7)),
-            )])
-            .map_err(|e| failed(path, e))?;
     }
     root.present().map_err(|e| failed(path, e))
+}
+
+/// The chart of a figure: SVG, x and y in f64.
+type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// Draws `r` across `x` as a dashed line, its label above its left end.
+fn reference_line(
+    chart: &mut Chart,
+    root: &DrawingArea<SVGBackend, plotters::coord::Shift>,
+    (x0, x1): (f64, f64),
+    r: &Reference,
+    path: &Path,
+) -> Result {
+    let dash = (x1 - x0) / 120.0;
+    let dashes = (0..60)
+        .map(|k| {
+            let a = x0 + 2.0 * k as f64 * dash;
+            vec![(a, r.value), (a + dash, r.value)]
+        })
+        .map(|l| PathElement::new(l, BLACK.mix(0.7).stroke_width(1)));
+    chart.draw_series(dashes).map_err(|e| failed(path, e))?;
+    let style = ("sans-serif", 12)
+        .into_font()
+        .color(&BLACK.mix(0.8))
+        .pos(Pos::new(HPos::Left, VPos::Bottom));
+    let (px, py) = chart.backend_coord(&(x0, r.value));
+    root.draw(&Text::new(r.label.clone(), (px + 4, py - 2), style))
+        .map_err(|e| failed(path, e))
 }
 
 /// Median curves with interquartile bands, written to `path` as SVG.
 pub fn band_curves(
     path: &Path,
-    title: &str,
-    x_label: &str,
-    y_label: &str,
+    labels: (&str, &str, &str),
     curves: &[Curve],
+    reference: Option<&Reference>,
 ) -> Result {
     let mut svg = String::new();
-    draw_bands(&mut svg, path, title, x_label, y_label, curves)?;
+    draw_bands(&mut svg, path, labels, curves, reference)?;
     crate::output::write_atomic(path, svg.as_bytes())
 }
 
@@ -192,10 +248,9 @@ pub fn band_curves(
 fn draw_bands(
     svg: &mut String,
     path: &Path,
-    title: &str,
-    x_label: &str,
-    y_label: &str,
+    (title, x_label, y_label): (&str, &str, &str),
     curves: &[Curve],
+    reference: Option<&Reference>,
 ) -> Result {
     let xs = curves.iter().flat_map(|c| c.x.iter().copied());
     let x_hi = xs.fold(1.0f64, f64::max);
@@ -206,6 +261,7 @@ fn draw_bands(
     let hi = curves
         .iter()
         .flat_map(|c| c.q3.iter().copied())
+        .chain(reference.map(|r| r.value))
         .fold(f64::NEG_INFINITY, f64::max);
     let root = SVGBackend::with_string(svg, (900, 520)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| failed(path, e))?;
@@ -222,6 +278,9 @@ fn draw_bands(
         .y_desc(y_label)
         .draw()
         .map_err(|e| failed(path, e))?;
+    if let Some(r) = reference {
+        reference_line(&mut chart, &root, (0.0, x_hi), r, path)?;
+    }
     for c in curves {
         let colour = colour(c.colour);
         let band: Vec<(f64, f64)> =

@@ -11,7 +11,7 @@
 //! per level (a trial that stopped keeps its last value).
 
 use super::journal::{self, Entry, Meta, RUNS, Status};
-use super::plots::{BoxGroup, Curve, band_curves, notched_boxes};
+use super::plots::{BoxGroup, Curve, Reference, band_curves, notched_boxes};
 use crate::error::{Error, Result};
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet};
@@ -26,6 +26,10 @@ pub const REPORT: &str = "report.md";
 pub const FIGURES: &str = "figures";
 /// At most this many distinct values make a text metric a category.
 const MAX_CATEGORIES: usize = 6;
+/// The SRT metric (§6.2): the true object's IC crossing, whatever crossed first.
+const SRT: &str = "recognition.srt";
+/// SRT over the runs that identified the true object (outcome `correct`) only.
+const SRT_CORRECT: &str = "recognition.srt[correct]";
 
 /// One group of trials: a stratum (the other factors' levels) and a level.
 struct Group<'a> {
@@ -96,6 +100,18 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
     if !meta.report.is_empty() {
         numeric.retain(|m| meta.report.contains(m));
         categorical.retain(|m| meta.report.contains(m));
+    }
+    // SRT mixes runs that identified the true object with runs that took another one
+    // first: beside it, SRT over the correct runs alone.
+    if let Some(i) = numeric.iter().position(|m| m == SRT) {
+        numeric.insert(i + 1, SRT_CORRECT.to_owned());
+        md.push_str(
+            "`recognition.srt` is the whisk at which the true object's IC reached the threshold, \
+             whatever crossed first (a wrong identification may precede it); \
+             `recognition.srt[correct]` is the same over the runs whose outcome is `correct` only. \
+             Runs in which the true object never crossed (censored, `recognition.srt_censored_at`) \
+             are missing from both.\n\n",
+        );
     }
     // Factors with one level (a base's factor narrowed) compare nothing.
     let varied: Vec<usize> = (0..meta.factors.len())
@@ -218,10 +234,44 @@ fn group<'a>(
 }
 
 fn values(g: &Group, metric: &str) -> Vec<f64> {
+    if metric == SRT_CORRECT {
+        return g
+            .entries
+            .iter()
+            .filter(|e| {
+                e.metrics.get("recognition.outcome").and_then(Value::as_str) == Some("correct")
+            })
+            .filter_map(|e| e.metrics.get(SRT).and_then(Value::as_f64))
+            .collect();
+    }
     g.entries
         .iter()
         .filter_map(|e| e.metrics.get(metric).and_then(Value::as_f64))
         .collect()
+}
+
+/// The reference line of `metric`'s box plot, where one applies: the recognition
+/// threshold on a final IC (Fig 6.7), 0 on IM (Fig 6.8: above it the true object crossed
+/// first), the 2 cm tolerance on map errors, 1 (perfect) on ARR and ARCR (§3.2.3.1).
+fn reference(metric: &str, groups: &[Group]) -> Option<Reference> {
+    let threshold = || {
+        groups
+            .iter()
+            .flat_map(|g| &g.entries)
+            .find_map(|e| e.metrics.get("recognition.threshold")?.as_f64())
+    };
+    let (value, label) = if metric.starts_with("recognition.final_ic.") {
+        (threshold()?, "IC threshold (Fig 6.7)".to_owned())
+    } else if metric == "recognition.im" {
+        (0.0, "0: above, the true object crossed first".to_owned())
+    } else if metric.starts_with("map_accuracy.") && metric.ends_with("error_m") {
+        (0.02, "2 cm tolerance".to_owned())
+    } else if metric.ends_with(".arr") || metric.ends_with(".arcr") {
+        (1.0, "perfect score (§3.2.3.1)".to_owned())
+    } else {
+        return None;
+    };
+    Some(Reference { value, label })
 }
 
 /// A file-name-safe version of `s`.
@@ -281,6 +331,7 @@ fn section(
             metric,
             &boxes,
             &colours,
+            reference(metric, groups).as_ref(),
         )?;
         let _ = writeln!(md, "![{metric} by {factor}]({FIGURES}/{name})\n");
     }
@@ -306,12 +357,11 @@ fn table(md: &mut String, metric: &str, groups: &[Group]) -> (Vec<BoxGroup>, Vec
             num(b.iqr()),
             num(b.mean)
         );
-        let label = if g.stratum.is_empty() {
-            g.level.clone()
-        } else {
-            format!("{} · {}", g.level, g.stratum)
-        };
-        boxes.push(BoxGroup { label, stats: b });
+        boxes.push(BoxGroup {
+            label: g.level.clone(),
+            stratum: g.stratum.clone(),
+            stats: b,
+        });
         colours.push(g.level_index);
     }
     md.push('\n');
@@ -529,15 +579,69 @@ fn curves(md: &mut String, dir: &Path, figures: &Path, factor: &str, groups: &[G
             slug(&object),
             slug(factor)
         );
+        let threshold = reference(&format!("recognition.final_ic.{object}"), groups);
         band_curves(
             &figures.join(&name),
-            &format!("integrated confidence of {object} by {factor}{at} (median, IQR band)"),
-            "whisk (iteration)",
-            &format!("IC {object}"),
+            (
+                &format!("integrated confidence of {object} by {factor}{at} (median, IQR band)"),
+                "whisk (iteration)",
+                &format!("IC {object}"),
+            ),
             &curves,
+            threshold.as_ref(),
         )
         .map_err(|e| Error::Failure(e.to_string()))?;
         let _ = writeln!(md, "![IC of {object} by {factor}{at}]({FIGURES}/{name})\n");
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    fn entry(index: usize, outcome: &str, srt: Option<f64>) -> Entry {
+        let mut metrics = serde_json::Map::new();
+        metrics.insert("recognition.outcome".into(), json!(outcome));
+        metrics.insert("recognition.srt".into(), json!(srt));
+        metrics.insert("recognition.threshold".into(), json!(250.0));
+        Entry {
+            index,
+            key: format!("t{index}"),
+            seed: index as u64,
+            levels: vec![],
+            status: Status::Ok,
+            error: None,
+            metrics,
+            wall_s: 0.0,
+        }
+    }
+
+    #[test]
+    fn srt_of_correct_runs_leaves_out_wrong_and_censored_runs() {
+        let e = [
+            entry(0, "correct", Some(120.0)),
+            entry(1, "wrong", Some(400.0)),
+            entry(2, "correct", Some(80.0)),
+            entry(3, "none", None),
+        ];
+        let g = Group {
+            stratum: String::new(),
+            level: "all".into(),
+            level_index: 0,
+            entries: e.iter().collect(),
+        };
+        assert_eq!(values(&g, SRT), [120.0, 400.0, 80.0]);
+        assert_eq!(values(&g, SRT_CORRECT), [120.0, 80.0]);
+        // Reference lines: the batch's own threshold on a final IC, 0 on IM, 2 cm on map
+        // errors, 1 on ARCR; none on SRT.
+        let groups = [g];
+        let at = |m: &str| reference(m, &groups).map(|r| r.value);
+        assert_eq!(at("recognition.final_ic.box"), Some(250.0));
+        assert_eq!(at("recognition.im"), Some(0.0));
+        assert_eq!(at("map_accuracy.aligned.median_error_m"), Some(0.02));
+        assert_eq!(at("normal.max_angle.arcr"), Some(1.0));
+        assert_eq!(at(SRT), None);
+    }
 }
