@@ -297,6 +297,29 @@ fn a_closed_loop_records_its_map_confidence_and_contacts() {
         .flat_map(|(_, p)| p)
         .collect();
     assert_eq!(recorded, from_csv);
+    // On the whisk timeline the viewer opens on: the arm once per whisk (it would be
+    // invisible there without it), the tip's trail of the last whisks (at most 11 points,
+    // each the whisk's tip), and the IC threshold beside the ICs.
+    let skeleton = decode::strips(&chunks, "/world/arm/skeleton", "whisk");
+    assert_eq!(skeleton.len(), iterations);
+    let trail = decode::strips(&chunks, "/world/arm/tip_path", "whisk");
+    assert_eq!(trail.len(), iterations);
+    for (k, (whisk, strips)) in trail.iter().enumerate() {
+        assert_eq!(*whisk, k as i64);
+        assert_eq!(strips[0].len(), (k + 1).min(11), "whisk {k}");
+        // The trail ends where the skeleton ends (the tip).
+        assert_eq!(strips[0].last(), skeleton[k].1[0].last());
+    }
+    let threshold = decode::scalars(&chunks, "/recognition/integrated/threshold");
+    assert_eq!(threshold.len(), iterations);
+    assert!(threshold.iter().all(|(_, v)| v[0] == 300.0));
+    // Named in the viewer (static: once, not per whisk).
+    let properties = &decode::entities(&chunks)["/__properties"];
+    assert!(properties.components.contains("RecordingInfo:name"));
+    assert!(
+        properties.static_rows == 1 && properties.rows == 0,
+        "{properties:?}"
+    );
 
     let two = run("two", "2");
     let (_, again) = decode::read(&two.join("run.rrd")).unwrap();

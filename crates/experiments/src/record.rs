@@ -98,23 +98,66 @@ impl GraphSchedule {
     }
 }
 
+/// Where a 3-D view's camera opens: its position and the point it looks at (world, m).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Eye {
+    pub position: [f64; 3],
+    pub target: [f64; 3],
+}
+
+impl Eye {
+    /// A camera framing the box `lo`..`hi` (world, m, z up) whole: looking at its centre
+    /// from the front left (−x, −y) and above, at about 40° of elevation.
+    pub fn framing(lo: [f64; 3], hi: [f64; 3]) -> Self {
+        let c = [0, 1, 2].map(|i| (lo[i] + hi[i]) / 2.0);
+        let size = (0..3).map(|i| hi[i] - lo[i]).fold(0.0, f64::max).max(0.1);
+        let dir = [-0.55, -0.75, 0.9];
+        let norm = dir.iter().map(|d| d * d).sum::<f64>().sqrt();
+        Self {
+            position: [0, 1, 2].map(|i| c[i] + dir[i] / norm * size * 1.4),
+            target: c,
+        }
+    }
+
+    /// [`Eye::framing`] of the pieces of `environment` (their meshes' vertices in the
+    /// world) and `points`; none when there is nothing.
+    pub fn of(environment: &Environment, points: &[[f64; 3]]) -> Option<Self> {
+        let world = environment.pieces.iter().flat_map(|p| {
+            p.mesh
+                .vertices
+                .iter()
+                .map(move |v| (p.pose * v).coords.into())
+        });
+        let all: Vec<[f64; 3]> = world.chain(points.iter().copied()).collect();
+        if all.is_empty() {
+            return None;
+        }
+        let lo = [0, 1, 2].map(|i| all.iter().map(|p| p[i]).fold(f64::INFINITY, f64::min));
+        let hi = [0, 1, 2].map(|i| all.iter().map(|p| p[i]).fold(f64::NEG_INFINITY, f64::max));
+        Some(Self::framing(lo, hi))
+    }
+}
+
 /// The layout a recording opens on in a viewer.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Layout {
-    /// `whisker run` without a closed loop: the scene, and with physics whiskers their
-    /// streams.
-    Run { physics: bool },
+    /// `whisker run` without a closed loop: the scene (camera at `eye`), and with physics
+    /// whiskers their streams.
+    Run { physics: bool, eye: Option<Eye> },
     /// `whisker soak` and `radial generate`: the cases' scenes side by side and their
     /// streams.
     Cases,
-    /// A closed loop (Ch 6): the scene, confidence, the object map, pose cells, events.
-    ClosedLoop,
+    /// A closed loop (Ch 6): the scene (camera at `eye`), confidence, the object map, pose
+    /// cells, events, on the whisk timeline.
+    ClosedLoop { eye: Option<Eye> },
     /// A SLAM command over several runs (`maze-slam`, `object-slam`): per run its input
-    /// image (when `images`), pose cells and map, on timeline `timeline`.
+    /// image (when `images`), pose cells and map, on timeline `timeline`; the scene's
+    /// camera at `eye`.
     SlamRuns {
         runs: Vec<String>,
         images: bool,
         timeline: &'static str,
+        eye: Option<Eye>,
     },
 }
 
@@ -144,6 +187,18 @@ pub trait Recorder {
     /// The arm at time `t`: its link frames along the chain from the root, a line through
     /// their origins and the tip frame (`world/arm/…`).
     fn arm(&self, t: f64, links: &[Isometry3<f64>], tip: &Isometry3<f64>) -> Result;
+    /// The arm as [`Recorder::arm`] at whisk `whisk` (also on the `whisk` timeline), with
+    /// the tip's `recent` path (`world/arm/tip_path`, the last whisks': a trail, not the
+    /// whole run scribbled over the scene).
+    fn arm_at_whisk(
+        &self,
+        t: f64,
+        whisk: u64,
+        arm: (&[Isometry3<f64>], &Isometry3<f64>),
+        recent: &[Isometry3<f64>],
+    ) -> Result;
+    /// The axes of the tip, link and array frames (static).
+    fn frame_axes(&self) -> Result;
     /// A frame's pose at `entity`.
     fn pose(&self, entity: &str, pose: &Isometry3<f64>) -> Result;
     /// The whole tip path (`world/arm/tip_path`, static) and the axes of the frames.
@@ -461,5 +516,25 @@ impl SensorColumns {
         }
         self.times.clear();
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Eye;
+
+    #[test]
+    fn the_camera_looks_at_the_middle_of_the_box_from_outside_it() {
+        let (lo, hi) = ([0.45, -0.1, 0.0], [0.65, 0.1, 0.35]);
+        let e = Eye::framing(lo, hi);
+        assert_eq!(e.target, [0.55, 0.0, 0.175]);
+        // From the front left and above, 1.4 × the largest side away.
+        let d: Vec<f64> = (0..3).map(|i| e.position[i] - e.target[i]).collect();
+        assert!(d[0] < 0.0 && d[1] < 0.0 && d[2] > 0.0);
+        let dist = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+        assert!((dist - 1.4 * 0.35).abs() < 1e-12, "{dist}");
+        for i in 0..3 {
+            assert!(!(lo[i]..=hi[i]).contains(&e.position[i]) || i == 2);
+        }
     }
 }

@@ -66,8 +66,10 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: 
     if scenario.explore.is_some() {
         return crate::closed_loop::write(file, scenario, plan, &environment, dir, rrd, ctx);
     }
+    let start = plan.chain.fk(&plan.waypoints[0]).translation.vector;
     let layout = Layout::Run {
         physics: scenario.sensing == Sensing::Physics,
+        eye: crate::record::Eye::of(&environment, &[[0.0; 3], start.into()]),
     };
     let recording = ctx.scenario_recording(
         file,

@@ -140,6 +140,15 @@ pub fn strings(
     })
 }
 
+/// [`rows`] of a `LineStrips3D` at `entity`: each row's strips, each a list of points.
+pub fn strips(chunks: &[Chunk], entity: &str, timeline: &str) -> Vec<(i64, Vec<Vec<[f32; 3]>>)> {
+    gather(chunks, entity, "LineStrips3D:strips", timeline, |c, id| {
+        c.iter_slices::<&[[f32; 3]]>(id)
+            .map(|row| row.iter().map(|s| s.to_vec()).collect())
+            .collect()
+    })
+}
+
 /// [`rows`] of a binary component (an image's `Image:buffer`): each row's bytes.
 pub fn blobs(
     chunks: &[Chunk],
@@ -173,13 +182,17 @@ pub fn points(chunks: &[Chunk], entity: &str) -> Vec<(f64, Vec<[f32; 3]>)> {
 /// Whether two recordings hold the same content: the same chunks, entity by entity and
 /// in order, with the same timelines, times and component values bit for bit (row and
 /// chunk ids ignored; a NaN equals the same NaN, which Rerun's own `Chunk::ensure_similar`
-/// does not allow). Returns the first difference.
+/// does not allow). The recording's name (`/__properties`) is its identity, not content,
+/// and is left out. Returns the first difference.
 pub fn same_content(a: &[Chunk], b: &[Chunk]) -> Result<(), String> {
     use rerun::external::arrow::array::Array;
     // Chunks of one entity in the order of their timelines, first times and components:
     // a flush writes the chunks of different timeline or component sets in no fixed order.
     fn sorted(v: &[Chunk]) -> Vec<&Chunk> {
-        let mut s: Vec<&Chunk> = v.iter().collect();
+        let mut s: Vec<&Chunk> = v
+            .iter()
+            .filter(|c| c.entity_path().to_string() != "/__properties")
+            .collect();
         s.sort_by_cached_key(|c| {
             let mut times: Vec<(String, i64)> = c
                 .timelines()

@@ -65,11 +65,7 @@ pub(crate) fn fail(path: &Path, e: impl std::fmt::Display) -> Error {
 impl Recording {
     /// Starts a recording to be saved at `path`, identified by `recording_id`, that opens
     /// on `layout` in the viewer.
-    pub fn create(
-        path: &Path,
-        recording_id: &str,
-        layout: rerun::blueprint::Blueprint,
-    ) -> Result<Self> {
+    pub fn create(path: &Path, recording_id: &str, layout: blueprint::Viewer) -> Result<Self> {
         if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
             output::create_dir(parent)?;
         }
@@ -77,10 +73,16 @@ impl Recording {
         let stream = rerun::RecordingStreamBuilder::new("whisker")
             .recording_id(recording_id)
             .batcher_config(rerun::log::ChunkBatcherConfig::NEVER)
-            .with_blueprint(layout)
             .save(&tmp)
             .map_err(|e| fail(path, e))?;
         stream.set_log_time_enabled(false);
+        // Named in the viewer's list of recordings by its id (the name alone: the
+        // builder's properties would add the wall-clock start time, and the same seed
+        // would no longer give the same content).
+        stream
+            .send_recording_name(recording_id)
+            .map_err(|e| fail(path, e))?;
+        send_viewer(&stream, layout).map_err(|e| fail(path, e))?;
         let rec = Self {
             stream,
             tmp,
@@ -193,6 +195,51 @@ impl Drop for Recording {
     }
 }
 
+/// Sends `viewer` into `stream` as its active blueprint: the blueprint's own messages and
+/// its views' properties in the same blueprint store, then the activation.
+fn send_viewer(
+    stream: &rerun::RecordingStream,
+    viewer: blueprint::Viewer,
+) -> rerun::RecordingStreamResult<()> {
+    use rerun::log::LogMsg;
+    let (memory, storage) = rerun::RecordingStreamBuilder::new("whisker").memory()?;
+    viewer.blueprint.send(
+        &memory,
+        rerun::blueprint::BlueprintActivation {
+            make_active: true,
+            make_default: true,
+        },
+    )?;
+    let mut messages = Vec::new();
+    let mut activation = None;
+    for m in storage.take() {
+        match m {
+            LogMsg::BlueprintActivationCommand(c) => activation = Some(c),
+            m if m.store_id().kind() == rerun::StoreKind::Blueprint => messages.push(m),
+            _ => {}
+        }
+    }
+    let Some(activation) = activation else {
+        return Ok(());
+    };
+    let (properties, stored) = rerun::RecordingStreamBuilder::new("whisker")
+        .recording_id(activation.blueprint_id.recording_id().clone())
+        .blueprint()
+        .memory()?;
+    properties.set_time_sequence("blueprint", 0);
+    for (path, batches) in viewer.properties {
+        properties.log_serialized_batches(path, false, batches)?;
+    }
+    messages.extend(
+        stored
+            .take()
+            .into_iter()
+            .filter(|m| matches!(m, LogMsg::ArrowMsg(..))),
+    );
+    stream.send_blueprint(messages, activation);
+    Ok(())
+}
+
 /// An `[f32; 3]` of a point or vector in metres.
 pub(crate) fn f32x3(v: &nalgebra::Vector3<f64>) -> [f32; 3] {
     [v.x as f32, v.y as f32, v.z as f32]
@@ -246,6 +293,25 @@ impl Recorder for Recording {
     }
     fn tip_path(&self, path: &[Isometry3<f64>]) -> Result {
         Recording::tip_path(self, path)
+    }
+    fn arm_at_whisk(
+        &self,
+        t: f64,
+        whisk: u64,
+        (links, tip): (&[Isometry3<f64>], &Isometry3<f64>),
+        recent: &[Isometry3<f64>],
+    ) -> Result {
+        self.at(t);
+        self.at_step("whisk", whisk);
+        Recording::arm_now(self, links, tip)?;
+        let strip: Vec<[f32; 3]> = recent.iter().map(world::point).collect();
+        self.log(
+            "world/arm/tip_path",
+            &rerun::LineStrips3D::new([strip]).with_radii([rerun::Radius::new_ui_points(1.5)]),
+        )
+    }
+    fn frame_axes(&self) -> Result {
+        Recording::frame_axes(self)
     }
     fn shafts_at(&self, entity: &str, t: f64, shafts: &[Vec<[f64; 3]>]) -> Result {
         Recording::shafts_at(self, entity, t, shafts)

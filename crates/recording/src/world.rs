@@ -28,7 +28,7 @@ const PIECE_COLOURS: [[u8; 3]; 4] = [
 pub(crate) type Pending =
     BTreeMap<(String, u64), (rerun::TimePoint, Option<Vec<Contact>>, Option<Vec<Contact>>)>;
 
-fn point(p: &Isometry3<f64>) -> [f32; 3] {
+pub(crate) fn point(p: &Isometry3<f64>) -> [f32; 3] {
     f32x3(&p.translation.vector)
 }
 
@@ -81,6 +81,11 @@ impl Recording {
     /// the tip frame (`world/arm/tip`).
     pub fn arm(&self, t: f64, links: &[Isometry3<f64>], tip: &Isometry3<f64>) -> Result {
         self.at(t);
+        self.arm_now(links, tip)
+    }
+
+    /// Logs the arm at the current time (see [`Self::arm`]).
+    pub(crate) fn arm_now(&self, links: &[Isometry3<f64>], tip: &Isometry3<f64>) -> Result {
         let strip: Vec<[f32; 3]> = links.iter().map(point).collect();
         self.log(
             "world/arm/skeleton",
@@ -101,6 +106,12 @@ impl Recording {
             "world/arm/tip_path",
             &rerun::LineStrips3D::new([strip]).with_radii([rerun::Radius::new_ui_points(1.0)]),
         )?;
+        self.frame_axes()
+    }
+
+    /// Logs the axes of the tip, link and array frames (static: their length does not
+    /// change).
+    pub fn frame_axes(&self) -> Result {
         self.log_static("world/arm/tip", &rerun::TransformAxes3D::new(0.05))?;
         for k in 0..self.links.get() {
             self.log_static(

@@ -11,6 +11,9 @@ use std::path::Path;
 use whisker_sim::environment::Environment;
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 
+/// Whisks of tip path the recording draws behind the tip.
+const TRAIL_WHISKS: usize = 10;
+
 /// What `whisker check` says of an `[explore]` section: the task, the object, the
 /// strategy, and each map loaded (a map that does not load is an input error).
 pub fn describe(file: &Path, scenario: &Scenario, e: &ExploreConfig) -> Result<String> {
@@ -57,13 +60,15 @@ pub fn write(
     rrd: &crate::record::Target,
     ctx: Context,
 ) -> Result {
+    // The camera frames the object and the arm's base.
+    let eye = crate::record::Eye::of(environment, &[[0.0; 3]]);
     let recording = ctx.scenario_recording(
         file,
         scenario.seed,
         scenario.output.recording,
         dir,
         rrd,
-        crate::record::Layout::ClosedLoop,
+        crate::record::Layout::ClosedLoop { eye },
     )?;
     if let Some(rec) = &recording {
         rec.environment(environment)?;
@@ -89,12 +94,13 @@ pub fn write(
         crate::output::write_json(&dir.join("map.json"), map)?;
     }
     if let Some(rec) = recording {
-        for (k, q) in out.joints.iter().enumerate() {
-            let tip = frames.chain.fk(q);
-            rec.arm(out.times[k], &frames.link_frames(q, &skeleton), &tip)?;
-        }
         let tips: Vec<_> = out.joints.iter().map(|q| frames.chain.fk(q)).collect();
-        rec.tip_path(&tips)?;
+        for (k, q) in out.joints.iter().enumerate() {
+            let links = frames.link_frames(q, &skeleton);
+            let recent = &tips[k.saturating_sub(TRAIL_WHISKS)..=k];
+            rec.arm_at_whisk(out.times[k], k as u64, (&links, &tips[k]), recent)?;
+        }
+        rec.frame_axes()?;
         rec.finish()?;
     }
     ctx.say(&results(&out.summary, wall));

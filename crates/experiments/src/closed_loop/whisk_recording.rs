@@ -106,6 +106,8 @@ impl Loop<'_> {
             for (o, v) in &r.integrated {
                 rec.scalar(&format!("recognition/integrated/{o}"), *v)?;
             }
+            // Drawn beside the ICs: the threshold they race to (Fig 6.7).
+            rec.scalar("recognition/integrated/threshold", r.params.threshold)?;
         }
         rec.step_done(w.iteration)
     }

@@ -242,7 +242,7 @@ pub fn replay(
     let sets: Vec<String> = sensed.image_sets.iter().map(|(n, _)| n.clone()).collect();
     let stem = dir.file_name().unwrap_or_default().to_string_lossy();
     let runs = run_names(&[sensed.seed], &sets, &tunings, kidnap);
-    let recording = open_recording(o, ctx, true, &stem, &[sensed.seed], runs)?;
+    let recording = open_recording(o, ctx, true, &stem, &[sensed.seed], runs, None)?;
     let plane = Plane {
         z: 0.0,
         recording: recording.as_deref(),
@@ -323,6 +323,7 @@ fn open_recording(
     stem: &str,
     seeds: &[u64],
     runs: Vec<String>,
+    eye: Option<crate::record::Eye>,
 ) -> Result<Option<Box<dyn Recorder>>> {
     let Some(path) = o.rrd.path(o.out.as_deref(), default_on) else {
         return Ok(None);
@@ -331,6 +332,7 @@ fn open_recording(
         runs,
         images: true,
         timeline: "update",
+        eye,
     };
     let seeds: Vec<String> = seeds.iter().map(u64::to_string).collect();
     let id = o
@@ -388,7 +390,8 @@ pub fn evaluate(o: &Settings, scenario: &Scenario, ctx: Context) -> Result<Vec<R
     let seeds = o.seeds.clone().unwrap_or(vec![scenario.seed]);
     let stem = o.scenario.file_stem().unwrap_or_default().to_string_lossy();
     let runs = run_names(&seeds, &setup.set_names, &tunings, kidnap);
-    let recording = open_recording(o, ctx, scenario.output.recording, &stem, &seeds, runs)?;
+    let eye = crate::record::Eye::of(&environment, &[]);
+    let recording = open_recording(o, ctx, scenario.output.recording, &stem, &seeds, runs, eye)?;
     if let Some(rec) = &recording {
         rec.environment(&environment)?;
     }

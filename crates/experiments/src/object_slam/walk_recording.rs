@@ -44,6 +44,14 @@ pub(super) fn write(
         runs,
         images: false,
         timeline: "whisk",
+        // The first object and the walks around it (within ~0.3 m of it).
+        eye: data.first().map(|s| {
+            let (lo, hi) = whisker_sim::environment::mesh::bounds(&generate(s.asset).vertices);
+            crate::record::Eye::framing(
+                [lo.x - 0.3, lo.y - 0.3, lo.z],
+                [hi.x + 0.3, hi.y + 0.3, hi.z + 0.3],
+            )
+        }),
     };
     let rec = ctx
         .recordings
