@@ -257,6 +257,7 @@ fn a_closed_loop_records_its_map_confidence_and_contacts() {
             "recognition/raw/box",
             "recognition/integrated/box_stack",
             "events",
+            "legend",
         ],
     );
     let summary: serde_json::Value =

@@ -9,8 +9,8 @@
 
 use rerun::AsComponents;
 use rerun::blueprint::{
-    Blueprint, ContainerLike, Horizontal, Spatial2DView, Spatial3DView, Tabs, TextLogView,
-    TimePanel, TimeSeriesView, Vertical,
+    Blueprint, ContainerLike, Horizontal, Spatial2DView, Spatial3DView, Tabs, TextDocumentView,
+    TextLogView, TimePanel, TimeSeriesView, Vertical,
 };
 use rerun::external::re_sdk_types::blueprint::archetypes::{
     EyeControls3D, TimeAxis, VisualBounds2D,
@@ -92,6 +92,30 @@ impl Views {
             properties: self.properties,
         }
     }
+}
+
+/// What the scene's colours mean (the markdown logged at `legend`).
+pub const LEGEND: &str = "**Colours in the 3-D scene**\n\n\
+- green: ground truth — true contacts (the rigid sweep's anticipated intersect), true paths\n\
+- orange: estimates — estimated contacts, estimated paths; in a closed loop also the SPC's goals\n\
+- blue: the strategy's goals (closed loop); in maps the target experience\n\
+- magenta: where the array truly was when SLAM re-localised\n\
+- thin white lines: the whisker shafts; the thick line: the arm, with its frames' axes\n\
+- red node (maps): the current experience\n\n\
+Entity paths and rates: docs/recording.md.";
+
+/// The events and the colour legend, as tabs.
+fn events_and_legend(v: &mut Views) -> ContainerLike {
+    Tabs::new([
+        v.add(TextLogView::new("Events").with_origin("/events"), &[]),
+        legend(v),
+    ])
+    .into()
+}
+
+/// The colour legend's view.
+fn legend(v: &mut Views) -> ContainerLike {
+    v.add(TextDocumentView::new("Legend").with_origin("/legend"), &[])
 }
 
 /// A plot's time axis showing the whole run rather than a recent window.
@@ -176,6 +200,7 @@ fn run(physics: bool, eye: Option<&Eye>) -> Viewer {
             .collect();
         panels.push(Tabs::new(tabs).into());
     }
+    panels.push(legend(&mut v));
     v.layout(scene, panels, super::SIM_TIME)
 }
 
@@ -219,7 +244,7 @@ fn closed_loop(eye: Option<&Eye>) -> Viewer {
             ),
         ])
         .into(),
-        v.add(TextLogView::new("Events").with_origin("/events"), &[]),
+        events_and_legend(&mut v),
     ];
     v.layout(scene, panels, "whisk")
 }
@@ -267,6 +292,6 @@ fn slam_runs(runs: &[String], images: bool, timeline: &str, eye: Option<&Eye>) -
         // object-slam: the identification runs' confidence in each mapped object.
         panels.push(v.plot("Identification confidence (§5.2.2.2)", "/recognition", None));
     }
-    panels.push(v.add(TextLogView::new("Events").with_origin("/events"), &[]));
+    panels.push(events_and_legend(&mut v));
     v.layout(scene, panels, timeline)
 }

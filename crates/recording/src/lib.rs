@@ -92,6 +92,11 @@ impl Recording {
             links: Default::default(),
         };
         rec.log_static("world", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
+        rec.log_static(
+            "legend",
+            &rerun::TextDocument::new(blueprint::LEGEND)
+                .with_media_type(rerun::MediaType::markdown()),
+        )?;
         Ok(rec)
     }
 
