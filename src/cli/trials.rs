@@ -179,7 +179,7 @@ fn report_legend() -> String {
             ),
             (
                 "runs/",
-                "each trial's own outputs and stdout.txt, named by its key",
+                "each trial's own outputs and stdout.txt (its account and progress notes: tail -f it to follow a long trial), named by its key",
             ),
         ],
     )

@@ -214,19 +214,64 @@ fn same_seed_same_bytes_whatever_the_thread_count() {
     assert_ne!(other.csv, outputs[0].0);
 }
 
+/// The console block the README quotes after its first command (the first ```text block).
+fn readme_quickstart_block() -> String {
+    let readme = std::fs::read_to_string(repo("README.md")).unwrap();
+    let start = readme
+        .find("```text\n")
+        .expect("README quotes the quickstart")
+        + 8;
+    let len = readme[start..].find("```").unwrap();
+    readme[start..start + len].to_string()
+}
+
+/// A quickstart console line with what may differ between the README and this run made
+/// fixed: the wall-clock time, and the output directory (`out/quickstart` in the README).
+fn comparable(line: &str, out: &str) -> String {
+    let line = line.replace(out, "out/quickstart");
+    match line.find(" s wall") {
+        Some(i) => {
+            let from = line[..i].rfind(", ").map_or(0, |j| j + 2);
+            format!("{}<T>{}", &line[..from], &line[i..])
+        }
+        None => line,
+    }
+}
+
 /// The README's first command: the quickstart recognises the Box against the committed
-/// maps and writes its outputs.
+/// maps, writes its outputs and prints what the README quotes, line for line (apart from
+/// the wall-clock time, the output directory and the command line, which names it).
 #[test]
 fn the_quickstart_runs_the_closed_loop_and_writes_its_outputs() {
     let tmp = tempfile::tempdir().unwrap();
-    let o = whisker(&[
-        "run",
-        repo("scenarios/quickstart.toml").to_str().unwrap(),
-        "--out",
-        tmp.path().to_str().unwrap(),
-    ]);
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_whisker"))
+        .current_dir(repo(""))
+        .args([
+            "run",
+            "scenarios/quickstart.toml",
+            "--out",
+            tmp.path().to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stdout(&o).contains("recognised"), "{}", stdout(&o));
+    let printed: Vec<String> = stdout(&o)
+        .lines()
+        .map(|l| comparable(l, tmp.path().to_str().unwrap()))
+        .collect();
+    let quoted: Vec<String> = readme_quickstart_block()
+        .lines()
+        .map(|l| comparable(l, "out/quickstart"))
+        .collect();
+    assert_eq!(printed.len(), quoted.len(), "{}", stdout(&o));
+    for (i, (p, q)) in printed.iter().zip(&quoted).enumerate() {
+        if i == 1 {
+            // The command line as run (it names the temporary output directory).
+            assert!(p.starts_with(q.as_str()), "{p}\n{q}");
+            continue;
+        }
+        assert_eq!(p, q, "README's quickstart output, line {}", i + 1);
+    }
     let out = tmp.path().to_path_buf();
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();

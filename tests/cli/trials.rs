@@ -445,13 +445,12 @@ fn a_maze_slam_trial_row_equals_whisker_maze_slam() {
     let scenario = repo("scenarios/trials_maze.toml");
     let s = scenario.to_str().unwrap();
     let dir = tmp.path().join("out");
-    ok(&trials(&[
-        s,
-        "--out",
-        dir.to_str().unwrap(),
-        "--shard",
-        "0/10",
-    ]));
+    let batch = trials(&[s, "--out", dir.to_str().unwrap(), "--shard", "0/10"]);
+    ok(&batch);
+    // The trial's notes go to its stdout.txt, not between the batch's progress lines.
+    let notes = std::fs::read_to_string(dir.join("runs/seed=0/stdout.txt")).unwrap();
+    assert!(notes.contains("seed 0 normal kinematic: "), "{notes}");
+    assert!(!stderr(&batch).contains(" updates"), "{}", stderr(&batch));
     let text = std::fs::read_to_string(dir.join("trials.csv")).unwrap();
     let mut lines = text.lines();
     let header = fields(lines.next().unwrap());

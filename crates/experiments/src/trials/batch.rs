@@ -235,7 +235,7 @@ pub fn run_trial(
             .map_err(|e| Error::Failure(format!("{}: {e}", path.display())))?;
         use std::io::Write;
         let _ = writeln!(file, "# trial {}: {}", trial.key, batch.command(trial));
-        let say = ToFile(Mutex::new(file), batch_ctx.reporter);
+        let say = ToFile(Mutex::new(file), batch_ctx.reporter, &trial.key);
         let ctx = Context {
             reporter: &say,
             ..batch_ctx
@@ -276,8 +276,11 @@ pub fn run_trial(
     }
 }
 
-/// A trial's account, written to its `stdout.txt`; its notes go to the batch's stderr.
-struct ToFile<'a>(Mutex<std::fs::File>, &'a dyn Reporter);
+/// A trial's account, written to its `stdout.txt`, and its notes too (a long physics
+/// trial's progress can be followed there with `tail -f`): on the batch's stderr, trials
+/// running side by side would interleave them between the batch's progress lines. Warnings
+/// reach the batch's stderr as well, named by the trial.
+struct ToFile<'a>(Mutex<std::fs::File>, &'a dyn Reporter, &'a str);
 
 impl Reporter for ToFile<'_> {
     fn say(&self, line: &str) {
@@ -286,7 +289,10 @@ impl Reporter for ToFile<'_> {
     }
 
     fn note(&self, line: &str) {
-        self.1.note(line);
+        self.say(line);
+        if line.starts_with("warning") {
+            self.1.note(&format!("{line} (trial {})", self.2));
+        }
     }
 }
 
