@@ -53,8 +53,12 @@ impl Reporter for Console {
             None => eprintln!("{line}"),
         }
     }
+    /// A line rewritten in place on a terminal; off one (a log file) nothing, so the
+    /// results are not run together with it.
     fn status(&self, text: &str) {
-        eprint!("\r{text}");
+        if std::io::stderr().is_terminal() {
+            eprint!("\r{text}\x1b[K");
+        }
     }
     fn progress(&self, what: &str, done: u64, total: u64) {
         let mut shown = self.progress.lock().unwrap_or_else(|e| e.into_inner());

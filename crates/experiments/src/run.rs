@@ -66,10 +66,15 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: 
     if scenario.explore.is_some() {
         return crate::closed_loop::write(file, scenario, plan, &environment, dir, rrd, ctx);
     }
-    let start = plan.chain.fk(&plan.waypoints[0]).translation.vector;
+    // The camera frames the objects, the arm's base and the whole arm at every waypoint.
+    let mut framed: Vec<[f64; 3]> = vec![[0.0; 3]];
+    for q in &plan.waypoints {
+        framed.extend(plan.chain.joint_origins(q));
+        framed.push(plan.chain.fk(q).translation.vector.into());
+    }
     let layout = Layout::Run {
         physics: scenario.sensing == Sensing::Physics,
-        eye: crate::record::Eye::of(&environment, &[[0.0; 3], start.into()]),
+        eye: crate::record::Eye::of(&environment, &framed),
     };
     let recording = ctx.scenario_recording(
         file,
@@ -266,7 +271,10 @@ impl Sensed {
         if let Some(w) = &self.whisking {
             let _ = writeln!(out, "{}", w.line());
         }
-        let mut legend = Vec::new();
+        let mut legend = vec![(
+            "simulated",
+            "the planned path sampled for the arm's kinematic bodies (one row each in path.csv); tip = the array's tool point; collisions = samples in which a link with a collider touches the environment (a planned path should have none)",
+        )];
         if sensing == Sensing::Kinematic {
             legend.push(("sensed", "contacts of the rigid whiskers' anticipated-intersect sweep (§4.1.2.3) with the scenario's contact noise; one row each in contacts.csv"));
         }
@@ -276,9 +284,7 @@ impl Sensed {
         if self.whisking.is_some() {
             legend.push(("whisking", "what the whisking strategy did (§2.3.1), first whisk left out: touching = |deflection| above 20 × the free-whisking noise; spread = range of first-contact times across the array (SR narrows it); curvature = the shafts' bending at contact (SR lowers it)"));
         }
-        if !legend.is_empty() {
-            out.push_str(&crate::console::legend("what the lines mean", &legend));
-        }
+        out.push_str(&crate::console::legend("what the lines mean", &legend));
         out
     }
 }

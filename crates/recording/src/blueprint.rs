@@ -98,7 +98,7 @@ impl Views {
 pub const LEGEND: &str = "**Colours in the 3-D scene**\n\n\
 - green: ground truth — true contacts (the rigid sweep's anticipated intersect), true paths\n\
 - orange: estimates — estimated contacts, estimated paths; in a closed loop also the SPC's goals\n\
-- blue: the strategy's goals (closed loop); in maps the target experience\n\
+- blue: goals — the strategy's in a closed loop, the scenario's waypoints (numbered) in a scripted run; in maps the target experience\n\
 - magenta: where the array truly was when SLAM re-localised\n\
 - thin white lines: the whisker shafts; the thick line: the arm, with its frames' axes\n\
 - red node (maps): the current experience\n\n\

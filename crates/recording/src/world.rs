@@ -67,12 +67,17 @@ impl Recording {
         Ok(())
     }
 
-    /// Logs the tip positions at the waypoints (`world/waypoints`, static).
+    /// Logs the tip positions at the waypoints (`world/waypoints`, static), blue as the
+    /// goals of a closed loop are (the legend's colours), each labelled with its number.
     pub fn waypoints(&self, tips: &[Isometry3<f64>]) -> Result {
         let points: Vec<[f32; 3]> = tips.iter().map(point).collect();
+        let labels: Vec<String> = (0..tips.len()).map(|k| format!("#{k}")).collect();
         self.log_static(
             "world/waypoints",
-            &rerun::Points3D::new(points).with_radii([0.01]),
+            &rerun::Points3D::new(points)
+                .with_radii([0.01])
+                .with_colors([rerun::Color::from_rgb(40, 90, 230)])
+                .with_labels(labels),
         )
     }
 

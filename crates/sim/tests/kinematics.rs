@@ -96,6 +96,32 @@ fn model_link_poses_agree_with_chain_fk_and_the_array_mount_offset() {
     assert!(offset.rotation.angle() < 1e-12);
 }
 
+/// Joint origins: the shoulder stands d1 = 89.159 mm above the base whatever the joints
+/// (UR5 DH), joint k's origin moves with the joints before it only (each turns about an
+/// axis through its own origin), and the reach from the last origin to tool0 is d6's.
+#[test]
+fn joint_origins_depend_only_on_the_joints_before_them() {
+    let model = common::ur5_array();
+    let chain = Chain::new(&model, "base_link", "tool0").unwrap();
+    let q = [0.3, -1.1, 1.4, -0.7, 0.9, -2.0];
+    let origins = chain.joint_origins(&q);
+    assert_eq!(origins.len(), 6);
+    assert!((Vector3::from(origins[0]) - Vector3::new(0.0, 0.0, 0.089159)).norm() < 1e-9);
+    for k in 0..6 {
+        let mut moved = q;
+        for v in &mut moved[k..] {
+            *v += 0.7;
+        }
+        let (a, b) = (origins[k], chain.joint_origins(&moved)[k]);
+        assert!(
+            (Vector3::from(a) - Vector3::from(b)).norm() < 1e-12,
+            "joint {k}"
+        );
+    }
+    let tip = chain.fk(&q).translation.vector;
+    assert!(((tip - Vector3::from(origins[5])).norm() - 0.0823).abs() < 1e-9);
+}
+
 /// Geometric Jacobian columns equal central finite differences of the pose.
 #[test]
 fn jacobian_matches_finite_differences() {

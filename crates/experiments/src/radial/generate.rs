@@ -393,13 +393,7 @@ pub fn run(o: &GenerateSettings, ctx: Context) -> Result<Generated> {
         .map(|j| {
             let out = run_job(j, o.seed, &params, recording.is_some());
             let n = done.fetch_add(1, Ordering::Relaxed) + 1;
-            if n.is_multiple_of((jobs.len() / 20).max(1)) || n == jobs.len() {
-                ctx.note(&format!(
-                    "  {n}/{} simulations ({:.0} s)",
-                    jobs.len(),
-                    start.elapsed().as_secs_f64()
-                ));
-            }
+            ctx.progress("simulations", n as u64, jobs.len() as u64);
             out
         })
         .collect();

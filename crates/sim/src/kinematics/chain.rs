@@ -161,6 +161,14 @@ impl Chain {
         self.walk(q, |_, _, _| {})
     }
 
+    /// The origins of the joints' frames in the base frame, from the base outward (the
+    /// points a view must hold to show the whole arm).
+    pub fn joint_origins(&self, q: &[f64]) -> Vec<[f64; 3]> {
+        let mut out = Vec::with_capacity(self.dof());
+        self.walk(q, |_, pose, _| out.push(pose.translation.vector.into()));
+        out
+    }
+
     /// Pose of the tip and the geometric Jacobian in the base frame: rows 0–2 map joint
     /// velocities to the tip's linear velocity, rows 3–5 to its angular velocity.
     pub fn fk_jacobian(&self, q: &[f64]) -> (Isometry3<f64>, Matrix6xX<f64>) {
