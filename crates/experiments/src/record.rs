@@ -98,6 +98,9 @@ impl GraphSchedule {
     }
 }
 
+/// Half the angle (degrees) of the cone [`Eye::framing`] fits a scene's bounding sphere in.
+const FRAMED_HALF_ANGLE: f64 = 22.0;
+
 /// Where a 3-D view's camera opens: its position and the point it looks at (world, m).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Eye {
@@ -107,36 +110,67 @@ pub struct Eye {
 
 impl Eye {
     /// A camera framing the box `lo`..`hi` (world, m, z up) whole: looking at its centre
-    /// from the front left (−x, −y) and above, at about 40° of elevation.
+    /// from the front left (−x, −y) and above, at about 40° of elevation, far enough that
+    /// the box's bounding sphere fits a 44° cone (the viewer's vertical field of view is
+    /// 55°, narrower across in a view taller than wide).
     pub fn framing(lo: [f64; 3], hi: [f64; 3]) -> Self {
         let c = [0, 1, 2].map(|i| (lo[i] + hi[i]) / 2.0);
-        let size = (0..3).map(|i| hi[i] - lo[i]).fold(0.0, f64::max).max(0.1);
+        let radius = ((0..3).map(|i| (hi[i] - lo[i]).powi(2)).sum::<f64>().sqrt() / 2.0).max(0.05);
+        let distance = radius / FRAMED_HALF_ANGLE.to_radians().sin();
         let dir = [-0.55, -0.75, 0.9];
         let norm = dir.iter().map(|d| d * d).sum::<f64>().sqrt();
         Self {
-            position: [0, 1, 2].map(|i| c[i] + dir[i] / norm * size * 1.4),
+            position: [0, 1, 2].map(|i| c[i] + dir[i] / norm * distance),
             target: c,
         }
     }
 
-    /// [`Eye::framing`] of the pieces of `environment` (their meshes' vertices in the
-    /// world) and `points`; none when there is nothing.
+    /// The array's reach about its pose `array` (world): the six points at the longest
+    /// whisker's length plus its ring's radius along ± each of the array's axes; to frame
+    /// with [`Eye::of`].
+    pub fn reach(array: &Isometry3<f64>) -> Vec<[f64; 3]> {
+        let reach = whisker_sim::whisker::array::RINGS
+            .iter()
+            .map(|(length, radius, _)| length + radius)
+            .fold(0.0, f64::max);
+        (0..3)
+            .flat_map(|i| [-reach, reach].map(|r| (i, r)))
+            .map(|(i, r)| {
+                (array * nalgebra::Point3::from(nalgebra::Vector3::ith(i, r)))
+                    .coords
+                    .into()
+            })
+            .collect()
+    }
+
+    /// [`Eye::framing`] of [`bounds`]`(environment, points)`; none when there is nothing.
     pub fn of(environment: &Environment, points: &[[f64; 3]]) -> Option<Self> {
-        let world = environment.pieces.iter().flat_map(|p| {
-            p.mesh
-                .vertices
-                .iter()
-                .map(move |v| (p.pose * v).coords.into())
-        });
-        let all: Vec<[f64; 3]> = world.chain(points.iter().copied()).collect();
-        if all.is_empty() {
-            return None;
-        }
-        let lo = [0, 1, 2].map(|i| all.iter().map(|p| p[i]).fold(f64::INFINITY, f64::min));
-        let hi = [0, 1, 2].map(|i| all.iter().map(|p| p[i]).fold(f64::NEG_INFINITY, f64::max));
-        Some(Self::framing(lo, hi))
+        bounds(environment, points).map(|(lo, hi)| Self::framing(lo, hi))
     }
 }
+
+/// The axis-aligned bounds (lowest, highest corner; world, m) of the pieces of
+/// `environment` (their meshes' vertices in the world) and `points`; none when there is
+/// nothing.
+pub fn bounds(environment: &Environment, points: &[[f64; 3]]) -> Option<([f64; 3], [f64; 3])> {
+    let world = environment.pieces.iter().flat_map(|p| {
+        p.mesh
+            .vertices
+            .iter()
+            .map(move |v| (p.pose * v).coords.into())
+    });
+    let all: Vec<[f64; 3]> = world.chain(points.iter().copied()).collect();
+    if all.is_empty() {
+        return None;
+    }
+    let lo = [0, 1, 2].map(|i| all.iter().map(|p| p[i]).fold(f64::INFINITY, f64::min));
+    let hi = [0, 1, 2].map(|i| all.iter().map(|p| p[i]).fold(f64::NEG_INFINITY, f64::max));
+    Some((lo, hi))
+}
+
+/// Cases given a tab of their own in a [`Layout::Cases`] (a data set may have hundreds; the
+/// rest stay in the viewer's streams tree, to drag into a plot).
+pub const CASE_TABS: usize = 30;
 
 /// The layout a recording opens on in a viewer.
 #[derive(Debug, Clone, PartialEq)]
@@ -144,9 +178,13 @@ pub enum Layout {
     /// `whisker run` without a closed loop: the scene (camera at `eye`), and with physics
     /// whiskers their streams.
     Run { physics: bool, eye: Option<Eye> },
-    /// `whisker soak` and `radial generate`: the cases' scenes side by side and their
-    /// streams.
-    Cases,
+    /// `whisker soak` and `radial generate`: the cases' scenes side by side (the camera at
+    /// `eye`, framing the first), and a tab per case (`sensors/<case>`, the first
+    /// [`CASE_TABS`] of `cases`) with its whiskers' streams.
+    Cases {
+        cases: Vec<String>,
+        eye: Option<Eye>,
+    },
     /// A closed loop (Ch 6): the scene (camera at `eye`), confidence, the object map, pose
     /// cells, events, on the whisk timeline.
     ClosedLoop { eye: Option<Eye> },
@@ -528,11 +566,20 @@ mod tests {
         let (lo, hi) = ([0.45, -0.1, 0.0], [0.65, 0.1, 0.35]);
         let e = Eye::framing(lo, hi);
         assert_eq!(e.target, [0.55, 0.0, 0.175]);
-        // From the front left and above, 1.4 × the largest side away.
+        // From the front left and above, far enough that every corner is within 22° of
+        // the line of sight.
         let d: Vec<f64> = (0..3).map(|i| e.position[i] - e.target[i]).collect();
         assert!(d[0] < 0.0 && d[1] < 0.0 && d[2] > 0.0);
-        let dist = d.iter().map(|x| x * x).sum::<f64>().sqrt();
-        assert!((dist - 1.4 * 0.35).abs() < 1e-12, "{dist}");
+        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let mut widest: f64 = 0.0;
+        for corner in 0..8 {
+            let p = [0, 1, 2].map(|i| if corner >> i & 1 == 1 { hi[i] } else { lo[i] });
+            let to_corner: Vec<f64> = (0..3).map(|i| p[i] - e.position[i]).collect();
+            let cos =
+                -(0..3).map(|i| to_corner[i] * d[i]).sum::<f64>() / (norm(&to_corner) * norm(&d));
+            widest = widest.max(cos.acos().to_degrees());
+        }
+        assert!(widest <= 22.0 && widest > 15.0, "{widest}°");
         for i in 0..3 {
             assert!(!(lo[i]..=hi[i]).contains(&e.position[i]) || i == 2);
         }

@@ -202,6 +202,20 @@ struct Soaked {
     first_tunnel: Option<Tunnel>,
 }
 
+/// The recording's layout: a tab per case, the camera on the first case (its environment
+/// and the array's reach, the case's frame being the world's).
+fn cases_layout(cases: &[(String, Case)]) -> Layout {
+    Layout::Cases {
+        cases: cases
+            .iter()
+            .map(|(n, _)| crate::record::entity_name(n))
+            .collect(),
+        eye: cases.first().and_then(|(_, c)| {
+            crate::record::Eye::of(&c.environment, &crate::record::Eye::reach(&c.pose))
+        }),
+    }
+}
+
 /// Runs one case; says its line and returns its record.
 /// `case` (named `name`, its solids `solids`) with the array at `pose` (the case's, or
 /// nudged).
@@ -441,7 +455,7 @@ pub fn soak(o: &Settings, ctx: Context) -> Result<Vec<CaseReport>> {
         Some(path) => Some(ctx.recordings.create(
             path,
             &crate::record::id("soak", 0),
-            Layout::Cases,
+            cases_layout(&cases),
         )?),
         None => None,
     };

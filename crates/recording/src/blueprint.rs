@@ -16,7 +16,7 @@ use rerun::external::re_sdk_types::blueprint::archetypes::{
     EyeControls3D, TimeAxis, VisualBounds2D,
 };
 use rerun::{Color, SeriesLines};
-use whisker_experiments::record::{Eye, Layout, SENSOR_SERIES};
+use whisker_experiments::record::{CASE_TABS, Eye, Layout, SENSOR_SERIES};
 use whisker_slam::ratslam::local_view::{COLUMNS, ROWS};
 
 /// A blueprint and the view properties it cannot carry: (entity path in the blueprint
@@ -146,6 +146,14 @@ fn sensor_series(shown: &[usize]) -> SeriesLines {
         .with_visible_series((0..SENSOR_SERIES.len()).map(|i| shown.contains(&i)))
 }
 
+/// `plots` (a [`sensor_plots`] column) as the tab `name`.
+fn named(plots: ContainerLike, name: &str) -> ContainerLike {
+    match plots {
+        ContainerLike::Vertical(c) => c.with_name(name).into(),
+        other => other,
+    }
+}
+
 /// The whisker streams under `origin`, one plot per unit: the whisk angle (degrees), the
 /// deflections (ADC counts), the strategies' 0/1 states.
 fn sensor_plots(v: &mut Views, origin: &str) -> ContainerLike {
@@ -170,7 +178,7 @@ fn sensor_plots(v: &mut Views, origin: &str) -> ContainerLike {
 pub fn of(layout: &Layout) -> Viewer {
     match layout {
         Layout::Run { physics, eye } => run(*physics, eye.as_ref()),
-        Layout::Cases => cases(),
+        Layout::Cases { cases: c, eye } => cases(c, eye.as_ref()),
         Layout::ClosedLoop { eye } => closed_loop(eye.as_ref()),
         Layout::SlamRuns {
             runs,
@@ -190,13 +198,7 @@ fn run(physics: bool, eye: Option<&Eye>) -> Viewer {
     if physics {
         let tabs: Vec<ContainerLike> = whisker_sim::whisker::array::labels()
             .iter()
-            .map(|l| {
-                let ContainerLike::Vertical(c) = sensor_plots(&mut v, &format!("/sensors/{l}"))
-                else {
-                    unreachable!("a vertical container")
-                };
-                c.with_name(l.as_str()).into()
-            })
+            .map(|l| named(sensor_plots(&mut v, &format!("/sensors/{l}")), l))
             .collect();
         panels.push(Tabs::new(tabs).into());
     }
@@ -204,13 +206,23 @@ fn run(physics: bool, eye: Option<&Eye>) -> Viewer {
     v.layout(scene, panels, super::SIM_TIME)
 }
 
-/// `whisker soak` and `radial generate`: the scene (cases side by side) and every case's
-/// streams (`sensors/<case>/<label>`), one plot per unit.
-fn cases() -> Viewer {
+/// `whisker soak` and `radial generate`: the scene (cases side by side, the camera on the
+/// first), a tab per case with its whiskers' streams (`sensors/<case>/<label>`), one plot
+/// per unit, and the legend.
+fn cases(cases: &[String], eye: Option<&Eye>) -> Viewer {
     let mut v = Views::default();
-    let scene = v.scene(None);
-    let plots = sensor_plots(&mut v, "/sensors");
-    v.layout(scene, vec![plots], super::SIM_TIME)
+    let scene = v.scene(eye);
+    let tabs: Vec<ContainerLike> = cases
+        .iter()
+        .take(CASE_TABS)
+        .map(|c| named(sensor_plots(&mut v, &format!("/sensors/{c}")), c))
+        .collect();
+    let mut panels = Vec::new();
+    if !tabs.is_empty() {
+        panels.push(Tabs::new(tabs).into());
+    }
+    panels.push(legend(&mut v));
+    v.layout(scene, panels, super::SIM_TIME)
 }
 
 /// A closed loop (Ch 6), on the whisk timeline: the scene; the raw and the integrated
@@ -294,4 +306,39 @@ fn slam_runs(runs: &[String], images: bool, timeline: &str, eye: Option<&Eye>) -
     }
     panels.push(events_and_legend(&mut v));
     v.layout(scene, panels, timeline)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The view properties of `viewer` named `name` (by the archetype's last path part).
+    fn count(viewer: &Viewer, name: &str) -> usize {
+        viewer
+            .properties
+            .iter()
+            .filter(|(p, _)| p.ends_with(&format!("/{name}")))
+            .count()
+    }
+
+    /// A soak or data-set recording: the camera on the first case, three whole-run plots
+    /// (angle, deflections, states) in each case's tab, at most [`CASE_TABS`] tabs.
+    #[test]
+    fn cases_get_a_camera_and_a_tab_each_up_to_the_limit() {
+        let eye = Eye::framing([0.0; 3], [0.2, 0.2, 0.2]);
+        for (n, tabs) in [(0, 0), (1, 1), (8, 8), (CASE_TABS + 5, CASE_TABS)] {
+            let layout = Layout::Cases {
+                cases: (0..n).map(|k| format!("case_{k}")).collect(),
+                eye: Some(eye),
+            };
+            let viewer = of(&layout);
+            assert_eq!(count(&viewer, "EyeControls3D"), 1, "{n} cases");
+            assert_eq!(count(&viewer, "TimeAxis"), 3 * tabs, "{n} cases");
+        }
+        let viewer = of(&Layout::Cases {
+            cases: vec!["box".into()],
+            eye: None,
+        });
+        assert_eq!(count(&viewer, "EyeControls3D"), 0);
+    }
 }

@@ -418,8 +418,28 @@ pub fn run(o: &GenerateSettings, ctx: Context) -> Result<Generated> {
     })
 }
 
-/// Spacing of the jobs' frames in the recording (a grid of 20 per row, m).
-const JOB_SPACING_M: f64 = 0.3;
+/// Jobs per row of the recording's grid of frames.
+const JOBS_PER_ROW: usize = 20;
+
+/// Spacing of the jobs' frames in the recording's grid (m): twice the span of all their
+/// environments and contacts along x or y, whichever is larger, so that no two cases
+/// overlap and the camera's case stands apart from its neighbours.
+fn job_spacing(jobs: &[Job]) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for j in jobs {
+        let p = j.truth.point;
+        let environment = Environment {
+            pieces: j.environment.clone(),
+        };
+        if let Some((l, h)) = crate::record::bounds(&environment, &[[p.x, p.y, p.z]]) {
+            for i in 0..2 {
+                lo[i] = lo[i].min(l[i]);
+                hi[i] = hi[i].max(h[i]);
+            }
+        }
+    }
+    2.0 * (hi[0] - lo[0]).max(hi[1] - lo[1]).max(0.05)
+}
 
 /// Writes the recording of a data set (docs/recording.md): per simulation
 /// (`world/cases/<case>`, on a grid) its environment and the ground-truth contact, and its
@@ -432,18 +452,30 @@ fn record(
     outcomes: &[Outcome],
     ctx: Context,
 ) -> Result {
-    use crate::record::{Contact, ContactKind, Layout, SensorColumns, entity_name, id};
+    use crate::record::{Contact, ContactKind, Eye, Layout, SensorColumns, entity_name, id};
     let rec = ctx.recordings.create(
         path,
         &id(&format!("radial-{:?}", o.set).to_lowercase(), o.seed),
-        Layout::Cases,
+        Layout::Cases {
+            cases: jobs.iter().map(|j| entity_name(&j.case)).collect(),
+            // The first job's frame is the world's.
+            eye: jobs.first().and_then(|j| {
+                Eye::of(
+                    &Environment {
+                        pieces: j.environment.clone(),
+                    },
+                    &Eye::reach(&j.array_pose),
+                )
+            }),
+        },
     )?;
+    let spacing = job_spacing(jobs);
     for (k, (job, out)) in jobs.iter().zip(outcomes).enumerate() {
         let case = entity_name(&job.case);
         let frame = format!("world/cases/{case}");
         let (x, y) = (
-            (k % 20) as f64 * JOB_SPACING_M,
-            (k / 20) as f64 * JOB_SPACING_M,
+            (k % JOBS_PER_ROW) as f64 * spacing,
+            (k / JOBS_PER_ROW) as f64 * spacing,
         );
         rec.frame(&frame, [x, y, 0.0])?;
         rec.environment_in(
