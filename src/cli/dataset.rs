@@ -10,6 +10,7 @@ use whisker_experiments::object_slam::dataset::ObjectDataset;
 use whisker_experiments::record::Context;
 use whisker_experiments::scenario::SensingMode;
 use whisker_experiments::scenario::overrides::Override;
+use whisker_sim::sensing::noise::PointNoise;
 
 /// Write a seeded dataset in the lab's log layout with ground truth beside it
 /// (docs/dataset.md), or add noise to a clean one (`dataset noise`).
@@ -74,9 +75,12 @@ pub struct NoiseArgs {
     /// Probability that a contact is registered (level contacts).
     #[arg(long, default_value_t = 0.98)]
     pub detection: f64,
-    /// σ of each contact-point coordinate as a fraction of the whisker's length.
+    /// σ of the contact point's noise as a fraction of the whisker's length.
     #[arg(long, default_value_t = 0.25)]
     pub point_fraction: f64,
+    /// Which way it displaces the point.
+    #[arg(long, value_parser = choice::<PointNoise>(), default_value = "per-coordinate")]
+    pub point_noise: PointNoise,
     /// σ of the contact slope.
     #[arg(long, default_value_t = 0.33)]
     pub slope_sigma: f64,
@@ -136,6 +140,7 @@ pub fn run(a: &Args, ctx: Context) -> Result {
             angle_deg: n.angle_deg,
             detection: n.detection,
             point_fraction: n.point_fraction,
+            point_model: n.point_noise,
             slope_sigma: n.slope_sigma,
         })?,
         Some(Command::ObjectSlam(o)) => {

@@ -116,7 +116,11 @@ fn map_building_of_the_box_reaches_or_counts_every_goal_and_never_collides() {
     let mut made = std::collections::HashMap::new();
     let (mut count, mut truly) = (0u64, 0u64);
     for (k, p) in out.poses.iter().enumerate() {
-        let e: usize = experience[k].parse().unwrap();
+        // Empty before the first whisk with μ contacts (no experience yet).
+        let Ok(e) = experience[k].parse::<usize>() else {
+            assert_eq!(created[k], "", "row {k}");
+            continue;
+        };
         if created[k] == "1" {
             made.insert(e, *p);
         } else if relocalised[k] == "1" {
@@ -129,6 +133,61 @@ fn map_building_of_the_box_reaches_or_counts_every_goal_and_never_collides() {
     assert_eq!(revisits["count"].as_u64(), Some(count), "{s}");
     assert_eq!(revisits["true"].as_u64(), Some(truly), "{s}");
     assert_eq!(made.len() as u64, map.experiences.len() as u64);
+}
+
+/// Goals at whisker reach and the μ gate (issue #35: `map_goals = "reach"`,
+/// `slam.min_contacts = 4`), checked against the Box's mesh (a box: its vertices' bounds
+/// are the solid): every experience was made from a whisk of μ = 4 contacts or more with
+/// the array's origin within the caudal whiskers' reach ahead (83 mm) of the surface;
+/// every side the array whisked at with μ contacts holds one.
+#[test]
+fn a_map_built_at_reach_has_experiences_on_every_side_it_whisked_within_reach() {
+    let (mut scenario, file) = load("explore_map_box.toml");
+    let explore = scenario.explore.as_mut().unwrap();
+    explore.map_goals = whisker_experiments::scenario::explore::MapGoals::Reach;
+    explore.slam.min_contacts = 4;
+    let out = run(&scenario, &file);
+    let (created, contacts) = (column(&out.csv, "created"), column(&out.csv, "contacts"));
+    let env = scenario.environment(&file).unwrap().environment;
+    let piece = &env.pieces[0];
+    let world: Vec<nalgebra::Point3<f64>> =
+        piece.mesh.vertices.iter().map(|v| piece.pose * v).collect();
+    let (lo, hi) = whisker_sim::environment::mesh::bounds(&world);
+    let side = |p: &Isometry3<f64>| -> (f64, String) {
+        let x = p.translation.vector;
+        let inside = nalgebra::Vector3::from_fn(|i, _| x[i].clamp(lo[i], hi[i]));
+        let excess = nalgebra::Vector3::from_fn(|i, _| (x[i] - hi[i]).max(lo[i] - x[i]));
+        let axis = excess.imax();
+        let sign = if x[axis] > hi[axis] { '+' } else { '-' };
+        (
+            (x - inside).norm(),
+            format!("{sign}{}", ['x', 'y', 'z'][axis]),
+        )
+    };
+    let (mut whisked, mut mapped) = (
+        std::collections::BTreeSet::new(),
+        std::collections::BTreeSet::new(),
+    );
+    for (k, p) in out.poses.iter().enumerate() {
+        let (d, face) = side(p);
+        let n: usize = contacts[k].parse().unwrap();
+        if n >= 4 {
+            whisked.insert(face.clone());
+        }
+        if created[k] == "1" {
+            assert!(n >= 4, "whisk {k} made an experience from {n} contacts");
+            assert!(
+                d <= 0.083,
+                "whisk {k} made an experience {d} m from the Box"
+            );
+            mapped.insert(face);
+        }
+    }
+    assert_eq!(
+        whisked, mapped,
+        "sides whisked with contact vs sides with experiences"
+    );
+    assert!(mapped.len() >= 4, "{mapped:?}");
 }
 
 /// With exact odometry and no feature matches the map is pure dead reckoning: over the

@@ -2,6 +2,7 @@
 //! on what it means, in one place, so that the command line's parser, the help and the
 //! reports agree.
 
+use whisker_sim::sensing::noise::PointNoise;
 use whisker_sim::sensing::physics::SolverPath;
 use whisker_sim::whisker::beam::Bending;
 
@@ -38,6 +39,21 @@ impl Choice for Bending {
             Bending::SweepPlane,
             "sweep-plane",
             "Revolute joints: the shaft bends in the sweep plane only (faster)",
+        ),
+    ];
+}
+
+impl Choice for PointNoise {
+    const ALL: &'static [(Self, &'static str, &'static str)] = &[
+        (
+            PointNoise::PerCoordinate,
+            "per-coordinate",
+            "N(0, r) on each of x, y and z",
+        ),
+        (
+            PointNoise::AlongWhisker,
+            "along-whisker",
+            "N(0, r) along the shaft: the radial distance's error (§6.1.3.1.2)",
         ),
     ];
 }

@@ -35,5 +35,6 @@ pub mod run;
 pub mod scenario;
 pub mod sensing;
 pub mod soak;
+pub mod surface;
 pub mod trials;
 pub mod urdf;

@@ -486,3 +486,65 @@ fn experiences_made_after_a_false_relocalisation_stay_where_they_were_made() {
     assert!(aliased);
     assert!(t > 0.05 && r > 20.0, "the thesis' rule: {t} m, {r}°");
 }
+
+/// Issue #35: a whisk with fewer than μ contacts enters neither matching nor map building.
+/// An empty whisk's features (zero histogram, no slopes) match a stored empty experience
+/// perfectly (χ² = NMSE = 0): with the gate off (μ = 0) a map holding one re-localises onto
+/// it from anywhere (the default, 0); with μ = 4 nothing is matched, made or re-localised onto, the odometry
+/// of the idle whisks is kept, and the first experience waits for contact.
+#[test]
+fn a_whisk_without_enough_contacts_never_relocalises_or_creates_an_experience() {
+    // What `whisk_features` makes of a whisk without contact.
+    let empty = Features {
+        pfh: vec![0.0; 81],
+        sda: Sda(vec![None; 18]),
+    };
+    let places = place_features(3);
+    let step_x = |x: f64| Odometry::between(&pose(0.0, 0.0, 0.0), &pose(x, 0.0, 0.0), 1.0);
+    // The defect the gate removes: empty experience 0, then a place, then an empty whisk
+    // 6 cm on: a perfect match, accepted after its own injection.
+    let mut open = WhiskerRatSlam::new(
+        Params {
+            min_contacts: 0,
+            ..Params::default()
+        },
+        ObjectMap::default(),
+    );
+    open.whisk(&empty, 0, &step_x(0.0)).unwrap();
+    open.whisk(&places[0], 6, &step_x(0.01)).unwrap();
+    let s = open.whisk(&empty, 0, &step_x(0.01)).unwrap();
+    assert_eq!((s.matched, s.experience, s.relocalised), (Some(0), 0, true));
+
+    // With μ = 4.
+    let mut slam = WhiskerRatSlam::new(
+        Params {
+            min_contacts: 4,
+            ..Params::default()
+        },
+        ObjectMap::default(),
+    );
+    for contacts in 0..4 {
+        assert!(slam.whisk(&empty, contacts, &step_x(0.01)).is_none());
+    }
+    assert!(
+        slam.map.experiences.is_empty(),
+        "no experience without contact"
+    );
+    let first = slam.whisk(&places[0], 4, &step_x(0.01)).unwrap();
+    assert!(first.created);
+    // Idle whisks 6 × 1 cm along x: they stay on the experience, match nothing…
+    for _ in 0..6 {
+        let s = slam.whisk(&empty, 3, &step_x(0.01)).unwrap();
+        assert_eq!((s.matched, s.experience), (None, first.experience));
+        assert!(!s.created && !s.relocalised);
+    }
+    assert_eq!(slam.map.experiences.len(), 1);
+    // … and their odometry is kept: the next experience lies 7 cm on (6 idle + its own).
+    let next = slam.whisk(&places[1], 5, &step_x(0.01)).unwrap();
+    assert!(next.created);
+    let d = slam.map.pose(first.experience).inverse() * slam.map.pose(next.experience);
+    assert!(
+        (d.translation.vector - Vector3::new(0.07, 0.0, 0.0)).norm() < 1e-9,
+        "{d}"
+    );
+}

@@ -395,22 +395,19 @@ fn run_slam(
         let points: Vec<Point3<f64>> = cycle.contacts.iter().map(|c| c.point).collect();
         let features = whisker_slam::features::whisk::whisk_features(cycle, &points);
         let before = slam.map.experiences.len();
-        let step = slam.step(&features, odo);
-        let onto = (step.relocalised && step.experience < before)
-            .then(|| slam.map.experiences[step.experience].object.clone())
-            .flatten();
+        let step = slam.whisk(&features, points.len(), odo);
+        let onto = step
+            .filter(|s| s.relocalised && s.experience < before)
+            .and_then(|s| slam.map.experiences[s.experience].object.clone());
         relocalisations += usize::from(onto.is_some());
         if let Some(r) = recognition.as_deref_mut() {
             r.update(onto.as_deref());
         }
-        let matched = step.matched.map_or(String::new(), |x| x.to_string());
         let _ = write!(
             csv,
-            "{k},{},{matched},{},{},{},{}",
+            "{k},{},{},{}",
             points.len(),
-            step.experience,
-            u8::from(step.created),
-            u8::from(step.relocalised),
+            super::log::step_columns(step.as_ref()),
             onto.as_deref().unwrap_or("")
         );
         for name in &info.maps {
@@ -464,7 +461,7 @@ fn write_replay(
     let text = serde_json::to_string_pretty(&value).expect("plain JSON") + "\n";
     crate::output::write_atomic(&out.join("summary.json"), text.as_bytes())?;
     if info.task == "map" {
-        crate::output::write_json(&out.join("map.json"), &slam.map)?;
+        crate::output::write_json(&out.join("map.json"), &slam.map.rested())?;
     }
     Ok(())
 }

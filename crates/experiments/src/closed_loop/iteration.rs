@@ -90,19 +90,20 @@ impl Loop<'_> {
         tally.previous = pose;
         let features = whisker_slam::features::whisk::whisk_features(&cycle, &points);
         let before = self.slam.map.experiences.len();
-        let step = self.slam.step(&features, &odometry);
-        if step.created {
-            tally.truth_at_creation.push((step.experience, pose));
-        } else if step.relocalised {
-            tally.truth_at_revisit.push((step.experience, pose));
+        let step = self.slam.whisk(&features, points.len(), &odometry);
+        if let Some(s) = step {
+            if s.created {
+                tally.truth_at_creation.push((s.experience, pose));
+            } else if s.relocalised {
+                tally.truth_at_revisit.push((s.experience, pose));
+            }
         }
         // 5. Recognition: re-localisations into a loaded map's experiences.
-        let onto = (step.relocalised && step.experience < before)
-            .then(|| self.slam.map.experiences[step.experience].object.clone())
-            .flatten();
-        if onto.is_some() {
+        let relocalised = step.filter(|s| s.relocalised && s.experience < before);
+        let onto = relocalised.and_then(|s| self.slam.map.experiences[s.experience].object.clone());
+        if let (Some(s), Some(_)) = (relocalised, &onto) {
             tally.relocalisations += 1;
-            self.anchor = Some((step.experience, pose));
+            self.anchor = Some((s.experience, pose));
         }
         if let Some(r) = &mut self.recognition {
             r.update(onto.as_deref());
@@ -135,14 +136,10 @@ impl Loop<'_> {
         if w.world.is_empty() {
             self.count("lost_contact");
             self.abandon_step();
-        } else if let Some(r) = self.recognition.take() {
-            self.replan(
-                &r,
-                w.onto.as_deref(),
-                w.step.experience,
-                &w.features,
-                &w.pose,
-            );
+        } else if let Some(step) = w.step
+            && let Some(r) = self.recognition.take()
+        {
+            self.replan(&r, w.onto.as_deref(), step.experience, &w.features, &w.pose);
             self.recognition = Some(r);
         }
         decision
@@ -167,7 +164,7 @@ impl Loop<'_> {
             reached: &w.pose,
             joints: &self.robot.q,
             contacts: w.world.len(),
-            step: &w.step,
+            step: w.step.as_ref(),
             onto: w.onto.as_deref(),
             recognition: self.recognition.as_ref(),
             heading: self.heading.name(),
@@ -189,7 +186,7 @@ impl Loop<'_> {
                 goal,
                 pose: &w.pose,
                 contacts,
-                step: &w.step,
+                step: w.step.as_ref(),
                 onto: w.onto.as_deref(),
                 spc: decision,
                 streams: w.streams.as_deref(),
@@ -244,7 +241,7 @@ impl Loop<'_> {
             self.record_end(rec, &out.summary)?;
         }
         if self.config.task == Task::Map {
-            out.map = Some(self.slam.map.clone());
+            out.map = Some(self.slam.map.rested());
         }
         Ok(out)
     }

@@ -44,7 +44,7 @@ pub struct Row<'a> {
     pub reached: &'a Isometry3<f64>,
     pub joints: &'a [f64],
     pub contacts: usize,
-    pub step: &'a Step,
+    pub step: Option<&'a Step>,
     pub onto: Option<&'a str>,
     pub recognition: Option<&'a Recognition>,
     pub heading: &'a str,
@@ -55,6 +55,21 @@ fn pose_columns(out: &mut String, p: &Isometry3<f64>) {
     let t = p.translation.vector;
     let [qx, qy, qz, qw] = pose::quaternion_xyzw(&p.rotation);
     let _ = write!(out, ",{},{},{},{qx},{qy},{qz},{qw}", t.x, t.y, t.z);
+}
+
+/// The columns `matched,experience,created,relocalised` of a whisk's SLAM `step`, all
+/// empty while there is no experience.
+pub fn step_columns(step: Option<&Step>) -> String {
+    match step {
+        Some(s) => format!(
+            "{},{},{},{}",
+            s.matched.map_or(String::new(), |m| m.to_string()),
+            s.experience,
+            u8::from(s.created),
+            u8::from(s.relocalised)
+        ),
+        None => ",,,".into(),
+    }
 }
 
 /// Appends one row.
@@ -72,16 +87,8 @@ pub fn row(out: &mut String, r: &Row, objects: &[String]) {
     for q in r.joints {
         let _ = write!(out, ",{q}");
     }
-    let matched = r.step.matched.map_or(String::new(), |m| m.to_string());
-    let _ = write!(
-        out,
-        ",{},{matched},{},{},{},{}",
-        r.contacts,
-        r.step.experience,
-        u8::from(r.step.created),
-        u8::from(r.step.relocalised),
-        r.onto.unwrap_or("")
-    );
+    let _ = write!(out, ",{},{}", r.contacts, step_columns(r.step));
+    let _ = write!(out, ",{}", r.onto.unwrap_or(""));
     for o in objects {
         let _ = write!(
             out,

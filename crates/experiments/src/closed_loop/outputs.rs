@@ -142,14 +142,30 @@ fn results(s: &serde_json::Value, wall: f64) -> String {
     ];
     if let Some(r) = s["recognition"].as_object() {
         let text = |v: &serde_json::Value| v.as_str().map_or_else(|| v.to_string(), str::to_owned);
+        // Null when nothing crossed the threshold: said in words, not as JSON's null.
+        let whisks = |v: &serde_json::Value, none: &str| {
+            if v.is_null() {
+                none.to_string()
+            } else {
+                format!("{v} whisks")
+            }
+        };
+        let identified = &r["identified"];
         let _ = writeln!(
             out,
-            "recognised {} (the object is {}): {}; SRT {} whisks, IM {} whisks",
-            text(&r["identified"]),
+            "recognised {} (the object is {}): {}; SRT {}, IM {}",
+            if identified.is_null() {
+                "nothing".to_string()
+            } else {
+                text(identified)
+            },
             text(&s["object"]),
             text(&r["outcome"]),
-            r["srt"],
-            r["im"]
+            whisks(
+                &r["srt"],
+                "- (the true object's IC never reached the threshold)"
+            ),
+            whisks(&r["im"], "-")
         );
         legend.push(("recognised", "the first object whose integrated confidence IC (the raw confidence summed over whisks, §6.1.2.4, Fig 6.4) reached the threshold (300, Fig 6.7); correct / wrong / none"));
         legend.push(("SRT", "successful recognition time (§6.2, Fig 6.9): whisks until the true object's IC reached the threshold; lower is better"));

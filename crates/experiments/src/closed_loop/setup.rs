@@ -7,9 +7,10 @@ use super::state::{Heading, Loop, Sensor};
 use crate::error::{Error, Result};
 use crate::plan::Plan;
 use crate::record::{GraphSchedule, Recorder, Reporter, SensorColumns};
-use crate::scenario::explore::{ExploreConfig, Task};
+use crate::scenario::explore::{ExploreConfig, MapGoals, Task};
 use crate::scenario::{Scenario, Sensing};
 use crate::sensing::held::{PhysicsSensing, WhiskLog};
+use crate::surface::MeshSurface;
 use nalgebra::{Point3, Vector3};
 use rand::RngExt;
 use std::collections::{BTreeMap, VecDeque};
@@ -63,7 +64,9 @@ pub fn build<'a>(
         ));
     }
     let sensing = sensor(scenario, file, environment, outlets.log)?;
-    let (map, recognition, mesh) = goals(config, file, centre, half)?;
+    let surface = MeshSurface::new(&world, &piece.mesh.triangles, centre)
+        .map_err(|e| Error::field(file, "explore.object", e))?;
+    let (map, recognition, mesh) = goals(config, file, &surface, half)?;
     let tour = FaceTour::new(mesh, config.min_height_m);
     if tour.usable() == 0 {
         return Err(Error::field(
@@ -138,21 +141,29 @@ fn sensor(
 }
 
 /// The task's map (empty, or the known maps appended), recognition (none when building
-/// a map) and goal mesh around the object's bounding box (`centre`, `half` extents).
+/// a map) and goal mesh around the object (its `surface`, seen from its bounding box's
+/// centre; `half` the box's extents).
 fn goals(
     config: &ExploreConfig,
     file: &Path,
-    centre: Point3<f64>,
+    surface: &MeshSurface,
     half: Vector3<f64>,
 ) -> Result<(ObjectMap, Option<Recognition>, GoalMesh)> {
+    let centre = surface.centre;
     Ok(match config.task {
         Task::Map => {
-            let semi = half * 3f64.sqrt() + Vector3::repeat(config.standoff_m);
-            (
-                ObjectMap::default(),
-                None,
-                GoalMesh::ellipsoid(centre, semi, config.mesh_faces),
-            )
+            let semi = half * 3f64.sqrt();
+            let mesh = match config.map_goals {
+                MapGoals::Reach => {
+                    GoalMesh::around(surface, semi, config.standoff_m, config.mesh_faces)
+                }
+                MapGoals::Ellipsoid => GoalMesh::ellipsoid(
+                    centre,
+                    semi + Vector3::repeat(config.standoff_m),
+                    config.mesh_faces,
+                ),
+            };
+            (ObjectMap::default(), None, mesh)
         }
         Task::Recognise => {
             let mut appended = ObjectMap::default();
@@ -164,13 +175,15 @@ fn goals(
             // The thesis' "bounding sphere + standoff" keeps a box's faces out of reach
             // (15 cm for the Box); the mean half extent + the SPC band's middle puts the
             // side faces in reach, so the default trajectory touches without the SPC too.
+            // Where the sphere comes nearer the object than the band's middle (inside the
+            // Box's top and bottom, 17.5 cm from its centre) its goals move out to it.
             let band = 0.5 * (config.placement.near_m + config.placement.far_m);
             let radius = config.sphere_radius_m.unwrap_or(half.mean() + band);
             let objects: Vec<String> = config.maps.keys().cloned().collect();
             (
                 appended,
                 Some(Recognition::new(objects, config.recognition)),
-                GoalMesh::sphere(centre, radius, config.mesh_faces),
+                GoalMesh::sphere(centre, radius, config.mesh_faces).outside(surface, band),
             )
         }
     })

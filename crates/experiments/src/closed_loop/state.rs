@@ -175,7 +175,9 @@ pub struct Whisked {
     pub world: Vec<Point3<f64>>,
     pub odometry: Odometry,
     pub features: Features,
-    pub step: Step,
+    /// None while no experience exists (whisks with fewer than μ contacts before the
+    /// first with enough: a new experience needs contact).
+    pub step: Option<Step>,
     /// The loaded object re-localised into, if any.
     pub onto: Option<String>,
 }
@@ -189,7 +191,7 @@ pub struct Whisk<'a> {
     pub goal: Option<&'a (Isometry3<f64>, String)>,
     pub pose: &'a Isometry3<f64>,
     pub contacts: &'a [Contact],
-    pub step: &'a Step,
+    pub step: Option<&'a Step>,
     pub onto: Option<&'a str>,
     pub spc: &'a str,
     /// Physics: every whisker's samples of the whisk.

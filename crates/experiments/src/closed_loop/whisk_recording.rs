@@ -81,18 +81,18 @@ impl Loop<'_> {
             rec.object_map(
                 "slam/map",
                 &self.slam.map,
-                Some(w.step.experience),
+                w.step.map(|s| s.experience),
                 self.stepping_to,
             )?;
         }
-        if w.step.relocalised {
+        if let Some(step) = w.step.filter(|s| s.relocalised) {
             let onto = w.onto.map_or(String::new(), |o| format!(" ({o})"));
             rec.relocalisation(
                 "world/relocalisations",
                 w.pose,
                 &format!(
                     "whisk {}: re-localised onto experience {}{onto}",
-                    w.iteration, w.step.experience
+                    w.iteration, step.experience
                 ),
             )?;
         }

@@ -177,6 +177,10 @@ pub struct ContactNoiseInfo {
     pub slope_sigma: f64,
     /// Probability that a contact is registered.
     pub detection_probability: f64,
+    /// Which way the point's noise displaced it (`per_coordinate` when absent: the only
+    /// model before issue #35).
+    #[serde(default)]
+    pub point_model: whisker_sim::sensing::noise::PointNoise,
 }
 
 impl ContactNoiseInfo {
@@ -186,6 +190,7 @@ impl ContactNoiseInfo {
             point_fraction: noise.point_fraction,
             slope_sigma: noise.slope_sigma,
             detection_probability: noise.detection_probability,
+            point_model: noise.point_model,
         })
     }
 }

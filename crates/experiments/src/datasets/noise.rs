@@ -21,7 +21,7 @@ use crate::error::{Error, Result};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 use std::path::PathBuf;
-use whisker_sim::sensing::noise::ContactNoise;
+use whisker_sim::sensing::noise::{ContactNoise, PointNoise};
 use whisker_slam::ratslam::odometry::OdometryNoise;
 use whisker_slam::ratslam::odometry::noisy_steps;
 use whisker_slam::rng::{gauss, substream};
@@ -41,8 +41,10 @@ pub struct Settings {
     pub angle_deg: f64,
     /// Probability that a contact is registered (level contacts).
     pub detection: f64,
-    /// σ of each contact-point coordinate as a fraction of the whisker's length.
+    /// σ of the contact point's noise as a fraction of the whisker's length.
     pub point_fraction: f64,
+    /// Which way it displaces the point.
+    pub point_model: PointNoise,
     /// σ of the contact slope.
     pub slope_sigma: f64,
 }
@@ -95,10 +97,21 @@ fn check(o: &Settings, m: &Manifest) -> Result<ContactNoise> {
         point_fraction: o.point_fraction,
         slope_sigma: o.slope_sigma,
         detection_probability: o.detection,
+        point_model: o.point_model,
     };
     contact_noise
         .validate()
         .map_err(|(f, e)| Error::Input(format!("--{}: {e}", f.replace('_', "-"))))?;
+    // Along the whisker needs each whisker's shaft: the standard array's modules.
+    let standard = whisker_sim::whisker::array::labels();
+    if o.point_model == PointNoise::AlongWhisker
+        && let Some(l) = m.array.labels.iter().find(|l| !standard.contains(l))
+    {
+        return Err(Error::Input(format!(
+            "{}: field `array.labels`: {l:?} is not a whisker of the standard array (A1 … F3),              whose shaft --point-noise along-whisker needs",
+            o.input.join(crate::dataset::manifest::FILE).display()
+        )));
+    }
     // σ up to a whole 12-bit range of counts and a whole turn.
     for (name, v, max) in [
         ("deflection-counts", o.deflection_counts, 4096.0),
@@ -164,6 +177,7 @@ fn noisy_file(
                 point_fraction: o.point_fraction,
                 slope_sigma: o.slope_sigma,
                 detection_probability: o.detection,
+                point_model: o.point_model,
             });
             let whisks = match (walk, &m.maze) {
                 (Some(walk), _) => crate::object_slam::dataset::whisks(m, walk)?,
@@ -172,7 +186,13 @@ fn noisy_file(
             };
             let cycles = records::read_contacts(&path, whisks, &m.array.labels)?;
             let tag = walk.map_or(String::new(), |w| format!("{w}/"));
-            let noisy = noisy_contacts(&cycles, &m.array.lengths_m, contact_noise, o.seed, &tag);
+            let noisy = noisy_contacts(
+                &cycles,
+                (&m.array.lengths_m, &m.array.labels),
+                contact_noise,
+                o.seed,
+                &tag,
+            );
             records::contacts_csv(&noisy, &m.array.labels).into_bytes()
         }
         _ if entry.path.starts_with("log/whisks/") => return Ok(None),
@@ -236,11 +256,12 @@ fn noisy_streams(
 /// `<object>/<A|B>/`, or empty).
 fn noisy_contacts(
     cycles: &[whisker_slam::contact::ContactCycle],
-    lengths: &[f64],
+    (lengths, labels): (&[f64], &[String]),
     noise: ContactNoise,
     seed: u64,
     tag: &str,
 ) -> Vec<whisker_slam::contact::ContactCycle> {
+    let modules = whisker_sim::whisker::array::modules();
     let mut rngs: Vec<_> = (0..lengths.len())
         .map(|w| substream(seed, &format!("dataset-noise/{tag}contacts/whisker/{w}")))
         .collect();
@@ -252,8 +273,16 @@ fn noisy_contacts(
                 .contacts
                 .iter()
                 .filter_map(|x| {
+                    // The shaft in the array frame (the contact point's) at its angle; the
+                    // manifest's labels are the standard array's (checked on reading).
+                    let shaft = modules
+                        .iter()
+                        .find(|m| m.pixel() == labels[x.whisker])
+                        .map_or(Vector3::z(), |m| {
+                            m.whisker_pose(x.angle_rad).rotation * Vector3::z()
+                        });
                     let (offset, slope) =
-                        noise.draw(lengths[x.whisker], x.slope, &mut rngs[x.whisker])?;
+                        noise.draw(lengths[x.whisker], &shaft, x.slope, &mut rngs[x.whisker])?;
                     let mut x = *x;
                     x.point += Vector3::from(offset);
                     x.slope = slope;

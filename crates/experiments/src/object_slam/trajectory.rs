@@ -19,7 +19,6 @@
 use crate::choice::Choice;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use parry3d_f64::math::Vector as PVector;
-use parry3d_f64::query::Ray;
 use parry3d_f64::shape::SharedShape;
 
 /// Which trajectory.
@@ -130,36 +129,10 @@ pub fn lap(
                 elevation.cos() * azimuth.sin(),
                 elevation.sin(),
             );
-            let at = centre + dir * (surface_distance(shape, centre, dir) + standoff);
+            let at = centre + dir * (crate::surface::distance_along(shape, centre, dir) + standoff);
             facing(at, -dir)
         })
         .collect()
-}
-
-/// How far out from `centre` (inside the solid `shape`) along `dir` its outermost
-/// surface lies (m): a ray cast inwards from 2 m out. A ray through an edge or a vertex
-/// can slip between the triangles, so a miss is retried from origins moved 1 µm sideways;
-/// the last resort, the first exit from the inside, is exact for star-shaped solids.
-fn surface_distance(shape: &SharedShape, centre: Vector3<f64>, dir: Vector3<f64>) -> f64 {
-    const FAR: f64 = 2.0;
-    let side = dir
-        .cross(&Vector3::z())
-        .try_normalize(1e-9)
-        .unwrap_or_else(Vector3::x);
-    let other = dir.cross(&side);
-    let nudges = [Vector3::zeros(), side, -side, other, -other].map(|v| v * 1e-6);
-    let inward = PVector::new(-dir.x, -dir.y, -dir.z);
-    nudges
-        .iter()
-        .find_map(|n| {
-            let o = centre + dir * FAR + n;
-            let ray = Ray::new(PVector::new(o.x, o.y, o.z), inward);
-            shape.cast_local_ray(&ray, FAR, true).map(|t| FAR - t)
-        })
-        .unwrap_or_else(|| {
-            let ray = Ray::new(PVector::new(centre.x, centre.y, centre.z), -inward);
-            shape.cast_local_ray(&ray, FAR, false).unwrap_or(0.0)
-        })
 }
 
 /// The array pose at `at` whose whisker axis (+z) points along `forward`, its +y as near
@@ -185,6 +158,7 @@ pub fn mean_step(poses: &[Isometry3<f64>]) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use parry3d_f64::query::Ray;
     use whisker_sim::environment::assets::{CATALOGUE, generate};
 
     /// The first surface along the array's line of sight (+z), from its origin (m).

@@ -17,7 +17,7 @@ use whisker_sim::environment::mesh::{
 /// Default largest quadric error of a decimation collapse (m).
 pub const DECIMATE_TOLERANCE_M: f64 = 0.0005;
 use whisker_sim::environment::{Environment, Piece};
-use whisker_sim::sensing::noise::ContactNoise;
+use whisker_sim::sensing::noise::{ContactNoise, PointNoise};
 use whisker_slam::pose;
 
 /// One `[[objects]]` entry: a mesh placed in the world.
@@ -109,9 +109,13 @@ pub struct KinematicConfig {
     /// Whether contact features get noise.
     #[serde(default = "yes")]
     pub noise: bool,
-    /// σ of each contact-point coordinate as a fraction of the whisker length [0.25].
+    /// σ of the contact point's noise as a fraction of the whisker length [0.25].
     #[serde(default = "point_fraction")]
     pub point_noise_fraction: f64,
+    /// Which way it displaces the point: `"per_coordinate"` (x, y and z each; default)
+    /// or `"along_whisker"` (the radial distance, as the thesis models it).
+    #[serde(default)]
+    pub point_noise: PointNoise,
     /// σ of the slope [0.33].
     #[serde(default = "slope_sigma")]
     pub slope_noise: f64,
@@ -125,6 +129,7 @@ impl Default for KinematicConfig {
         Self {
             noise: true,
             point_noise_fraction: point_fraction(),
+            point_noise: PointNoise::default(),
             slope_noise: slope_sigma(),
             detection_probability: detection(),
         }
@@ -190,6 +195,7 @@ impl KinematicConfig {
             point_fraction: self.point_noise_fraction,
             slope_sigma: self.slope_noise,
             detection_probability: self.detection_probability,
+            point_model: self.point_noise,
         };
         model.validate().map_err(|(f, m)| {
             let name = match f.as_str() {

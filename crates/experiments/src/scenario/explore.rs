@@ -24,6 +24,22 @@ pub enum Task {
     Recognise,
 }
 
+/// Where map building's goals lie (§6.1.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum MapGoals {
+    /// At whisker reach: `standoff_m` beyond the object's surface along each ray from its
+    /// centre (the stand-off of the §5.2 trajectories), the array pointing at the nearest
+    /// point of the object (issue #35).
+    Reach,
+    /// The ellipsoid with semi-axes √3 × the object's half extents + `standoff_m`, the
+    /// array along its inward normals: ~11 cm from the Box's sides, beyond most whiskers'
+    /// reach (the default for now: `assets/maps` were built on it, and maps built at
+    /// reach recognise less; issue #35).
+    #[default]
+    Ellipsoid,
+}
+
 /// How the next region is chosen once an object is likely (§6.1.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
@@ -81,7 +97,11 @@ pub struct ExploreConfig {
     /// Bands and sectors of the goal meshes (20, as MATLAB's `ellipsoid`/`sphere`).
     #[serde(default = "twenty")]
     pub mesh_faces: usize,
-    /// Map: the ellipsoid's semi-axes are √3 × the object's half extents plus this (m).
+    /// Map: where the goals lie, `"reach"` or `"ellipsoid"` ([`MapGoals`]).
+    #[serde(default)]
+    pub map_goals: MapGoals,
+    /// Map: the goals' distance beyond the surface along each ray (`reach`), or what
+    /// the ellipsoid adds to √3 × the object's half extents (`ellipsoid`) (m).
     #[serde(default = "standoff")]
     pub standoff_m: f64,
     /// Recognise: radius of the default trajectory's sphere (m) [default: the object's
@@ -216,6 +236,15 @@ impl ExploreConfig {
             if !v.is_finite() {
                 return bad(f, format!("expected a finite number, got {v}"));
             }
+        }
+        if self.map_goals == MapGoals::Reach && self.standoff_m <= 0.0 {
+            return bad(
+                "standoff_m",
+                format!(
+                    "map_goals = \"reach\" needs a positive distance beyond the surface, got {}",
+                    self.standoff_m
+                ),
+            );
         }
         if let Some(r) = self.sphere_radius_m
             && !(r.is_finite() && r > 0.0)

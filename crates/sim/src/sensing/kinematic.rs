@@ -508,7 +508,11 @@ impl KinematicArray {
                 start_s + stroke.protraction_time(hit.angle),
             ));
             let length = w.module.beam.length;
-            let Some((offset, slope)) = self.noise.draw(length, hit.slope(), &mut self.rngs[i])
+            // The shaft's direction in the array frame (the point's frame).
+            let shaft = array_pose.rotation.inverse() * (hit.base_frame.rotation * Vector3::z());
+            let Some((offset, slope)) =
+                self.noise
+                    .draw(length, &shaft, hit.slope(), &mut self.rngs[i])
             else {
                 continue;
             };

@@ -38,7 +38,8 @@ pub struct PlacementParams {
     /// neighbours for its normals).
     pub min_contacts: usize,
     /// λ_θ: half-angle of the cone about the pointing axis that must hold the contacts'
-    /// median (15°).
+    /// median (30°: with σ = 25 % of length the median of ~10 contacts wanders ~15°, and
+    /// a 15° cone chases the noise; scenarios/README.md).
     pub cone_deg: f64,
     /// λ_l: nearest accepted median contact distance along the pointing axis, from the
     /// array frame's origin (the centre of the array's front face): 0.025 m.

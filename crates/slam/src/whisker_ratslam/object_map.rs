@@ -253,6 +253,8 @@ impl ObjectMap {
             let mut e = e.clone();
             e.id += offset;
             e.object = Some(object.to_string());
+            // Prior knowledge starts unexcited (see [`ObjectMap::rested`]).
+            e.decay = 0.0;
             self.experiences.push(e);
         }
         for l in &other.links {
@@ -323,6 +325,17 @@ impl ObjectMap {
             }
         }
         Ok(())
+    }
+
+    /// The map as it is saved: every experience's decay back to 0. Decay (Eq 5.8) is the
+    /// state of one run's feature injections, not of the map: a map saved mid-run would
+    /// otherwise inject less into the experiences its builder matched last.
+    pub fn rested(&self) -> Self {
+        let mut map = self.clone();
+        for e in &mut map.experiences {
+            e.decay = 0.0;
+        }
+        map
     }
 
     /// Writes the map to `path` (atomically: a temporary file beside it, then renamed).

@@ -120,6 +120,15 @@ pub struct Params {
     /// Feature merging (Table 5.1 "feature update"): a re-localisation averages the
     /// matched experience's features with the observed ones.
     pub merge_features: bool,
+    /// μ of the closed loop's whisks ([`WhiskerRatSlam::whisk`]): a whisk with fewer
+    /// contacts enters neither matching nor map building — it only moves the pose cells
+    /// and the odometry on. Alg 7 acts only on μ = 4 or more contacts, and nothing in
+    /// Ch 5–6 matches an empty whisk (two empty feature sets score χ² = NMSE = 0, a
+    /// perfect match). 0 (the default, for now) sends every whisk to SLAM: with 4, most of
+    /// the re-localisations that recognise an object in this project's closed loop are
+    /// gone and nothing is recognised within 1,000 whisks by the default trajectory
+    /// (issue #35, measured; the default changes once recognition stands without them).
+    pub min_contacts: usize,
 }
 
 impl Params {
@@ -262,6 +271,45 @@ impl WhiskerRatSlam {
             .map(|c| self.map.pose(c) * self.accumulated.pose)
     }
 
+    /// One whisk of the closed loop (Ch 6): [`Self::step`] when it made at least
+    /// `min_contacts` contacts, [`Self::idle`] otherwise.
+    pub fn whisk(
+        &mut self,
+        features: &Features,
+        contacts: usize,
+        odometry: &Odometry,
+    ) -> Option<Step> {
+        if contacts < self.params.min_contacts {
+            self.idle(odometry)
+        } else {
+            Some(self.step(features, odometry))
+        }
+    }
+
+    /// An update without features: the pose cells' attractor and path integration on
+    /// `odometry`, the odometry accumulated since the current experience, the experiences'
+    /// decay restored; nothing matched, made or re-localised onto. The step stays at the
+    /// current experience; none before the first (a new experience needs contact).
+    pub fn idle(&mut self, odometry: &Odometry) -> Option<Step> {
+        self.feature_excitation(None);
+        let best = self.path_integration(odometry);
+        let sample = self.samples;
+        self.samples += 1;
+        let experience = self.current?;
+        self.map.history.push(HistoryEntry {
+            sample,
+            experience,
+            relocalised: false,
+        });
+        Some(Step {
+            matched: None,
+            experience,
+            created: false,
+            relocalised: false,
+            best,
+        })
+    }
+
     /// One iteration of Alg 2 for a whisk's `features` and the `odometry` since the last.
     pub fn step(&mut self, features: &Features, odometry: &Odometry) -> Step {
         let p = self.params;
@@ -275,14 +323,7 @@ impl WhiskerRatSlam {
             self.feature_excitation(matched);
         }
         // path_integration (an earlier injection is consolidated here)
-        self.cells.excite_inhibit();
-        self.cells
-            .path_integrate(&odometry.translation(), &odometry.rotation());
-        let best = self.cells.best();
-        self.accumulated.add(odometry);
-        if let Some((_, since)) = &mut self.anchor {
-            since.add(odometry);
-        }
+        let best = self.path_integration(odometry);
         // process_object_map
         let (experience, created, relocalised) = self.process_map(features, matched, best);
         if order == RelocalisationTest::Independent {
@@ -306,6 +347,20 @@ impl WhiskerRatSlam {
             relocalised,
             best,
         }
+    }
+
+    /// Alg 2's path integration: the pose cells' attractor, then their shift by
+    /// `odometry`, accumulated since the current experience (and the anchor); returns the
+    /// best pose cell.
+    fn path_integration(&mut self, odometry: &Odometry) -> Cell6 {
+        self.cells.excite_inhibit();
+        self.cells
+            .path_integrate(&odometry.translation(), &odometry.rotation());
+        self.accumulated.add(odometry);
+        if let Some((_, since)) = &mut self.anchor {
+            since.add(odometry);
+        }
+        self.cells.best()
     }
 
     /// Whether the odometry anchor is on (it needs robust relaxation).
