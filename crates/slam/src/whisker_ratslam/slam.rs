@@ -106,7 +106,7 @@ impl Injection {
 }
 
 /// WhiskerRatSLAM parameters.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Params {
     /// Pose cells.
@@ -120,15 +120,26 @@ pub struct Params {
     /// Feature merging (Table 5.1 "feature update"): a re-localisation averages the
     /// matched experience's features with the observed ones.
     pub merge_features: bool,
-    /// μ of the closed loop's whisks ([`WhiskerRatSlam::whisk`]): a whisk with fewer
-    /// contacts enters neither matching nor map building — it only moves the pose cells
-    /// and the odometry on. Alg 7 acts only on μ = 4 or more contacts, and nothing in
-    /// Ch 5–6 matches an empty whisk (two empty feature sets score χ² = NMSE = 0, a
-    /// perfect match). 0 (the default, for now) sends every whisk to SLAM: with 4, most of
-    /// the re-localisations that recognise an object in this project's closed loop are
-    /// gone and nothing is recognised within 1,000 whisks by the default trajectory
-    /// (issue #35, measured; the default changes once recognition stands without them).
+    /// The fewest contacts of a closed-loop whisk that enters matching and map building
+    /// ([`WhiskerRatSlam::whisk`]); a whisk with fewer only moves the pose cells and the
+    /// odometry on. 1 (the default): a new experience needs contact, and an empty whisk,
+    /// whose features (a zero histogram, no slopes) match a stored empty experience
+    /// perfectly (χ² = NMSE = 0), matches nothing — nothing in Ch 5–6 matches an empty
+    /// whisk. 4 is Alg 7's μ (the SPC's); 0 sends every whisk to SLAM (before issue #35).
     pub min_contacts: usize,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Self {
+            pose_cells: PoseCellParams::default(),
+            matching: Matching::default(),
+            injection: Injection::default(),
+            experiences: ExperienceParams::default(),
+            merge_features: false,
+            min_contacts: 1,
+        }
+    }
 }
 
 impl Params {
