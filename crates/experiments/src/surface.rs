@@ -6,6 +6,7 @@ use nalgebra::{Point3, Vector3};
 use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::query::Ray;
 use parry3d_f64::shape::SharedShape;
+use whisker_sim::environment::Mesh;
 use whisker_slam::exploration::goal_mesh::Surface;
 
 /// How far out from `centre` (inside the solid `shape`) along `dir` its outermost
@@ -43,19 +44,12 @@ pub struct MeshSurface {
 }
 
 impl MeshSurface {
-    /// The triangles of `vertices` (world) seen from `centre`.
-    pub fn new(
-        vertices: &[Point3<f64>],
-        triangles: &[[u32; 3]],
-        centre: Point3<f64>,
-    ) -> Result<Self, String> {
-        let v = vertices
-            .iter()
-            .map(|p| PVector::new(p.x, p.y, p.z))
-            .collect();
-        let shape = SharedShape::trimesh(v, triangles.to_vec())
-            .map_err(|e| format!("cannot build the object's surface: {e}"))?;
-        Ok(Self { shape, centre })
+    /// The triangles of `mesh` (world) seen from `centre`, as a two-sided triangle mesh.
+    pub fn new(mesh: &Mesh, centre: Point3<f64>) -> Result<Self, String> {
+        Ok(Self {
+            shape: mesh.soup_shape()?,
+            centre,
+        })
     }
 }
 

@@ -48,8 +48,12 @@ pub fn build<'a>(
     let truth = config.object_name(file, &names)?;
     let index = names.iter().position(|n| *n == truth).expect("validated");
     let piece = &environment.pieces[index];
-    let world: Vec<Point3<f64>> = piece.mesh.vertices.iter().map(|v| piece.pose * v).collect();
-    let (centre, half) = bounding_box(&world);
+    // The explored object in the world.
+    let object = whisker_sim::environment::Mesh {
+        vertices: piece.mesh.vertices.iter().map(|v| piece.pose * v).collect(),
+        triangles: piece.mesh.triangles.clone(),
+    };
+    let (centre, half) = bounding_box(&object.vertices);
     let chain = crate::sensing::array::array_chain(scenario, file, &plan)?;
     let robot = Robot::new(plan, chain, environment, scenario.seed)?;
     let hits = robot.colliding(&robot.q);
@@ -64,8 +68,8 @@ pub fn build<'a>(
         ));
     }
     let sensing = sensor(scenario, file, environment, outlets.log)?;
-    let surface = MeshSurface::new(&world, &piece.mesh.triangles, centre)
-        .map_err(|e| Error::field(file, "explore.object", e))?;
+    let surface =
+        MeshSurface::new(&object, centre).map_err(|e| Error::field(file, "explore.object", e))?;
     let (map, recognition, mesh) = goals(config, file, &surface, half)?;
     let tour = FaceTour::new(mesh, config.min_height_m);
     if tour.usable() == 0 {

@@ -261,7 +261,15 @@ fn noisy_contacts(
     seed: u64,
     tag: &str,
 ) -> Vec<whisker_slam::contact::ContactCycle> {
-    let modules = whisker_sim::whisker::array::modules();
+    // Each whisker's module by its label (the manifest's labels are the standard array's
+    // when the noise lies along the whisker: checked on reading).
+    let modules: Vec<Option<whisker_sim::whisker::array::Module>> = {
+        let all = whisker_sim::whisker::array::modules();
+        labels
+            .iter()
+            .map(|l| all.iter().find(|m| m.pixel() == *l).cloned())
+            .collect()
+    };
     let mut rngs: Vec<_> = (0..lengths.len())
         .map(|w| substream(seed, &format!("dataset-noise/{tag}contacts/whisker/{w}")))
         .collect();
@@ -273,14 +281,10 @@ fn noisy_contacts(
                 .contacts
                 .iter()
                 .filter_map(|x| {
-                    // The shaft in the array frame (the contact point's) at its angle; the
-                    // manifest's labels are the standard array's (checked on reading).
-                    let shaft = modules
-                        .iter()
-                        .find(|m| m.pixel() == labels[x.whisker])
-                        .map_or(Vector3::z(), |m| {
-                            m.whisker_pose(x.angle_rad).rotation * Vector3::z()
-                        });
+                    // The shaft in the array frame (the contact point's) at its angle.
+                    let shaft = modules[x.whisker].as_ref().map_or(Vector3::z(), |m| {
+                        m.whisker_pose(x.angle_rad).rotation * Vector3::z()
+                    });
                     let (offset, slope) =
                         noise.draw(lengths[x.whisker], &shaft, x.slope, &mut rngs[x.whisker])?;
                     let mut x = *x;

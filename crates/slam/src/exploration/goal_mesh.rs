@@ -39,20 +39,6 @@ pub trait Surface {
     fn nearest(&self, p: &Point3<f64>) -> Point3<f64>;
 }
 
-/// An object's axis-aligned bounding box: its centre and half extents (m).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BoundingBox {
-    pub centre: Point3<f64>,
-    pub half: Vector3<f64>,
-}
-
-impl BoundingBox {
-    /// The distance from `p` to the box (0 inside).
-    pub fn distance(&self, p: &Point3<f64>) -> f64 {
-        (p - self.nearest(p)).norm()
-    }
-}
-
 /// The point along the ray from `surface`'s centre in the unit `direction` that lies
 /// `clearance` (> 0) from the object, beyond its outermost point along the ray (found by
 /// bisection: at the outermost point the distance is 0, and 10 × `clearance` further it
@@ -79,30 +65,12 @@ pub fn at_clearance(
     from + direction * hi
 }
 
-impl Surface for BoundingBox {
-    fn centre(&self) -> Point3<f64> {
-        self.centre
-    }
-
-    fn outermost(&self, direction: &Vector3<f64>) -> Point3<f64> {
-        // The exit through the first face the ray reaches.
-        let t = (0..3)
-            .filter(|&i| direction[i] != 0.0)
-            .map(|i| self.half[i] / direction[i].abs())
-            .fold(f64::INFINITY, f64::min);
-        self.centre + direction * t
-    }
-
-    fn nearest(&self, p: &Point3<f64>) -> Point3<f64> {
-        let d = p - self.centre;
-        self.centre + Vector3::from_fn(|i, _| d[i].clamp(-self.half[i], self.half[i]))
-    }
-}
-
 impl GoalMesh {
     /// The axis-aligned ellipsoid with `centre` and `semi_axes`, `n` bands × `n` sectors.
     pub fn ellipsoid(centre: Point3<f64>, semi_axes: Vector3<f64>, n: usize) -> Self {
-        Self::lat_long(n, |lat, lon| centre + ellipsoid_point(&semi_axes, lat, lon))
+        Self::lat_long(centre, n, |lat, lon| {
+            centre + ellipsoid_point(&semi_axes, lat, lon)
+        })
     }
 
     /// Goals at whisker reach (issue #35): the lat-long mesh whose vertices lie
@@ -114,7 +82,7 @@ impl GoalMesh {
     /// §5.2 trajectories keep from the surface.
     pub fn around(surface: &dyn Surface, semi: Vector3<f64>, clearance: f64, n: usize) -> Self {
         let centre = surface.centre();
-        let mut mesh = Self::lat_long(n, |lat, lon| {
+        let mut mesh = Self::lat_long(centre, n, |lat, lon| {
             at_clearance(
                 surface,
                 &ellipsoid_point(&semi, lat, lon).normalize(),
@@ -145,33 +113,29 @@ impl GoalMesh {
         self
     }
 
-    /// The lat-long mesh of `n` bands × `n` sectors through `vertex(latitude, longitude)`
-    /// (radians), each face's inward direction its normal turned towards the mean of the
-    /// vertices.
-    fn lat_long(n: usize, vertex: impl Fn(f64, f64) -> Point3<f64>) -> Self {
+    /// The lat-long mesh of `n` bands × `n` sectors about `centre` through
+    /// `vertex(latitude, longitude)` (radians, each vertex evaluated once), each face's
+    /// inward direction its normal turned towards `centre`.
+    fn lat_long(centre: Point3<f64>, n: usize, vertex: impl Fn(f64, f64) -> Point3<f64>) -> Self {
         let n = n.max(3);
-        let vertex = |i: usize, j: usize| {
-            let lat = -std::f64::consts::FRAC_PI_2 + std::f64::consts::PI * i as f64 / n as f64;
-            let lon = -std::f64::consts::PI + std::f64::consts::TAU * j as f64 / n as f64;
-            vertex(lat, lon)
-        };
-        let centre = {
-            let mut sum = Vector3::zeros();
-            for i in 0..=n {
-                for j in 0..n {
-                    sum += vertex(i, j).coords;
-                }
-            }
-            Point3::from(sum / ((n + 1) * n) as f64)
-        };
+        // (n + 1) × (n + 1): the last sector's far edge is evaluated at +180°, as before.
+        let grid: Vec<Point3<f64>> = (0..=n)
+            .flat_map(|i| (0..=n).map(move |j| (i, j)))
+            .map(|(i, j)| {
+                let lat = -std::f64::consts::FRAC_PI_2 + std::f64::consts::PI * i as f64 / n as f64;
+                let lon = -std::f64::consts::PI + std::f64::consts::TAU * j as f64 / n as f64;
+                vertex(lat, lon)
+            })
+            .collect();
+        let at = |i: usize, j: usize| grid[i * (n + 1) + j];
         let mut faces = Vec::with_capacity(n * n);
         for band in 0..n {
             for sector in 0..n {
                 let [a, b, c, d] = [
-                    vertex(band, sector),
-                    vertex(band + 1, sector),
-                    vertex(band + 1, sector + 1),
-                    vertex(band, sector + 1),
+                    at(band, sector),
+                    at(band + 1, sector),
+                    at(band + 1, sector + 1),
+                    at(band, sector + 1),
                 ];
                 let centroid = Point3::from((a.coords + b.coords + c.coords + d.coords) / 4.0);
                 let mut normal = (c - a).cross(&(d - b));
@@ -223,6 +187,40 @@ fn ellipsoid_point(semi: &Vector3<f64>, lat: f64, lon: f64) -> Vector3<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An object's axis-aligned bounding box: its centre and half extents (m).
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    pub struct BoundingBox {
+        pub centre: Point3<f64>,
+        pub half: Vector3<f64>,
+    }
+
+    impl BoundingBox {
+        /// The distance from `p` to the box (0 inside).
+        pub fn distance(&self, p: &Point3<f64>) -> f64 {
+            (p - self.nearest(p)).norm()
+        }
+    }
+
+    impl Surface for BoundingBox {
+        fn centre(&self) -> Point3<f64> {
+            self.centre
+        }
+
+        fn outermost(&self, direction: &Vector3<f64>) -> Point3<f64> {
+            // The exit through the first face the ray reaches.
+            let t = (0..3)
+                .filter(|&i| direction[i] != 0.0)
+                .map(|i| self.half[i] / direction[i].abs())
+                .fold(f64::INFINITY, f64::min);
+            self.centre + direction * t
+        }
+
+        fn nearest(&self, p: &Point3<f64>) -> Point3<f64> {
+            let d = p - self.centre;
+            self.centre + Vector3::from_fn(|i, _| d[i].clamp(-self.half[i], self.half[i]))
+        }
+    }
 
     #[test]
     fn sphere_faces_point_at_the_centre_and_tile_the_surface() {
