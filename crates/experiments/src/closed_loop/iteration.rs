@@ -8,7 +8,7 @@ use super::robot::Motion;
 use super::state::Whisk;
 use super::state::{Loop, Outcome, Sensor, Tally, Whisked};
 use crate::error::Result;
-use crate::scenario::explore::Task;
+use crate::scenario::explore::{Strategy, Task};
 use nalgebra::{Isometry3, Point3, Translation3, Vector3};
 use whisker_slam::exploration::placement::{self, Placement};
 use whisker_slam::rng::substream;
@@ -101,9 +101,9 @@ impl Loop<'_> {
         // 5. Recognition: re-localisations into a loaded map's experiences.
         let relocalised = step.filter(|s| s.relocalised && s.experience < before);
         let onto = relocalised.and_then(|s| self.slam.map.experiences[s.experience].object.clone());
-        if let (Some(s), Some(_)) = (relocalised, &onto) {
+        if let (Some(s), Some(o)) = (relocalised, &onto) {
             tally.relocalisations += 1;
-            self.anchor = Some((s.experience, pose));
+            self.anchors.insert(o.clone(), (s.experience, pose));
         }
         if let Some(r) = &mut self.recognition {
             r.update(onto.as_deref());
@@ -235,6 +235,7 @@ impl Loop<'_> {
             fallbacks: &self.fallbacks,
             map_accuracy,
             time: self.time,
+            lsr_plans: (self.config.strategy == Strategy::Lsr).then_some(self.lsr_plans),
         };
         out.summary = summary.json();
         if let Some(rec) = self.recording {

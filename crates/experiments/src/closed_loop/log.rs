@@ -118,6 +118,8 @@ pub struct Summary<'a> {
     pub fallbacks: &'a BTreeMap<&'static str, usize>,
     pub map_accuracy: Option<super::map_accuracy::MapAccuracy>,
     pub time: f64,
+    /// LSR runs: plans made, plans whose target tied others (|E_smin| > 1), rows skipped.
+    pub lsr_plans: Option<[usize; 3]>,
 }
 
 impl Summary<'_> {
@@ -155,7 +157,7 @@ impl Summary<'_> {
             })
         });
         let map = self.map_accuracy.as_ref().map(|m| m.json());
-        json!({
+        let mut summary = json!({
             "task": match self.task { Task::Map => "map", Task::Recognise => "recognise" },
             "object": self.truth,
             "strategy": self.strategy.name(),
@@ -169,6 +171,14 @@ impl Summary<'_> {
             "fallbacks": fallbacks,
             "recognition": recognition,
             "map_accuracy": map,
-        })
+        });
+        if let Some([plans, tied, skipped]) = self.lsr_plans {
+            summary["lsr"] = json!({
+                "plans": plans,
+                "tied_targets": tied,
+                "rows_skipped": skipped,
+            });
+        }
+        summary
     }
 }

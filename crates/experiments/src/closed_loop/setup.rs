@@ -88,6 +88,7 @@ pub fn build<'a>(
         )?),
         _ => None,
     };
+    let own_links = map.links.len();
     Ok(Loop {
         config,
         truth,
@@ -103,7 +104,9 @@ pub fn build<'a>(
         segments: VecDeque::new(),
         stepping_to: None,
         heading: Heading::Default,
-        anchor: None,
+        anchors: BTreeMap::new(),
+        own_links,
+        lsr_plans: [0; 3],
         fallbacks: BTreeMap::new(),
         time: 0.0,
         recording: outlets.recording,

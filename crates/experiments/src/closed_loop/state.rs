@@ -134,8 +134,13 @@ pub struct Loop<'a> {
     pub segments: VecDeque<Isometry3<f64>>,
     pub stepping_to: Option<usize>,
     pub heading: Heading,
-    /// The last experience of a loaded map re-localised into and the true pose then.
-    pub anchor: Option<(usize, Isometry3<f64>)>,
+    /// Per loaded object: the last experience of its map re-localised into or stepped to,
+    /// and the true pose then (steps start there, §6.1.2.1).
+    pub anchors: BTreeMap<String, (usize, Isometry3<f64>)>,
+    /// How many links the loaded maps brought (the run's own links come after them).
+    pub own_links: usize,
+    /// LSR's plans: how many, how many had a tied target (|E_smin| > 1), rows skipped.
+    pub lsr_plans: [usize; 3],
     pub fallbacks: BTreeMap<&'static str, usize>,
     pub time: f64,
     /// The recording, its map schedule and its buffered physics streams.
