@@ -79,7 +79,7 @@ pub struct NoiseArgs {
     #[arg(long, default_value_t = 0.25)]
     pub point_fraction: f64,
     /// Which way it displaces the point.
-    #[arg(long, value_parser = choice::<PointNoise>(), default_value = "per-coordinate")]
+    #[arg(long, value_parser = choice::<PointNoise>(), default_value = "along-whisker")]
     pub point_noise: PointNoise,
     /// σ of the contact slope.
     #[arg(long, default_value_t = 0.33)]

@@ -6,6 +6,7 @@ use whisker_experiments::error::Result;
 use whisker_experiments::object_slam::{self, Placement, Settings, SlamVersion};
 use whisker_experiments::record::Context;
 use whisker_experiments::scenario::SensingMode;
+use whisker_sim::sensing::noise::PointNoise;
 
 /// WhiskerRatSLAM on the catalogue objects (thesis §5.2): localisation and identification.
 #[derive(clap::Args, Debug)]
@@ -40,9 +41,13 @@ pub struct Args {
     /// centred.
     #[arg(long, value_parser = choice::<Placement>(), default_value = "thesis")]
     pub placement: Placement,
+    /// Kinematic sensing: which way the contact noise displaces a point — on each
+    /// coordinate, or along the whisker's shaft (the thesis' model, §6.1.3.1.2).
+    #[arg(long, value_parser = choice::<PointNoise>(), default_value = "along-whisker")]
+    pub point_noise: PointNoise,
     /// Run from a dataset (`whisker dataset object-slam`; docs/dataset.md) instead of the
     /// simulator: its objects, seed and contacts.
-    #[arg(long, conflicts_with_all = ["objects", "seed", "sensing", "radial_model", "placement"])]
+    #[arg(long, conflicts_with_all = ["objects", "seed", "sensing", "radial_model", "placement", "point_noise"])]
     pub dataset: Option<PathBuf>,
     #[command(flatten)]
     pub rrd: RrdArgs,
@@ -58,6 +63,7 @@ pub fn run(a: &Args, ctx: Context) -> Result {
         radial_model: a.radial_model.clone(),
         slam: a.slam,
         placement: a.placement,
+        point_noise: a.point_noise,
         rrd: a.rrd.target(),
     };
     let report = match &a.dataset {

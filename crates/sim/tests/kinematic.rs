@@ -6,7 +6,7 @@ use rand::RngExt;
 use whisker_sim::environment::Mesh;
 use whisker_sim::environment::shapes::{cuboid, transformed};
 use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
-use whisker_sim::sensing::noise::ContactNoise;
+use whisker_sim::sensing::noise::{ContactNoise, PointNoise};
 use whisker_sim::whisker::array::modules;
 use whisker_sim::whisker::control::WhiskingPattern;
 
@@ -213,42 +213,62 @@ fn noise_matches_the_configured_distributions() {
     let q = Point3::from(f.translation.vector) + d * 0.08;
     let target = plane_slab(q, n);
     let exact = target.sweep(&w, &pose).expect("contact");
-    let noise = ContactNoise::default();
-    let mut array = KinematicArray::new(vec![w], vec![WhiskingPattern::default()], noise, 11);
-    let cycles = 10_000;
-    let mut offsets: Vec<[f64; 4]> = Vec::new();
-    for i in 0..cycles {
-        let c = array.sense(&target, i, i as f64, &pose);
-        if let Some(c) = c.contacts.first() {
-            assert_eq!(c.angle_rad, exact.angle);
-            assert_eq!(c.radial_distance, exact.radial_distance);
-            let o = c.point - exact.point;
-            offsets.push([o.x, o.y, o.z, c.slope - exact.slope()]);
+    // The shaft at the contact: the noise's direction along the whisker.
+    let shaft = exact.base_frame.rotation * Vector3::z();
+    for model in [PointNoise::AlongWhisker, PointNoise::PerCoordinate] {
+        let noise = ContactNoise {
+            point_model: model,
+            ..ContactNoise::default()
+        };
+        let mut array =
+            KinematicArray::new(vec![w.clone()], vec![WhiskingPattern::default()], noise, 11);
+        let cycles = 10_000;
+        let mut offsets: Vec<[f64; 4]> = Vec::new();
+        for i in 0..cycles {
+            let c = array.sense(&target, i, i as f64, &pose);
+            if let Some(c) = c.contacts.first() {
+                assert_eq!(c.angle_rad, exact.angle);
+                assert_eq!(c.radial_distance, exact.radial_distance);
+                let o = c.point - exact.point;
+                if model == PointNoise::AlongWhisker {
+                    // Along the shaft: the offset is the shaft times one N(0, r_η) draw,
+                    // kept in its first column.
+                    assert!(o.cross(&shaft).norm() < 1e-12 * (1.0 + o.norm()));
+                    offsets.push([o.dot(&shaft), 0.0, 0.0, c.slope - exact.slope()]);
+                } else {
+                    offsets.push([o.x, o.y, o.z, c.slope - exact.slope()]);
+                }
+            }
         }
-    }
-    let rate = offsets.len() as f64 / cycles as f64;
-    assert!((rate - 0.98).abs() <= 0.005, "detection rate {rate}");
-    let n = offsets.len() as f64;
-    for (k, sigma) in [
-        (0, 0.25 * length),
-        (1, 0.25 * length),
-        (2, 0.25 * length),
-        (3, 0.33),
-    ] {
-        let mean = offsets.iter().map(|o| o[k]).sum::<f64>() / n;
-        let sd = (offsets.iter().map(|o| (o[k] - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
-        assert!(
-            mean.abs() < 3.0 * sigma / n.sqrt(),
-            "component {k}: mean {mean}"
-        );
-        assert!(
-            (sd - sigma).abs() < 3.0 * sigma / (2.0 * (n - 1.0)).sqrt(),
-            "component {k}: sd {sd} vs {sigma}"
-        );
+        let rate = offsets.len() as f64 / cycles as f64;
+        assert!((rate - 0.98).abs() <= 0.005, "detection rate {rate}");
+        let n = offsets.len() as f64;
+        let sigmas: &[(usize, f64)] = match model {
+            PointNoise::AlongWhisker => &[(0, 0.25 * length), (3, 0.33)],
+            PointNoise::PerCoordinate => &[
+                (0, 0.25 * length),
+                (1, 0.25 * length),
+                (2, 0.25 * length),
+                (3, 0.33),
+            ],
+        };
+        for &(k, sigma) in sigmas {
+            let mean = offsets.iter().map(|o| o[k]).sum::<f64>() / n;
+            let sd =
+                (offsets.iter().map(|o| (o[k] - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+            assert!(
+                mean.abs() < 3.0 * sigma / n.sqrt(),
+                "{model:?} component {k}: mean {mean}"
+            );
+            assert!(
+                (sd - sigma).abs() < 3.0 * sigma / (2.0 * (n - 1.0)).sqrt(),
+                "{model:?} component {k}: sd {sd} vs {sigma}"
+            );
+        }
     }
     // Noise off: exact, every time.
     let mut quiet = KinematicArray::new(
-        vec![array.whiskers[0].clone()],
+        vec![w],
         vec![WhiskingPattern::default()],
         ContactNoise::NONE,
         11,

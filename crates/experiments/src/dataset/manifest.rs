@@ -179,8 +179,13 @@ pub struct ContactNoiseInfo {
     pub detection_probability: f64,
     /// Which way the point's noise displaced it (`per_coordinate` when absent: the only
     /// model before issue #35).
-    #[serde(default)]
+    #[serde(default = "per_coordinate")]
     pub point_model: whisker_sim::sensing::noise::PointNoise,
+}
+
+/// What a manifest written before issue #35 used.
+fn per_coordinate() -> whisker_sim::sensing::noise::PointNoise {
+    whisker_sim::sensing::noise::PointNoise::PerCoordinate
 }
 
 impl ContactNoiseInfo {

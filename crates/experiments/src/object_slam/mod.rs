@@ -141,7 +141,7 @@ pub fn sense(
                 placement: o.placement,
                 seed: o.seed,
                 physics: physics.as_ref(),
-                noise,
+                noise: noise.then_some(o.point_noise),
                 reporter: ctx.reporter,
             };
             let laps = |which, n| walk(&object, which, n, &how);

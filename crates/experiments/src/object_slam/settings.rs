@@ -5,6 +5,7 @@ use crate::choice::Choice;
 use crate::record::Target;
 use crate::scenario::SensingMode;
 use std::path::PathBuf;
+use whisker_sim::sensing::noise::PointNoise;
 use whisker_slam::features::similarity::FeatureSet;
 use whisker_slam::whisker_ratslam::slam::Params;
 
@@ -31,6 +32,8 @@ pub struct Settings {
     pub slam: SlamVersion,
     /// Where each object sits relative to its trajectories (§5.2.2.1).
     pub placement: Placement,
+    /// Kinematic sensing: which way the contact noise displaces a point (§6.1.3.1.2).
+    pub point_noise: PointNoise,
     /// Where the recording goes.
     pub rrd: Target,
 }
@@ -45,6 +48,7 @@ impl Default for Settings {
             radial_model: None,
             slam: SlamVersion::Corrected,
             placement: Placement::Thesis,
+            point_noise: PointNoise::default(),
             rrd: Target::default(),
         }
     }

@@ -8,7 +8,7 @@ use crate::sensing::held::PhysicsSensing;
 use nalgebra::{Isometry3, Point3};
 use whisker_sim::environment::assets::Asset;
 use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
-use whisker_sim::sensing::noise::ContactNoise;
+use whisker_sim::sensing::noise::{ContactNoise, PointNoise};
 use whisker_sim::whisker::array::{self, Module};
 use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_slam::contact::ContactCycle;
@@ -67,13 +67,13 @@ pub struct Object<'a> {
 }
 
 /// How a walk is sensed: kinematically or (given `physics`) by physics whiskers, with
-/// draws from `seed`; `noise` false leaves out the contact noise and the odometry error (a
-/// clean dataset).
+/// draws from `seed`; `noise` None leaves out the contact noise and the odometry error (a
+/// clean dataset), otherwise it says which way the contact noise displaces a point.
 pub struct WalkSensing<'a> {
     pub placement: Placement,
     pub seed: u64,
     pub physics: Option<&'a PhysicsSensing>,
-    pub noise: bool,
+    pub noise: Option<PointNoise>,
     pub reporter: &'a dyn Reporter,
 }
 
@@ -95,11 +95,10 @@ pub fn walk(object: &Object, which: Trajectory, laps: usize, how: &WalkSensing) 
             let mut sensing = KinematicArray::new(
                 whiskers,
                 patterns,
-                if noise {
-                    ContactNoise::default()
-                } else {
-                    ContactNoise::NONE
-                },
+                noise.map_or(ContactNoise::NONE, |point_model| ContactNoise {
+                    point_model,
+                    ..ContactNoise::default()
+                }),
                 whisker_slam::rng::substream_key(seed, &stream),
             );
             truth
@@ -110,7 +109,7 @@ pub fn walk(object: &Object, which: Trajectory, laps: usize, how: &WalkSensing) 
         }
     };
     let clean = clean_odometry(&truth);
-    let odometry = if noise {
+    let odometry = if noise.is_some() {
         noisy_odometry(&clean, seed, &stream)
     } else {
         clean

@@ -112,8 +112,8 @@ pub struct KinematicConfig {
     /// σ of the contact point's noise as a fraction of the whisker length [0.25].
     #[serde(default = "point_fraction")]
     pub point_noise_fraction: f64,
-    /// Which way it displaces the point: `"per_coordinate"` (x, y and z each; default)
-    /// or `"along_whisker"` (the radial distance, as the thesis models it).
+    /// Which way it displaces the point: `"along_whisker"` (the radial distance, as the
+    /// thesis models it; default) or `"per_coordinate"` (x, y and z each).
     #[serde(default)]
     pub point_noise: PointNoise,
     /// σ of the slope [0.33].

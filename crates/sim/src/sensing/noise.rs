@@ -18,11 +18,10 @@ use whisker_slam::rng::gauss;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum PointNoise {
-    /// N(0, r_η) on each of x, y and z (this project's reading until issue #35; the
-    /// default, for now).
-    #[default]
+    /// N(0, r_η) on each of x, y and z (this project's reading until issue #35).
     PerCoordinate,
-    /// N(0, r_η) along the whisker's shaft: the radial distance's error.
+    /// N(0, r_η) along the whisker's shaft: the radial distance's error (the default).
+    #[default]
     AlongWhisker,
 }
 
@@ -47,7 +46,7 @@ impl Default for ContactNoise {
             point_fraction: 0.25,
             slope_sigma: 0.33,
             detection_probability: 0.98,
-            point_model: PointNoise::PerCoordinate,
+            point_model: PointNoise::AlongWhisker,
         }
     }
 }
@@ -58,7 +57,7 @@ impl ContactNoise {
         point_fraction: 0.0,
         slope_sigma: 0.0,
         detection_probability: 1.0,
-        point_model: PointNoise::PerCoordinate,
+        point_model: PointNoise::AlongWhisker,
     };
 
     /// Checks the values; names the first bad field.
