@@ -489,8 +489,9 @@ fn experiences_made_after_a_false_relocalisation_stay_where_they_were_made() {
 
 /// Issue #35: a whisk with fewer than μ contacts enters neither matching nor map building.
 /// An empty whisk's features (zero histogram, no slopes) match a stored empty experience
-/// perfectly (χ² = NMSE = 0): with the gate off (μ = 0) a map holding one re-localises onto
-/// it from anywhere (the default, 0); with μ = 4 nothing is matched, made or re-localised onto, the odometry
+/// perfectly (χ² = NMSE = 0): with the gate off (μ = 0, the behaviour before #35) a map
+/// holding one re-localises onto it from anywhere; with μ = 4 (μ = 1, the default, keeps
+/// out the empty whisks alone) nothing is matched, made or re-localised onto, the odometry
 /// of the idle whisks is kept, and the first experience waits for contact.
 #[test]
 fn a_whisk_without_enough_contacts_never_relocalises_or_creates_an_experience() {
