@@ -8,16 +8,18 @@
 //! levels or Kruskal–Wallis H between more, then pairwise Mann–Whitney with Holm's
 //! correction. Text metrics with few values (the recognition outcome) are counted. Closed
 //! loop trials also get their integrated confidence over iterations: median and IQR band
-//! per level (a trial that stopped keeps its last value).
+//! per level (a trial that stopped keeps its last value; `confidence`).
+
+mod confidence;
 
 use super::journal::{self, Entry, Meta, RUNS, Status};
-use super::plots::{BoxGroup, Curve, Reference, band_curves, notched_boxes};
+use super::plots::{BoxGroup, Reference, notched_boxes};
 use crate::error::{Error, Result};
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use whisker_slam::stats::boxplot::{BoxStats, prctile};
+use whisker_slam::stats::boxplot::BoxStats;
 use whisker_slam::stats::rank_tests::{holm, kruskal_wallis, mann_whitney};
 
 /// The report file.
@@ -143,7 +145,7 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         for metric in &categorical {
             counts(&mut md, metric, &groups);
         }
-        curves(&mut md, dir, &figures, name, &groups)?;
+        confidence::curves(&mut md, dir, &figures, name, &groups)?;
     }
     let path = dir.join(REPORT);
     crate::output::write_atomic(&path, md.as_bytes())?;
@@ -500,116 +502,6 @@ fn counts(md: &mut String, metric: &str, groups: &[Group]) {
         md.push('\n');
     }
     md.push('\n');
-}
-
-/// The `ic_<object>` columns of a closed-loop trial's `explore.csv`.
-fn ic_series(dir: &Path, key: &str) -> Option<BTreeMap<String, Vec<f64>>> {
-    let text = std::fs::read_to_string(dir.join(RUNS).join(key).join("explore.csv")).ok()?;
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next()?.split(',').collect();
-    let columns: Vec<(usize, String)> = header
-        .iter()
-        .enumerate()
-        .filter_map(|(i, h)| Some((i, h.strip_prefix("ic_")?.to_string())))
-        .collect();
-    if columns.is_empty() {
-        return None;
-    }
-    let mut out: BTreeMap<String, Vec<f64>> = BTreeMap::new();
-    for line in lines {
-        let cells: Vec<&str> = line.split(',').collect();
-        for (i, name) in &columns {
-            let v = cells
-                .get(*i)
-                .and_then(|c| c.parse().ok())
-                .unwrap_or(f64::NAN);
-            out.entry(name.clone()).or_default().push(v);
-        }
-    }
-    Some(out)
-}
-
-/// Integrated confidence over iterations per group, one figure per object.
-fn curves(md: &mut String, dir: &Path, figures: &Path, factor: &str, groups: &[Group]) -> Result {
-    // One figure per object and stratum, a curve per level (coloured by level).
-    let mut per_object: BTreeMap<(String, String), Vec<Curve>> = BTreeMap::new();
-    for g in groups {
-        let series: Vec<BTreeMap<String, Vec<f64>>> = g
-            .entries
-            .iter()
-            .filter_map(|e| ic_series(dir, &e.key))
-            .collect();
-        let Some(first) = series.first() else {
-            continue;
-        };
-        for object in first.keys() {
-            let runs: Vec<&Vec<f64>> = series.iter().filter_map(|s| s.get(object)).collect();
-            let len = runs.iter().map(|r| r.len()).max().unwrap_or(0);
-            if len == 0 {
-                continue;
-            }
-            // At most ~400 points per curve.
-            let stride = len.div_ceil(400).max(1);
-            let mut curve = Curve {
-                label: format!("{} (n={})", g.level, runs.len()),
-                colour: g.level_index,
-                x: vec![],
-                median: vec![],
-                q1: vec![],
-                q3: vec![],
-            };
-            for k in (0..len).step_by(stride).chain(std::iter::once(len - 1)) {
-                let mut v: Vec<f64> = runs
-                    .iter()
-                    .filter(|r| !r.is_empty())
-                    .map(|r| r[k.min(r.len() - 1)])
-                    .filter(|x| !x.is_nan())
-                    .collect();
-                if v.is_empty() {
-                    continue;
-                }
-                v.sort_by(f64::total_cmp);
-                curve.x.push((k + 1) as f64);
-                curve.median.push(prctile(&v, 50.0));
-                curve.q1.push(prctile(&v, 25.0));
-                curve.q3.push(prctile(&v, 75.0));
-            }
-            per_object
-                .entry((object.clone(), g.stratum.clone()))
-                .or_default()
-                .push(curve);
-        }
-    }
-    if per_object.is_empty() {
-        return Ok(());
-    }
-    let _ = writeln!(md, "### Integrated confidence over iterations\n");
-    for ((object, stratum), curves) in per_object {
-        let (at, file_at) = if stratum.is_empty() {
-            (String::new(), String::new())
-        } else {
-            (format!(", {stratum}"), format!("--{}", slug(&stratum)))
-        };
-        let name = format!(
-            "ic_{}-over-iterations--by--{}{file_at}.svg",
-            slug(&object),
-            slug(factor)
-        );
-        let threshold = reference(&format!("recognition.final_ic.{object}"), groups);
-        band_curves(
-            &figures.join(&name),
-            (
-                &format!("integrated confidence of {object} by {factor}{at} (median, IQR band)"),
-                "whisk (iteration)",
-                &format!("IC {object}"),
-            ),
-            &curves,
-            threshold.as_ref(),
-        )
-        .map_err(|e| Error::Failure(e.to_string()))?;
-        let _ = writeln!(md, "![IC of {object} by {factor}{at}]({FIGURES}/{name})\n");
-    }
-    Ok(())
 }
 
 #[cfg(test)]
