@@ -327,6 +327,29 @@ fn kinematic_maze_dataset_replays_the_live_run() {
     ]);
     assert_eq!(again.status.code(), Some(2));
     assert!(stderr(&again).contains("dataset.json") && !t.join("x").exists());
+    // Noise along the whisker (the default) needs each whisker's shaft: a manifest naming a
+    // whisker outside the standard array is refused, naming the field, and nothing written.
+    let odd = t.join("odd");
+    copy_dir(&clean, &odd);
+    let mut m = manifest(&odd);
+    m["array"]["labels"][0] = serde_json::json!("Z9");
+    std::fs::write(odd.join("dataset.json"), m.to_string()).unwrap();
+    let refused = whisker(&[
+        "dataset",
+        "noise",
+        s(&odd),
+        "--seed",
+        "1",
+        "--out",
+        s(&t.join("y")),
+    ]);
+    assert_eq!(refused.status.code(), Some(2));
+    let e = stderr(&refused);
+    assert!(
+        e.contains("dataset.json") && e.contains("array.labels") && e.contains("\"Z9\""),
+        "{e}"
+    );
+    assert!(!t.join("y").exists());
 }
 
 /// The physics maze (the short scenario): the dataset is the same on 1 and 2 threads and

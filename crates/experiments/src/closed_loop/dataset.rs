@@ -396,9 +396,7 @@ fn run_slam(
         let features = whisker_slam::features::whisk::whisk_features(cycle, &points);
         let before = slam.map.experiences.len();
         let step = slam.whisk(&features, points.len(), odo);
-        let onto = step
-            .filter(|s| s.relocalised && s.experience < before)
-            .and_then(|s| slam.map.experiences[s.experience].object.clone());
+        let onto = super::state::relocalised_into(&slam.map, step, before).map(|(_, o)| o);
         relocalisations += usize::from(onto.is_some());
         if let Some(r) = recognition.as_deref_mut() {
             r.update(onto.as_deref());

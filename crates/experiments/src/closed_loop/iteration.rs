@@ -6,7 +6,7 @@ use super::log::{self, Row, Summary};
 use super::map_accuracy;
 use super::robot::Motion;
 use super::state::Whisk;
-use super::state::{Loop, Outcome, Sensor, Tally, Whisked};
+use super::state::{Loop, Outcome, Sensor, Tally, Whisked, relocalised_into};
 use crate::error::Result;
 use crate::scenario::explore::{Strategy, Task};
 use nalgebra::{Isometry3, Point3, Translation3, Vector3};
@@ -99,12 +99,12 @@ impl Loop<'_> {
             }
         }
         // 5. Recognition: re-localisations into a loaded map's experiences.
-        let relocalised = step.filter(|s| s.relocalised && s.experience < before);
-        let onto = relocalised.and_then(|s| self.slam.map.experiences[s.experience].object.clone());
-        if let (Some(s), Some(o)) = (relocalised, &onto) {
+        let relocalised = relocalised_into(&self.slam.map, step, before);
+        if let Some((experience, o)) = &relocalised {
             tally.relocalisations += 1;
-            self.anchors.insert(o.clone(), (s.experience, pose));
+            self.anchors.insert(o.clone(), (*experience, pose));
         }
+        let onto = relocalised.map(|(_, o)| o);
         if let Some(r) = &mut self.recognition {
             r.update(onto.as_deref());
             for (o, s) in tally.rc_sums.iter_mut() {

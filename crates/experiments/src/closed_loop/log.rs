@@ -118,8 +118,8 @@ pub struct Summary<'a> {
     pub fallbacks: &'a BTreeMap<&'static str, usize>,
     pub map_accuracy: Option<super::map_accuracy::MapAccuracy>,
     pub time: f64,
-    /// LSR runs: plans made, plans whose target tied others (|E_smin| > 1), rows skipped.
-    pub lsr_plans: Option<[usize; 3]>,
+    /// LSR runs: what its plans were like.
+    pub lsr_plans: Option<super::state::LsrTally>,
 }
 
 impl Summary<'_> {
@@ -172,12 +172,8 @@ impl Summary<'_> {
             "recognition": recognition,
             "map_accuracy": map,
         });
-        if let Some([plans, tied, skipped]) = self.lsr_plans {
-            summary["lsr"] = json!({
-                "plans": plans,
-                "tied_targets": tied,
-                "rows_skipped": skipped,
-            });
+        if let Some(tally) = self.lsr_plans {
+            summary["lsr"] = json!(tally);
         }
         summary
     }

@@ -3,7 +3,7 @@
 //! joints clear of the environment, and the sensing.
 
 use super::robot::Robot;
-use super::state::{Heading, Loop, Sensor};
+use super::state::{Heading, Loop, LsrTally, Sensor};
 use crate::error::{Error, Result};
 use crate::plan::Plan;
 use crate::record::{GraphSchedule, Recorder, Reporter, SensorColumns};
@@ -106,7 +106,7 @@ pub fn build<'a>(
         heading: Heading::Default,
         anchors: BTreeMap::new(),
         own_links,
-        lsr_plans: [0; 3],
+        lsr_plans: LsrTally::default(),
         fallbacks: BTreeMap::new(),
         time: 0.0,
         recording: outlets.recording,

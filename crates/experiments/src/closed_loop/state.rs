@@ -139,8 +139,8 @@ pub struct Loop<'a> {
     pub anchors: BTreeMap<String, (usize, Isometry3<f64>)>,
     /// How many links the loaded maps brought (the run's own links come after them).
     pub own_links: usize,
-    /// LSR's plans: how many, how many had a tied target (|E_smin| > 1), rows skipped.
-    pub lsr_plans: [usize; 3],
+    /// What LSR's plans were like.
+    pub lsr_plans: LsrTally,
     pub fallbacks: BTreeMap<&'static str, usize>,
     pub time: f64,
     /// The recording, its map schedule and its buffered physics streams.
@@ -201,4 +201,36 @@ pub struct Whisk<'a> {
     pub spc: &'a str,
     /// Physics: every whisker's samples of the whisk.
     pub streams: Option<&'a [Vec<Sample>]>,
+}
+
+/// LSR's plans over a run (`summary.json`'s `lsr`).
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub struct LsrTally {
+    /// Plans made.
+    pub plans: usize,
+    /// Plans whose least similar row was shared by more than one experience (|E_smin| > 1).
+    pub tied_targets: usize,
+    /// Rows passed over as unreachable, summed over the plans.
+    pub rows_skipped: usize,
+}
+
+impl LsrTally {
+    /// Counts `plan`.
+    pub fn add(&mut self, plan: &whisker_slam::exploration::lsr::LsrPlan) {
+        self.plans += 1;
+        self.tied_targets += usize::from(plan.tied > 1);
+        self.rows_skipped += plan.skipped;
+    }
+}
+
+/// The loaded map a whisk's SLAM `step` re-localised into: an experience that existed
+/// before the whisk (the map held `before`) and was recorded on a loaded object (§5.2.2.2);
+/// that experience and the object's name.
+pub fn relocalised_into(
+    map: &ObjectMap,
+    step: Option<Step>,
+    before: usize,
+) -> Option<(usize, String)> {
+    let s = step.filter(|s| s.relocalised && s.experience < before)?;
+    Some((s.experience, map.experiences[s.experience].object.clone()?))
 }

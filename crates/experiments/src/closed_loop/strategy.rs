@@ -35,9 +35,16 @@ impl Loop<'_> {
         features: &Features,
         pose: &Isometry3<f64>,
     ) {
-        let likely = r.raw.confidence.values().any(|&c| c >= ZERO_RC);
+        // The objects with a raw confidence above zero.
+        let likely: Vec<String> = r
+            .raw
+            .confidence
+            .iter()
+            .filter(|(_, c)| **c >= ZERO_RC)
+            .map(|(o, _)| o.clone())
+            .collect();
         let strategy = self.config.strategy;
-        if strategy == Strategy::Default || !likely {
+        if strategy == Strategy::Default || likely.is_empty() {
             if !matches!(self.heading, Heading::Default) {
                 self.abandon_step();
             }
@@ -77,13 +84,6 @@ impl Loop<'_> {
                 }
             }
             Strategy::Lsr => {
-                let likely: Vec<String> = r
-                    .raw
-                    .confidence
-                    .iter()
-                    .filter(|(_, c)| **c >= ZERO_RC)
-                    .map(|(o, _)| o.clone())
-                    .collect();
                 let continuing =
                     matches!(&self.heading, Heading::Lsr { leader: l, .. } if *l == leader);
                 let relocalised = self.config.lsr.replan == Replan::Relocalisation
@@ -136,9 +136,7 @@ impl Loop<'_> {
             starts: &starts,
         };
         let plan = lsr::plan(&self.slam.map, features, current, &scope, &self.config.lsr)?;
-        self.lsr_plans[0] += 1;
-        self.lsr_plans[1] += usize::from(plan.tied > 1);
-        self.lsr_plans[2] += plan.skipped;
+        self.lsr_plans.add(&plan);
         let mut path: VecDeque<usize> = plan.path.into_iter().skip(1).collect();
         let first = path.pop_front();
         self.heading = Heading::Lsr { path, leader };

@@ -108,7 +108,8 @@ fn check(o: &Settings, m: &Manifest) -> Result<ContactNoise> {
         && let Some(l) = m.array.labels.iter().find(|l| !standard.contains(l))
     {
         return Err(Error::Input(format!(
-            "{}: field `array.labels`: {l:?} is not a whisker of the standard array (A1 … F3),              whose shaft --point-noise along-whisker needs",
+            "{}: field `array.labels`: {l:?} is not a whisker of the standard array (A1 … F3), \
+             whose shaft --point-noise along-whisker needs",
             o.input.join(crate::dataset::manifest::FILE).display()
         )));
     }
