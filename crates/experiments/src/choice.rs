@@ -85,5 +85,10 @@ impl Choice for SolverPath {
             "explicit-coriolis",
             "Patches 1-5: explicit gyroscopic and Coriolis terms",
         ),
+        (
+            SolverPath::Articulated,
+            "articulated",
+            "Patches 3, 6: articulated-body factorisation, O(n) in the DoFs",
+        ),
     ];
 }

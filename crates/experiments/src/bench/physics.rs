@@ -3,7 +3,7 @@
 //! Cases: the 18-whisker array whisking freely, against the Box (the catalogue object at
 //! the pose where the most whiskers touch it, as in `whisker soak`) and in the maze (the
 //! most-touched point of a 50 mm grid 100 mm above the board, facing down), each on 1 and
-//! 2 worker threads and by four code paths measured side by side in the same run:
+//! 2 worker threads and by every code path measured side by side in the same run:
 //!
 //! - `released`: Rapier 0.36.1 as released (dense mass matrix, `MultibodyMassMatrix::Dense`)
 //!   and the array stepped with a barrier per sample (`PhysicsArray::step`), one world step
@@ -16,7 +16,9 @@
 //!   equal up to rounding);
 //! - `once-per-step`: also patch 3 (the mass matrix factorised once per step; the default,
 //!   `SolverPath::OncePerStep`);
-//! - `explicit-coriolis`: also patch 4 (explicit gyroscopic and Coriolis terms).
+//! - `explicit-coriolis`: also patch 4 (explicit gyroscopic and Coriolis terms);
+//! - `articulated`: patches 3 and 6 (the articulated-body factorisation, O(n) in the
+//!   chain's DoFs, no dense matrix).
 //!
 //! `once-per-step` is the default; `SolverPath` says why `explicit-coriolis` is not.
 //!
@@ -24,7 +26,7 @@
 //! every path. Reported: the real-time factor (simulated seconds per wall-clock second),
 //! the CPU cost per whisker (thread-seconds per simulated second per whisker, the peer's
 //! unit: WHISKiT Physics needs about 7 for one whisker, `shared/notes/physics.md`), and
-//! each path's speed-up over `released`. Timing is a benchmark, never a test.
+//! each path's speed-up over `released` and over the default path. Timing is a benchmark, never a test.
 
 use crate::error::{Error, Result};
 use crate::record::Context;
@@ -144,6 +146,9 @@ pub struct Row {
     pub real_time_factor: f64,
     pub cpu_s_per_sim_s_per_whisker: f64,
     pub speedup_vs_released: Option<f64>,
+    /// The default path's wall time over this path's (the default and the paths after it
+    /// in `SolverPath::ALL`, same case and threads).
+    pub speedup_vs_default: Option<f64>,
     pub cpu_vs_whiskit: f64,
 }
 
@@ -192,6 +197,7 @@ fn measure(
         .unwrap_or(array::modules()[0].beam.segments);
     for &t in threads {
         let mut released_wall = None;
+        let mut default_wall = None;
         for path in SolverPath::ALL {
             if o.path.is_some_and(|p| p != path) {
                 continue;
@@ -205,6 +211,9 @@ fn measure(
                 }
                 _ => released_wall.map(|r| r / wall),
             };
+            if path == SolverPath::default() {
+                default_wall = Some(wall);
+            }
             ctx.note(&format!(
                 "  {:<26} {segments:>2} segments {t} thread(s) {:<9} {rtf:.3}× real time",
                 case.name,
@@ -220,6 +229,7 @@ fn measure(
                 real_time_factor: rtf,
                 cpu_s_per_sim_s_per_whisker: cpu,
                 speedup_vs_released: speedup,
+                speedup_vs_default: default_wall.map(|d| d / wall),
                 cpu_vs_whiskit: cpu / WHISKIT_CPU_S_PER_S,
             });
         }
@@ -317,7 +327,7 @@ impl fmt::Display for Table {
         writeln!(f, "{}", self.heading)?;
         writeln!(
             f,
-            "{:<18} {:>8} {:>7} {:>17} {:>16} {:>24} {:>11} {:>13}",
+            "{:<18} {:>8} {:>7} {:>17} {:>16} {:>24} {:>11} {:>13} {:>11}",
             "case",
             "segments",
             "threads",
@@ -325,12 +335,13 @@ impl fmt::Display for Table {
             "real-time factor",
             "CPU s / sim s / whisker",
             "vs WHISKiT",
-            "speed-up"
+            "speed-up",
+            "vs default"
         )?;
         for r in &self.rows {
             writeln!(
                 f,
-                "{:<18} {:>8} {:>7} {:>17} {:>16.3} {:>24.3} {:>10.3}× {:>13}",
+                "{:<18} {:>8} {:>7} {:>17} {:>16.3} {:>24.3} {:>10.3}× {:>13} {:>11}",
                 r.case,
                 r.segments,
                 r.threads,
@@ -339,6 +350,8 @@ impl fmt::Display for Table {
                 r.cpu_s_per_sim_s_per_whisker,
                 r.cpu_vs_whiskit,
                 r.speedup_vs_released
+                    .map_or(String::new(), |s| format!("{s:.2}×")),
+                r.speedup_vs_default
                     .map_or(String::new(), |s| format!("{s:.2}×"))
             )?;
         }
@@ -346,8 +359,9 @@ impl fmt::Display for Table {
             f,
             "released: Rapier 0.36.1 as released, a barrier per sample; exact: vendor/PATCHES.md 1-2 (bit-identical); \
              composite: 1-2, 5 (the same matrices up to rounding); once-per-step: 1-3, 5 (the default); \
-             explicit-coriolis: 1-5 (both went non-finite in nudged Mug soaks with fixed steps); all four one task per whisker and speed-adaptive steps. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
-             (below 1: cheaper). Speed-up: released wall time / the path's, same case and threads."
+             explicit-coriolis: 1-5 (both went non-finite in nudged Mug soaks with fixed steps); articulated: 3, 6 (O(n) factorisation, the same inverses up to rounding); \
+             all but released one task per whisker and speed-adaptive steps. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
+             (below 1: cheaper). Speed-up: released wall time / the path's; vs default: the default path's wall time / this path's; same case and threads."
         )
     }
 }

@@ -47,16 +47,21 @@ pub enum SolverPath {
     /// default: 5 of 12 nudged Mug runs went non-finite (`Exact`: 6 of 140) with one world
     /// step per sample; with speed-adaptive steps 0 of 20.
     ExplicitCoriolis,
+    /// Patches 3 and 6: as `OncePerStep`, with the mass matrices factorised the
+    /// articulated-body way (O(n) in the chain's DoFs, no dense matrix): the same
+    /// matrices' inverses up to rounding (`tests/articulated.rs`).
+    Articulated,
 }
 
 impl SolverPath {
     /// Every path, oldest first.
-    pub const ALL: [SolverPath; 5] = [
+    pub const ALL: [SolverPath; 6] = [
         Self::Released,
         Self::Exact,
         Self::Composite,
         Self::OncePerStep,
         Self::ExplicitCoriolis,
+        Self::Articulated,
     ];
 
     /// Sets the path's Rapier parameters.
@@ -64,10 +69,13 @@ impl SolverPath {
         p.multibody_mass_matrix = match self {
             Self::Released => MultibodyMassMatrix::Dense,
             Self::Exact => MultibodyMassMatrix::Truncated,
+            Self::Articulated => MultibodyMassMatrix::Articulated,
             _ => MultibodyMassMatrix::Composite,
         };
-        p.multibody_mass_matrix_once_per_step =
-            matches!(self, Self::OncePerStep | Self::ExplicitCoriolis);
+        p.multibody_mass_matrix_once_per_step = matches!(
+            self,
+            Self::OncePerStep | Self::ExplicitCoriolis | Self::Articulated
+        );
         p.multibody_semi_implicit_coriolis = self != Self::ExplicitCoriolis;
     }
 
@@ -79,6 +87,7 @@ impl SolverPath {
             Self::Composite => "composite",
             Self::OncePerStep => "once-per-step",
             Self::ExplicitCoriolis => "explicit-coriolis",
+            Self::Articulated => "articulated",
         }
     }
 }

@@ -49,6 +49,11 @@ pub enum MultibodyMassMatrix {
     /// over its subtree, then one 6-term dot product per entry (O(n²) instead of
     /// O(Σ k²) per product). The same matrices up to rounding.
     Composite,
+    /// whisker-slam patch 6: no dense matrix at all — the articulated-body factorisation
+    /// (Gaussian elimination from the tips with 6 × 6 and 6 × 12 blocks per link), solves by
+    /// one pass up and one down: O(n) instead of O(n³). The same matrices' inverses up to
+    /// rounding. Falls back to `Composite` for a multibody with kinematic DoFs.
+    Articulated,
 }
 
 #[derive(Copy, Clone, Debug, PartialEq)]

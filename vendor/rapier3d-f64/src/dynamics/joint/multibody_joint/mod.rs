@@ -1,3 +1,4 @@
+// Modified by whisker-slam (vendor/PATCHES.md): changes are marked "whisker-slam patch".
 //! MultibodyJoints using the reduced-coordinates formalism or using constraints.
 
 #[cfg(feature = "alloc")]
@@ -16,6 +17,9 @@ pub use self::unit_multibody_joint::{
     unit_joint_friction_constraint, unit_joint_limit_constraint, unit_joint_motor_constraint,
 };
 
+// whisker-slam patch 6: the articulated-body factorisation.
+#[cfg(feature = "alloc")]
+mod articulated;
 #[cfg(feature = "alloc")]
 mod multibody;
 mod multibody_joint_handle;

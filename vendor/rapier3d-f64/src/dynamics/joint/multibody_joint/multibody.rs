@@ -1,4 +1,5 @@
 // Modified by whisker-slam (vendor/PATCHES.md): changes are marked "whisker-slam patch".
+use super::articulated::{ArticulatedFactor, ArticulatedLink, PAD};
 use super::multibody_link::{MultibodyLink, MultibodyLinkVec};
 use super::multibody_workspace::MultibodyWorkspace;
 use crate::alloc_prelude::*;
@@ -139,6 +140,16 @@ pub struct Multibody {
     // rows) summed over its subtree, for `augmented_mass` (first `links.len()`) and
     // `acc_augmented_mass` (the rest).
     composite_w: Vec<Jacobian<Real>>,
+    // whisker-slam patch 6: with `MultibodyMassMatrix::Articulated`, the O(n) factorisations
+    // of `augmented_mass` and `acc_augmented_mass` (which are then not assembled); `None`
+    // when the dense ones are current.
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    articulated: Option<ArticulatedFactor<6>>,
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    acc_articulated: Option<ArticulatedFactor<12>>,
+    // whisker-slam patch 7: the body Jacobians' shifts and the generalised-force products
+    // run over each link's ancestor columns only (every mode but `Dense`).
+    truncated_jacobians: bool,
 }
 impl Default for Multibody {
     fn default() -> Self {
@@ -173,6 +184,9 @@ impl Multibody {
             coriolis_w: Vec::new(),
             i_coriolis_dt: Jacobian::zeros(0),
             composite_w: Vec::new(),
+            articulated: None,
+            acc_articulated: None,
+            truncated_jacobians: false,
             root_is_dynamic: false,
             self_contacts_enabled,
             couplings: Vec::new(),
@@ -377,6 +391,117 @@ impl Multibody {
     /// (with the gyroscopic and Coriolis linearisation), for tests of its assembly.
     pub fn acc_inv_augmented_mass(&self) -> &LU<Real, Dyn, Dyn> {
         &self.acc_inv_augmented_mass
+    }
+
+    /// whisker-slam patch 6: whether the current factorisations are the O(n) articulated
+    /// ones ([`MultibodyMassMatrix::Articulated`]); then [`Self::inv_augmented_mass`] and
+    /// [`Self::acc_inv_augmented_mass`] are stale, and the `solve_*` methods are the way in.
+    pub fn is_articulated(&self) -> bool {
+        self.articulated.is_some()
+    }
+
+    /// whisker-slam patch 6: solves `M·x = b` in place with the plain augmented mass
+    /// matrix's current factorisation (dense LU or articulated), in the order of the
+    /// generalised coordinates (as `inv_augmented_mass().solve_mut` did without kinematic
+    /// DoFs).
+    pub fn solve_augmented_mass_mut<S: StorageMut<Real, Dyn>>(
+        &self,
+        b: &mut na::Matrix<Real, Dyn, na::U1, S>,
+    ) {
+        match &self.articulated {
+            Some(f) => f.solve_mut(b),
+            None => {
+                self.inv_augmented_mass.solve_mut(b);
+            }
+        }
+    }
+
+    /// whisker-slam patch 6: as [`Self::solve_augmented_mass_mut`] with the semi-implicit
+    /// (gyroscopic and Coriolis) augmented mass matrix.
+    pub fn solve_acc_augmented_mass_mut<S: StorageMut<Real, Dyn>>(
+        &self,
+        b: &mut na::Matrix<Real, Dyn, na::U1, S>,
+    ) {
+        match &self.acc_articulated {
+            Some(f) => f.solve_mut(b),
+            None => {
+                self.acc_inv_augmented_mass.solve_mut(b);
+            }
+        }
+    }
+
+    /// whisker-slam patch 6: the plain augmented mass matrix times `a` (all DoFs, no
+    /// kinematic ones), from whichever form is current.
+    pub fn augmented_mass_mul(&self, a: &DVector) -> DVector {
+        match &self.articulated {
+            Some(f) => DVector::from_vec(f.mul(a.as_slice())),
+            None => &self.augmented_mass * a,
+        }
+    }
+
+    /// whisker-slam patch 6: the semi-implicit augmented mass matrix times `a`.
+    pub fn acc_augmented_mass_mul(&self, a: &DVector) -> DVector {
+        match &self.acc_articulated {
+            Some(f) => DVector::from_vec(f.mul(a.as_slice())),
+            None => &self.acc_augmented_mass * a,
+        }
+    }
+
+    /// whisker-slam patch 6: solves in place in the kinematic-reduced ordering of the
+    /// factorisations, with the plain or (`semi_implicit`) the semi-implicit matrix.
+    fn solve_rearranged<S: StorageMut<Real, Dyn>>(
+        &self,
+        semi_implicit: bool,
+        b: &mut na::Matrix<Real, Dyn, na::U1, S>,
+    ) {
+        // No kinematic DoFs on the articulated path: the ordering is the identity.
+        match (semi_implicit, &self.articulated, &self.acc_articulated) {
+            (false, Some(f), _) => f.solve_mut(b),
+            (true, _, Some(f)) => f.solve_mut(b),
+            _ => {
+                let lu = if semi_implicit {
+                    &self.acc_inv_augmented_mass
+                } else {
+                    &self.inv_augmented_mass
+                };
+                self.augmented_mass_indices
+                    .with_rearranged_rows_mut(b, |x| {
+                        lu.solve_mut(x);
+                    });
+            }
+        }
+    }
+
+    /// whisker-slam patch 6: assembles (or, [`MultibodyMassMatrix::Articulated`],
+    /// factorises) the augmented mass matrices in `mode` and solves the free generalised
+    /// accelerations at the current state, as a step's first substep does, and returns
+    /// them. For comparing the modes on one state (tests, benchmarks).
+    pub fn refresh_dynamics(
+        &mut self,
+        dt: Real,
+        bodies: &RigidBodySet,
+        mode: MultibodyMassMatrix,
+        semi_implicit_coriolis: bool,
+    ) -> DVector {
+        self.update_mass_matrix(dt, bodies, mode, semi_implicit_coriolis);
+        self.update_acceleration(dt, bodies, semi_implicit_coriolis);
+        self.accelerations.clone()
+    }
+
+    /// whisker-slam patch 6: a unit wrench on link `link_id` as a constraint row: its
+    /// generalised Jacobian `Jᵀ·[force; torque]` and the response `M⁻¹·Jᵀ·[force; torque]`
+    /// (what the contact and joint constraints get from `fill_jacobians`).
+    pub fn constraint_response(
+        &self,
+        link_id: usize,
+        force: Vector,
+        torque: AngVector,
+    ) -> (DVector, DVector) {
+        let mut jacobians = DVector::zeros(2 * self.ndofs);
+        let mut j_id = 0;
+        let _ = self.fill_jacobians(link_id, force, torque, &mut j_id, &mut jacobians);
+        let n = self.ndofs;
+        (jacobians.rows(0, n).into_owned(), jacobians.rows(n, n).into_owned())
     }
 
     /// The first link of this multibody.
@@ -621,18 +746,25 @@ impl Multibody {
                 rb.forces.force - rb_mass * acc.linvel,
                 rb.forces.torque - gyroscopic - rb_inertia * acc.angvel,
             );
-            self.accelerations.gemv_tr(
+            // whisker-slam patch 7: the link's Jacobian is zero past its own columns.
+            let k = if self.truncated_jacobians {
+                link.assembly_id + link.joint.ndofs()
+            } else {
+                self.ndofs
+            };
+            let body_jacobian = self.body_jacobians[i].columns(0, k);
+            self.accelerations.rows_mut(0, k).gemv_tr(
                 1.0,
-                &self.body_jacobians[i],
+                &body_jacobian,
                 external_forces.as_vector(),
                 1.0,
             );
 
             if check_implicit_coriolis_divergence {
                 let applied_forces = Force::new(rb.forces.force, rb.forces.torque);
-                pos_forces.gemv_tr(
+                pos_forces.rows_mut(0, k).gemv_tr(
                     1.0,
-                    &self.body_jacobians[i],
+                    &body_jacobian,
                     applied_forces.as_vector(),
                     1.0,
                 );
@@ -674,15 +806,10 @@ impl Multibody {
         };
 
         // whisker-slam patch 4: the plain matrix when the Coriolis terms are explicit.
-        let inverse = if semi_implicit_coriolis {
-            &self.acc_inv_augmented_mass
-        } else {
-            &self.inv_augmented_mass
-        };
-        self.augmented_mass_indices
-            .with_rearranged_rows_mut(&mut self.accelerations, |accs| {
-                inverse.solve_mut(accs);
-            });
+        // whisker-slam patch 6: dense or articulated, whichever is current.
+        let mut accelerations = core::mem::take(&mut self.accelerations);
+        self.solve_rearranged(semi_implicit_coriolis, &mut accelerations);
+        self.accelerations = accelerations;
 
         if check_implicit_coriolis_divergence {
             self.free_velocity_energy_guard(dt, &gen_forces, &pos_forces);
@@ -713,8 +840,15 @@ impl Multibody {
         self.augmented_mass_indices.rearrange_rows(&mut f, true);
         self.augmented_mass_indices.rearrange_rows(&mut f_pos, true);
 
-        let m = self.augmented_mass.view((0, 0), (eff_dim, eff_dim));
-        let v = v.rows(0, eff_dim);
+        // whisker-slam patch 6: `M·x` from whichever form of the plain matrix is current.
+        let m_mul = |x: &DVector| -> DVector {
+            match &self.articulated {
+                Some(f) => DVector::from_vec(f.mul(x.as_slice())),
+                None => self.augmented_mass.view((0, 0), (eff_dim, eff_dim)) * x,
+            }
+        };
+        let v = v.rows(0, eff_dim).into_owned();
+        let v = &v;
         let f = f.rows(0, eff_dim);
         let f_pos = f_pos.rows(0, eff_dim);
 
@@ -725,12 +859,12 @@ impl Multibody {
             if !a.iter().all(|x| x.is_finite()) {
                 return None;
             }
-            let m_a = m * &a;
+            let m_a = m_mul(&a);
             let energy_delta = dt * v.dot(&m_a) + 0.5 * dt * dt * a.dot(&m_a);
             let work = dt * v.dot(&f) + 0.5 * dt * dt * a.dot(&f_pos);
             // Margin: a small fraction of the current kinetic energy to absorb
             // discretization error on healthy steps.
-            let kinetic_energy = 0.5 * v.dot(&(m * v));
+            let kinetic_energy = 0.5 * v.dot(&m_mul(v));
             let energy_margin = 1.0e-2 * kinetic_energy + 1.0e-8;
             Some(energy_delta - work - energy_margin)
         };
@@ -741,12 +875,10 @@ impl Multibody {
                 // The implicit solve injected energy (or produced non-finite
                 // values): fall back to the plain mass matrix.
                 self.accelerations.copy_from(gen_forces);
-                self.augmented_mass_indices.with_rearranged_rows_mut(
-                    &mut self.accelerations,
-                    |accs| {
-                        self.inv_augmented_mass.solve_mut(accs);
-                    },
-                );
+                // whisker-slam patch 6: dense or articulated.
+                let mut accelerations = core::mem::take(&mut self.accelerations);
+                self.solve_rearranged(false, &mut accelerations);
+                self.accelerations = accelerations;
 
                 // Last-chance check: if all else fails, just clear the accelerations vector
                 // instead of breaking the simulation. Hopefully it will get back to a
@@ -813,8 +945,15 @@ impl Multibody {
                 link_j.copy_from(parent_j);
 
                 {
-                    let mut link_j_v = link_j.fixed_rows_mut::<DIM>(0);
-                    let parent_j_w = parent_j.fixed_rows::<ANG_DIM>(DIM);
+                    // whisker-slam patch 7: the parent's Jacobian is zero from the link's
+                    // own first column on (ancestors come first in assembly order).
+                    let k = if self.truncated_jacobians {
+                        link.assembly_id
+                    } else {
+                        self.ndofs
+                    };
+                    let mut link_j_v = link_j.view_mut((0, 0), (DIM, k));
+                    let parent_j_w = parent_j.view((DIM, 0), (ANG_DIM, k));
 
                     let shift_tr = vect_to_na(link.shift02).gcross_matrix_tr();
                     link_j_v.gemm(1.0, &shift_tr, &parent_j_w, 1.0);
@@ -835,11 +974,22 @@ impl Multibody {
             link_j_part += link_joint_j;
 
             {
+                // whisker-slam patch 7: zero past the link's own columns.
+                let k = if self.truncated_jacobians {
+                    link.assembly_id + ndofs
+                } else {
+                    self.ndofs
+                };
                 let link_j = &mut self.body_jacobians[i];
                 let (mut link_j_v, link_j_w) =
                     link_j.rows_range_pair_mut(0..DIM, DIM..DIM + ANG_DIM);
                 let shift_tr = vect_to_na(link.shift23).gcross_matrix_tr();
-                link_j_v.gemm(1.0, &shift_tr, &link_j_w, 1.0);
+                link_j_v.columns_range_mut(0..k).gemm(
+                    1.0,
+                    &shift_tr,
+                    &link_j_w.columns_range(0..k),
+                    1.0,
+                );
             }
         }
     }
@@ -870,6 +1020,17 @@ impl Multibody {
             return; // Nothing to do.
         }
 
+        // whisker-slam patch 7: the mode decides the next Jacobian updates' extent.
+        self.truncated_jacobians = mode != MultibodyMassMatrix::Dense;
+        // whisker-slam patch 6: the articulated factorisations instead of dense matrices.
+        self.articulated = None;
+        self.acc_articulated = None;
+        if mode == MultibodyMassMatrix::Articulated
+            && self.update_articulated(dt, bodies, semi_implicit_coriolis)
+        {
+            return;
+        }
+
         if self.augmented_mass.ncols() != self.ndofs {
             // TODO: do a resize instead of a full reallocation.
             self.augmented_mass = DMatrix::zeros(self.ndofs, self.ndofs);
@@ -890,7 +1051,11 @@ impl Multibody {
             self.i_coriolis_dt = Jacobian::zeros(self.ndofs);
         }
         // whisker-slam patch 5: the composite workspaces.
-        let composite = mode == MultibodyMassMatrix::Composite;
+        // whisker-slam patch 6: `Articulated` falls back to `Composite`.
+        let composite = matches!(
+            mode,
+            MultibodyMassMatrix::Composite | MultibodyMassMatrix::Articulated
+        );
         if composite
             && (self.composite_w.len() != 2 * self.links.len()
                 || self.composite_w.first().map(|m| m.ncols()) != Some(self.ndofs))
@@ -919,9 +1084,9 @@ impl Multibody {
             // whisker-slam patch 1: the columns (and rows) this link's terms can touch.
             let k = match mode {
                 MultibodyMassMatrix::Dense => self.ndofs,
-                MultibodyMassMatrix::Truncated | MultibodyMassMatrix::Composite => {
-                    curr_assembly_id
-                }
+                MultibodyMassMatrix::Truncated
+                | MultibodyMassMatrix::Composite
+                | MultibodyMassMatrix::Articulated => curr_assembly_id,
             };
 
             if link.joint.kinematic {
@@ -1213,6 +1378,174 @@ impl Multibody {
         self.inv_augmented_mass = LU::new(owned(&self.augmented_mass));
     }
 
+    /// whisker-slam patch 6: the articulated factorisations of the plain and (when
+    /// `semi_implicit_coriolis`) the semi-implicit augmented mass matrices, from the same
+    /// terms [`Self::update_mass_matrix`] assembles densely: each link's mass, its
+    /// gyroscopic derivative and its Coriolis rows, which follow the Jacobian's recursion
+    /// (`articulated` module doc). `false` (nothing set) when a joint is kinematic or a
+    /// pivot block is singular: the caller assembles the dense matrices instead.
+    fn update_articulated(
+        &mut self,
+        dt: Real,
+        bodies: &RigidBodySet,
+        semi_implicit_coriolis: bool,
+    ) -> bool {
+        if self.links.iter().any(|l| l.joint.kinematic || l.joint.ndofs() > PAD) {
+            return false;
+        }
+        // Δ: damping, armature and the implicit springs, as on the dense diagonal.
+        let mut delta = vec![0.0; self.ndofs];
+        for (i, d) in delta.iter_mut().enumerate() {
+            *d = self.damping[i] * dt + self.armature[i];
+        }
+        for link in self.links.iter() {
+            let mut idx = link.assembly_id;
+            let locked = link.joint.data.locked_axes.bits();
+            for a in 0..SPATIAL_DIM {
+                if (locked >> a) & 1 == 0 {
+                    let k = link.joint.spring_stiffness[a];
+                    if k != 0.0 {
+                        delta[idx] += k * dt * dt;
+                    }
+                    idx += 1;
+                }
+            }
+        }
+
+        let mut plain = Vec::with_capacity(self.links.len());
+        let mut acc = Vec::with_capacity(if semi_implicit_coriolis {
+            self.links.len()
+        } else {
+            0
+        });
+        for i in 0..self.links.len() {
+            let link = &self.links[i];
+            let rb = &bodies[link.rigid_body];
+            let rb_mass = rb.mprops.effective_mass();
+            let rb_inertia = rb.mprops.effective_angular_inertia().into_matrix();
+            let ndofs = link.joint.ndofs();
+
+            // The joint's own columns `S` (world frame, at the joint), as in
+            // `update_body_jacobians`.
+            let (parent, parent_rotation, parent_angvel) = if i != 0 {
+                let parent_link = &self.links[link.parent_internal_id];
+                (
+                    Some(link.parent_internal_id),
+                    parent_link.local_to_world.rotation,
+                    bodies[parent_link.rigid_body].vels.angvel,
+                )
+            } else {
+                (None, Pose::IDENTITY.rotation, AngVector::ZERO)
+            };
+            let mut joint_j = SMatrix::<Real, SPATIAL_DIM, PAD>::zeros();
+            link.joint.jacobian(
+                &(parent_rotation * link.joint.data.local_frame1.rotation),
+                &mut joint_j.columns_mut(0, ndofs),
+            );
+            let s_v = joint_j.fixed_rows::<DIM>(0).into_owned();
+            let s_w = joint_j.fixed_rows::<ANG_DIM>(DIM).into_owned();
+
+            let a23 = vect_to_na(link.shift23).gcross_matrix_tr();
+            let a02 = if parent.is_some() {
+                vect_to_na(link.shift02).gcross_matrix_tr()
+            } else {
+                na::Matrix3::zeros()
+            };
+            let mut psi6 = SMatrix::<Real, 6, PAD>::zeros();
+            psi6.fixed_rows_mut::<DIM>(0).copy_from(&(s_v + a23 * s_w));
+            psi6.fixed_rows_mut::<ANG_DIM>(DIM).copy_from(&s_w);
+
+            #[allow(clippy::useless_conversion)]
+            let mass = concat_rb_mass_matrix(rb_mass, rb_inertia.into());
+            plain.push(ArticulatedLink::<6> {
+                parent,
+                first_dof: link.assembly_id,
+                ndofs,
+                a: a02 + a23,
+                b: na::Matrix3::zeros(),
+                c: na::Matrix3::zeros(),
+                psi: psi6,
+                e: mass,
+            });
+            if !semi_implicit_coriolis {
+                continue;
+            }
+
+            // The Coriolis rows' recursion, term by term as `update_mass_matrix` builds
+            // `coriolis_v` and `coriolis_w`: from the parent to the joint (02), then to the
+            // link's centre of mass (23).
+            let w_i = vect_to_na(rb.vels.angvel).gcross_matrix();
+            let r23 = vect_to_na(rb.vels.angvel.gcross(link.shift23)).gcross_matrix_tr()
+                + w_i * a23;
+            let (b, c, own_cv, own_cw) = if parent.is_some() {
+                let w_p = vect_to_na(parent_angvel).gcross_matrix();
+                let dvel = vect_to_na(
+                    rb.vels.angvel.gcross(link.shift02) + 2.0 * link.joint_velocity.linvel,
+                )
+                .gcross_matrix_tr();
+                let jl = vect_to_na(link.joint_velocity.linvel).gcross_matrix_tr();
+                let jw = vect_to_na(link.joint_velocity.angvel).gcross_matrix();
+                let q = dvel + jl + w_p * a02;
+                (q - a23 * jw + r23, -jw, 2.0 * w_p * s_v, w_p * s_w)
+            } else {
+                (
+                    na::Matrix3::zeros(),
+                    na::Matrix3::zeros(),
+                    SMatrix::<Real, DIM, PAD>::zeros(),
+                    SMatrix::<Real, ANG_DIM, PAD>::zeros(),
+                )
+            };
+            let mut psi12 = SMatrix::<Real, 12, PAD>::zeros();
+            psi12.fixed_rows_mut::<6>(0).copy_from(&psi6);
+            psi12
+                .fixed_rows_mut::<DIM>(6)
+                .copy_from(&(own_cv + a23 * own_cw + r23 * s_w));
+            psi12.fixed_rows_mut::<ANG_DIM>(9).copy_from(&own_cw);
+
+            // E = [M̃, dt·M]: the mass with `dt·` the gyroscopic derivative, and `dt·` the
+            // mass applied to the Coriolis rows (`i_coriolis_dt`).
+            let gyroscopic_matrix = rb.vels.angvel.gcross_matrix() * rb_inertia
+                - (rb_inertia * rb.vels.angvel).gcross_matrix();
+            let augmented_inertia = rb_inertia + gyroscopic_matrix * dt;
+            #[allow(clippy::useless_conversion)]
+            let augmented = concat_rb_mass_matrix(rb_mass, augmented_inertia.into());
+            let mut e = SMatrix::<Real, 6, 12>::zeros();
+            e.fixed_columns_mut::<6>(0).copy_from(&augmented);
+            e.fixed_columns_mut::<6>(6).copy_from(&(mass * dt));
+            acc.push(ArticulatedLink::<12> {
+                parent,
+                first_dof: link.assembly_id,
+                ndofs,
+                a: a02 + a23,
+                b,
+                c,
+                psi: psi12,
+                e,
+            });
+        }
+
+        let Some(plain) = ArticulatedFactor::new(plain, delta.clone()) else {
+            return false;
+        };
+        let plain = plain.with_root_response();
+        let acc = if semi_implicit_coriolis {
+            match ArticulatedFactor::new(acc, delta) {
+                Some(f) => Some(f),
+                None => return false,
+            }
+        } else {
+            None
+        };
+        // No kinematic DoF: the identity ordering for `with_rearranged_rows_mut` users.
+        self.augmented_mass_indices.clear();
+        for k in 0..self.ndofs {
+            self.augmented_mass_indices.keep(k);
+        }
+        self.articulated = Some(plain);
+        self.acc_articulated = acc;
+        true
+    }
+
     /// Per-DoF inverse joint-space inertia `diag(M⁻¹)` at the current configuration, where `M`
     /// includes armature but excludes joint damping and springs — MuJoCo's `dof_invweight0`: the
     /// apparent inverse inertia at each DoF with all other DoFs free, including the articulated
@@ -1238,10 +1571,8 @@ impl Multibody {
         for i in 0..n {
             e.fill(0.0);
             e[i] = 1.0;
-            self.augmented_mass_indices
-                .with_rearranged_rows_mut(&mut e, |b| {
-                    self.inv_augmented_mass.solve_mut(b);
-                });
+            // whisker-slam patch 6: dense or articulated.
+            self.solve_rearranged(false, &mut e);
             out[i] = e[i];
         }
         out
@@ -1330,8 +1661,8 @@ impl Multibody {
             for k in 0..ndofs {
                 jacobians[j_id + ndofs + k] = jacobians[j_id + k];
             }
-            self.inv_augmented_mass
-                .solve_mut(&mut jacobians.rows_mut(j_id + ndofs, ndofs));
+            // whisker-slam patch 6: dense or articulated.
+            self.solve_augmented_mass_mut(&mut jacobians.rows_mut(j_id + ndofs, ndofs));
 
             // lhs = Jᵀ M⁻¹ J = Σ J[k]·WJ[k]; only g1/g2 entries of J are nonzero.
             let lhs = jacobians[j_id + ndofs + g2] - c.coeff * jacobians[j_id + ndofs + g1];
@@ -1770,11 +2101,17 @@ impl Multibody {
         }
 
         {
+            // whisker-slam patch 6: dense or articulated; on the articulated path a row on
+            // the root alone (the weld to the driver) from the kept root columns of `M⁻¹`.
             let mut out_invm_j = jacobians.rows_mut(wj_id, self.ndofs);
-            self.augmented_mass_indices
-                .with_rearranged_rows_mut(&mut out_invm_j, |out_invm_j| {
-                    self.inv_augmented_mass.solve_mut(out_invm_j);
-                });
+            let root_only = link_id == 0
+                && self
+                    .articulated
+                    .as_ref()
+                    .is_some_and(|f| f.solve_root_mut(&mut out_invm_j));
+            if !root_only {
+                self.solve_rearranged(false, &mut out_invm_j);
+            }
         }
 
         let j = jacobians.rows(*j_id, self.ndofs);
@@ -1843,11 +2180,9 @@ impl Multibody {
         }
 
         {
+            // whisker-slam patch 6: dense or articulated.
             let mut out_invm_j = jacobians.rows_mut(wj_id, self.ndofs);
-            self.augmented_mass_indices
-                .with_rearranged_rows_mut(&mut out_invm_j, |out_invm_j| {
-                    self.inv_augmented_mass.solve_mut(out_invm_j);
-                });
+            self.solve_rearranged(false, &mut out_invm_j);
         }
 
         *j_id += self.ndofs * 2;

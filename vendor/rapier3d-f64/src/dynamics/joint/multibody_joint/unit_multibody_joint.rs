@@ -1,3 +1,4 @@
+// Modified by whisker-slam (vendor/PATCHES.md): changes are marked "whisker-slam patch".
 #![allow(missing_docs)] // For downcast.
 
 use crate::dynamics::integration_parameters::SpringCoefficients;
@@ -37,8 +38,8 @@ pub fn unit_joint_limit_constraint(
     jacobians[dof_j_id] = 1.0;
     jacobians[dof_j_id + ndofs] = 1.0;
     multibody
-        .inv_augmented_mass()
-        .solve_mut(&mut jacobians.rows_mut(*j_id + ndofs, ndofs));
+        // whisker-slam patch 6: dense or articulated.
+        .solve_augmented_mass_mut(&mut jacobians.rows_mut(*j_id + ndofs, ndofs));
 
     let lhs = jacobians[dof_j_id + ndofs]; // = J^t * M^-1 J
     let impulse_bounds = [
@@ -100,8 +101,8 @@ pub fn unit_joint_friction_constraint(
     jacobians[dof_j_id] = 1.0;
     jacobians[dof_j_id + ndofs] = 1.0;
     multibody
-        .inv_augmented_mass()
-        .solve_mut(&mut jacobians.rows_mut(*j_id + ndofs, ndofs));
+        // whisker-slam patch 6: dense or articulated.
+        .solve_augmented_mass_mut(&mut jacobians.rows_mut(*j_id + ndofs, ndofs));
 
     let lhs = jacobians[dof_j_id + ndofs]; // = J^t * M^-1 J
     let max_impulse = friction * params.dt;
@@ -157,8 +158,8 @@ pub fn unit_joint_motor_constraint(
     jacobians[dof_j_id] = 1.0;
     jacobians[dof_j_id + ndofs] = 1.0;
     multibody
-        .inv_augmented_mass()
-        .solve_mut(&mut jacobians.rows_mut(*j_id + ndofs, ndofs));
+        // whisker-slam patch 6: dense or articulated.
+        .solve_augmented_mass_mut(&mut jacobians.rows_mut(*j_id + ndofs, ndofs));
 
     let lhs = jacobians[dof_j_id + ndofs]; // = J^t * M^-1 J
     let impulse_bounds = [-motor_params.max_impulse, motor_params.max_impulse];
