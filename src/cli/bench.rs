@@ -50,7 +50,8 @@ pub struct PhysicsArgs {
     #[arg(long, value_parser = choice::<SolverPath>())]
     pub path: Option<SolverPath>,
     /// Instead: Rapier's stage timers for the array against the Box on 1 thread (the
-    /// released, exact, composite and once-per-step paths, or --path); needs `--features profiler`.
+    /// released, exact, composite, once-per-step and articulated paths, or --path); needs
+    /// `--features profiler`.
     #[arg(long)]
     pub stages: bool,
     /// Print a JSON list of {case, threads, path, real_time_factor, …}.

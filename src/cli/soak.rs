@@ -35,7 +35,7 @@ pub struct Args {
     #[arg(long, default_value_t = DEFAULT_SUBSTEPS)]
     pub substeps: usize,
     /// Rapier's multibody code path (vendor/PATCHES.md) [default: the whiskers' default,
-    /// once-per-step].
+    /// articulated].
     #[arg(long, value_parser = choice::<SolverPath>())]
     pub path: Option<SolverPath>,
     /// One world step per 0.5 ms sample, as before speed-adaptive steps

@@ -37,19 +37,23 @@ pub enum SolverPath {
     /// the same samples with mean deflection within 0.1 % (`tests/solver_paths.rs`). With
     /// one world step per sample, 3 of 20 nudged Mug runs as above went non-finite (7
     /// failed in all; `Exact`: 6 of 140); with speed-adaptive steps 0 of 20 (deepest
-    /// 0.0 mm). **The default**: with it the whole workspace suite passes (245 tests) and so
-    /// do the 60-s soaks of the Box, Barrel and Mug (0.0 mm, finite; 1,513 CPU-s against
-    /// 2,673 with `Composite`, 1.77× less).
-    #[default]
+    /// 0.0 mm). The default from 2026-12-03 until `Articulated` (#34): with it the whole
+    /// workspace suite passed (245 tests) and so did the 60-s soaks of the Box, Barrel and
+    /// Mug (0.0 mm, finite; 1,513 CPU-s against 2,673 with `Composite`, 1.77× less).
     OncePerStep,
     /// Patches 1–5: as `OncePerStep`, the gyroscopic and Coriolis terms explicit, so one
     /// mass matrix and one factorisation instead of two (~1.6× faster again). Not the
     /// default: 5 of 12 nudged Mug runs went non-finite (`Exact`: 6 of 140) with one world
     /// step per sample; with speed-adaptive steps 0 of 20.
     ExplicitCoriolis,
-    /// Patches 3 and 6: as `OncePerStep`, with the mass matrices factorised the
+    /// Patches 3, 6 and 7: as `OncePerStep`, with the mass matrices factorised the
     /// articulated-body way (O(n) in the chain's DoFs, no dense matrix): the same
-    /// matrices' inverses up to rounding (`tests/articulated.rs`).
+    /// matrices' inverses up to rounding (`tests/articulated.rs`: energy-norm error 2e-15
+    /// on bent whiskers; free whisking within 2e-15 m of `OncePerStep` after 0.3 s), and
+    /// the weld's root rows from kept columns of `M⁻¹`. **The default** (#34): ~1.7–2×
+    /// faster than `OncePerStep` (`whisker bench physics`); with it the workspace suite
+    /// passes and so do the 60-s soaks of the Box, Barrel and Mug and 20 nudged Mug runs.
+    #[default]
     Articulated,
 }
 
