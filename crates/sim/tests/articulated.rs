@@ -2,23 +2,12 @@
 //! matrices it replaces, on one bent state: the same inverses up to rounding. Each check
 //! was seen to fail with a deliberate mistake in the vendored code (listed per test).
 
-use nalgebra::{DMatrix, DVector, Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
-use rapier3d_f64::prelude::{Multibody, MultibodyMassMatrix, SharedShape};
-use whisker_sim::sensing::physics::{
-    DT, EnvironmentPiece, PhysicsArray, SolverPath, WhiskerConfig, WhiskerUnit,
-};
-use whisker_sim::whisker::array::{self, Module};
+mod common;
 
-/// A 3 mm pole across `module`'s sweep at radial distance `r` and whisk angle `theta`.
-fn pole(module: &Module, r: f64, theta: f64) -> EnvironmentPiece {
-    let centre = module.whisker_pose(theta) * Point3::new(0.0, 0.0, r);
-    let axis = module.pose.rotation * Vector3::x();
-    let rotation = UnitQuaternion::rotation_between(&Vector3::y(), &axis).unwrap();
-    (
-        SharedShape::cylinder(0.2, 0.003),
-        Isometry3::from_parts(Translation3::from(centre.coords), rotation),
-    )
-}
+use nalgebra::{DMatrix, DVector, Isometry3, Vector3};
+use rapier3d_f64::prelude::{Multibody, MultibodyMassMatrix};
+use whisker_sim::sensing::physics::{DT, PhysicsArray, SolverPath, WhiskerConfig, WhiskerUnit};
+use whisker_sim::whisker::array;
 
 /// The short, a middle and the longest whisker whisking at `frequency` by `path`, bent
 /// around poles at half their length when `poles`.
@@ -39,7 +28,7 @@ fn array_of(frequency: f64, path: SolverPath, poles: bool) -> PhysicsArray {
         .filter(|_| poles)
         .map(|&i| {
             let m = &modules[i];
-            pole(m, 0.5 * m.beam.length, 100f64.to_radians())
+            common::pole(m, 0.5 * m.beam.length, 100f64.to_radians(), 0.2)
         })
         .collect();
     PhysicsArray::new(configs, &pieces, &Isometry3::identity(), 3, DT)
@@ -123,49 +112,46 @@ fn articulated_factorisation_inverts_the_dense_matrices() {
         let h_acc = factored(dense.acc_inv_augmented_mass());
         assert!(h_acc.iter().all(|x| x.is_finite()));
 
+        // Each matrix: its dense form, the two solves, the articulated product, and where
+        // its energy error and residual are noted.
+        type Solve = fn(&Multibody, &mut DVector<f64>);
+        type Product = fn(&Multibody, &DVector<f64>) -> DVector<f64>;
+        let matrices: [(&str, &DMatrix<f64>, Solve, Product, usize); 2] = [
+            (
+                "plain",
+                &h,
+                |m, x| m.solve_augmented_mass_mut(x),
+                |m, a| m.augmented_mass_mul(a),
+                0,
+            ),
+            (
+                "semi-implicit",
+                &h_acc,
+                |m, x| m.solve_acc_augmented_mass_mut(x),
+                |m, a| m.acc_augmented_mass_mul(a),
+                2,
+            ),
+        ];
         for (k, b) in vectors(n, 8).iter().enumerate() {
-            // Plain.
-            let mut x = b.clone();
-            articulated.solve_augmented_mass_mut(&mut x);
-            let mut y = b.clone();
-            dense.solve_augmented_mass_mut(&mut y);
-            let e = energy_error(&h, &x, &y);
-            note(0, e);
-            assert!(e < 1e-12, "whisker {w} b{k}, plain: energy error {e:e}");
-            let residual = (&h * &x - b).norm() / (h.norm() * x.norm());
-            note(1, residual);
-            assert!(
-                residual < 1e-12,
-                "whisker {w} b{k}, plain: residual {residual:e}"
-            );
-            let product = articulated.augmented_mass_mul(b);
-            let exact = &h * b;
-            let rel = (&product - &exact).norm() / exact.norm();
-            note(6, rel);
-            assert!(rel < 1e-12, "whisker {w} b{k}: H·a {rel:e}");
-
-            // Semi-implicit.
-            let mut x = b.clone();
-            articulated.solve_acc_augmented_mass_mut(&mut x);
-            let mut y = b.clone();
-            dense.solve_acc_augmented_mass_mut(&mut y);
-            let e = energy_error(&h, &x, &y);
-            note(2, e);
-            assert!(
-                e < 1e-12,
-                "whisker {w} b{k}, semi-implicit: energy error {e:e}"
-            );
-            let residual = (&h_acc * &x - b).norm() / (h_acc.norm() * x.norm());
-            note(3, residual);
-            assert!(
-                residual < 1e-12,
-                "whisker {w} b{k}, semi: residual {residual:e}"
-            );
-            let product = articulated.acc_augmented_mass_mul(b);
-            let exact = &h_acc * b;
-            let rel = (&product - &exact).norm() / exact.norm();
-            note(6, rel);
-            assert!(rel < 1e-12, "whisker {w} b{k}: H_acc·a {rel:e}");
+            for &(name, matrix, solve, product, slot) in &matrices {
+                let mut x = b.clone();
+                solve(&articulated, &mut x);
+                let mut y = b.clone();
+                solve(&dense, &mut y);
+                let e = energy_error(&h, &x, &y);
+                note(slot, e);
+                assert!(e < 1e-12, "whisker {w} b{k}, {name}: energy error {e:e}");
+                let residual = (matrix * &x - b).norm() / (matrix.norm() * x.norm());
+                note(slot + 1, residual);
+                assert!(
+                    residual < 1e-12,
+                    "whisker {w} b{k}, {name}: residual {residual:e}"
+                );
+                let exact = matrix * b;
+                let rel = (&product(&articulated, b) - &exact).norm() / exact.norm();
+                note(6, rel);
+                assert!(rel < 1e-12, "whisker {w} b{k}, {name}: H·a {rel:e}");
+            }
         }
 
         let e = energy_error(&h, &acc_art, &acc_dense);

@@ -3,25 +3,13 @@
 //! whisker for a whole run against a barrier per sample, both bit for bit on whiskers in
 //! contact; the composite assembly (patch 5) against the truncated one up to rounding.
 
-use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
-use rapier3d_f64::prelude::SharedShape;
-use whisker_sim::sensing::physics::{
-    DT, EnvironmentPiece, PhysicsArray, SolverPath, WhiskerConfig,
-};
-use whisker_sim::whisker::array::{self, Module};
+mod common;
+
+use nalgebra::{Isometry3, Vector3};
+use whisker_sim::sensing::physics::{DT, PhysicsArray, SolverPath, WhiskerConfig};
+use whisker_sim::whisker::array;
 use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_slam::sensor::Sample;
-
-/// A 3 mm pole across `module`'s sweep at radial distance `r` and whisk angle `theta`.
-fn pole(module: &Module, r: f64, theta: f64) -> EnvironmentPiece {
-    let centre = module.whisker_pose(theta) * Point3::new(0.0, 0.0, r);
-    let axis = module.pose.rotation * Vector3::x();
-    let rotation = UnitQuaternion::rotation_between(&Vector3::y(), &axis).unwrap();
-    (
-        SharedShape::cylinder(0.2, 0.003),
-        Isometry3::from_parts(Translation3::from(centre.coords), rotation),
-    )
-}
 
 /// Module `index` whisking at 2 Hz (open loop), stepped by Rapier path `mode`.
 fn config(index: usize, mode: SolverPath) -> WhiskerConfig {
@@ -95,7 +83,7 @@ fn running_per_whisker_equals_stepping_per_sample() {
                 c
             })
             .collect();
-        let poles = [pole(&modules[7], 0.05, 110f64.to_radians())];
+        let poles = [common::pole(&modules[7], 0.05, 110f64.to_radians(), 0.2)];
         PhysicsArray::new(configs, &poles, &pose(0.0), 5, DT)
     };
     pool.install(|| {
@@ -144,10 +132,11 @@ fn bent(whiskers: &[usize], frequency: f64, path: SolverPath, poles: bool) -> Ph
         .iter()
         .filter(|_| poles)
         .map(|&i| {
-            pole(
+            common::pole(
                 &modules[i],
                 0.5 * modules[i].beam.length,
                 100f64.to_radians(),
+                0.2,
             )
         })
         .collect();

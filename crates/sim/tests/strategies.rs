@@ -3,23 +3,12 @@
 //! towards protraction once one whisker touches; contact-induced asymmetry stops the
 //! touching side's protraction while the other side's continues.
 
-use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
-use rapier3d_f64::prelude::SharedShape;
-use whisker_sim::sensing::physics::{DT, EnvironmentPiece, PhysicsArray, WhiskerConfig};
-use whisker_sim::whisker::array::{self, Module};
-use whisker_sim::whisker::strategies::{SpreadReduction, WhiskingControl};
+mod common;
 
-/// A short pole (2 cm) across `module`'s sweep plane at radial distance `r` from the
-/// pivot along the shaft at whisk angle `theta`.
-fn pole(module: &Module, r: f64, theta: f64) -> EnvironmentPiece {
-    let centre = module.whisker_pose(theta) * Point3::new(0.0, 0.0, r);
-    let axis = module.pose.rotation * Vector3::x();
-    let rotation = UnitQuaternion::rotation_between(&Vector3::y(), &axis).unwrap();
-    (
-        SharedShape::cylinder(0.01, 0.003),
-        Isometry3::from_parts(Translation3::from(centre.coords), rotation),
-    )
-}
+use nalgebra::Isometry3;
+use whisker_sim::sensing::physics::{DT, PhysicsArray, WhiskerConfig};
+use whisker_sim::whisker::array;
+use whisker_sim::whisker::strategies::{SpreadReduction, WhiskingControl};
 
 /// Whiskers `indices` whisking at 1 Hz under `control` (contacts at 150 counts) for
 /// `seconds`, whisker `touching` against a pole at 100°, half its length out; each
@@ -40,7 +29,12 @@ fn run(
         })
         .collect();
     let m = &modules[touching];
-    let poles = [pole(m, 0.5 * m.beam.length, 100f64.to_radians())];
+    let poles = [common::pole(
+        m,
+        0.5 * m.beam.length,
+        100f64.to_radians(),
+        0.01,
+    )];
     let mut array = PhysicsArray::new(configs, &poles, &Isometry3::identity(), 3, DT);
     let n = (seconds / DT).round() as usize;
     let streams = array.run(&vec![Isometry3::identity(); n]);
