@@ -6,7 +6,7 @@
 mod common;
 
 use nalgebra::{Isometry3, Vector3};
-use whisker_sim::sensing::physics::{DT, PhysicsArray, SolverPath, WhiskerConfig};
+use whisker_sim::sensing::physics::{DT, Lever, PhysicsArray, SolverPath, WhiskerConfig};
 use whisker_sim::whisker::array;
 use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_slam::sensor::Sample;
@@ -60,6 +60,66 @@ fn exact_path_is_bit_identical_to_released_rapier() {
         assert_eq!(bits(stream), bits(&truncated[w]), "whisker {w}");
     }
     assert_eq!(dense_bodies, truncated_bodies);
+}
+
+/// Patch 8 (a step starts from the kinematics its predecessor's last substep left) changes
+/// no bit: the whiskers of [`exact_path_is_bit_identical_to_released_rapier`] on the
+/// default path with the lever on and off, once undisturbed and once with each whisker's
+/// root moved by the user by 1 µm between two steps (then the kinematics must be redone:
+/// a lever that reused them would keep the old root pose).
+#[test]
+fn reusing_the_step_kinematics_changes_no_bit() {
+    let run = |without: Option<Lever>, moved: bool| {
+        let mut a = bent(&[0, 6, 12], 2.0, SolverPath::Articulated, true);
+        for u in &mut a.units {
+            SolverPath::Articulated.apply_without(&mut u.world.integration_parameters, without);
+        }
+        let mut streams = a.run(&[Isometry3::identity(); 700]);
+        if moved {
+            for u in &mut a.units {
+                let root = u
+                    .world
+                    .multibody_joints
+                    .multibodies()
+                    .next()
+                    .unwrap()
+                    .links()
+                    .next();
+                let handle = root.unwrap().rigid_body_handle();
+                let body = u.world.bodies.get_mut(handle).unwrap();
+                let mut pose = *body.position();
+                pose.translation.x += 1e-6;
+                body.set_position(pose, true);
+            }
+        }
+        for (s, more) in streams.iter_mut().zip(a.run(&[Isometry3::identity(); 600])) {
+            s.extend(more);
+        }
+        (streams, body_bits(&a))
+    };
+    assert!(
+        SolverPath::Articulated
+            .levers()
+            .contains(&Lever::ReuseStepKinematics)
+    );
+    for moved in [false, true] {
+        let (reused, reused_bodies) = run(None, moved);
+        let (redone, redone_bodies) = run(Some(Lever::ReuseStepKinematics), moved);
+        for (w, stream) in redone.iter().enumerate() {
+            let peak = stream.iter().map(|s| s.y.abs()).fold(0.0, f64::max);
+            assert!(peak > 200.0, "whisker {w} bent on the pole: {peak} counts");
+            let first =
+                (0..stream.len()).find(|&i| bits(&stream[i..=i]) != bits(&reused[w][i..=i]));
+            assert_eq!(
+                first, None,
+                "whisker {w}, moved: {moved}: first sample differing"
+            );
+        }
+        assert!(
+            redone_bodies == reused_bodies,
+            "moved: {moved}: bodies differ"
+        );
+    }
 }
 
 /// `PhysicsArray::run` and `run_with_state` (one task per whisker for all its steps) give

@@ -49,6 +49,7 @@ fn config(module: Module, frequency: f64, rcp: Option<f64>) -> WhiskerConfig {
         sensor: SensorModel::default(),
         substeps: DEFAULT_SUBSTEPS,
         solver: Default::default(),
+        without: None,
         adaptive_steps: true,
     }
 }

@@ -17,8 +17,10 @@
 //! - `once-per-step`: also patch 3 (the mass matrix factorised once per step; the default
 //!   until #34);
 //! - `explicit-coriolis`: also patch 4 (explicit gyroscopic and Coriolis terms);
-//! - `articulated`: patches 3, 6 and 7 (the articulated-body factorisation, O(n) in the
-//!   chain's DoFs, no dense matrix; the default, `SolverPath::Articulated`).
+//! - `articulated`: patches 3 and 6–8 (the articulated-body factorisation, O(n) in the
+//!   chain's DoFs, no dense matrix; the default, `SolverPath::Articulated`);
+//! - `articulated −<lever>`: the default with one of its bit-identical levers off
+//!   (`SolverPath::levers`), so that each is measured on its own in the same run.
 //!
 //! `articulated` is the default; `SolverPath` says why `explicit-coriolis` is not.
 //!
@@ -35,7 +37,9 @@ use serde::Serialize;
 use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
-use whisker_sim::sensing::physics::{DT, EnvironmentPiece, PhysicsArray, SolverPath, StageTimes};
+use whisker_sim::sensing::physics::{
+    DT, EnvironmentPiece, Lever, PhysicsArray, SolverPath, StageTimes,
+};
 use whisker_sim::whisker::array;
 use whisker_sim::whisker::beam::Bending;
 
@@ -91,7 +95,7 @@ struct Case<'a> {
 /// Rapier's stage timers summed over the whiskers.
 fn time_case(
     case: &Case,
-    path: SolverPath,
+    (path, without): (SolverPath, Option<Lever>),
     threads: usize,
     o: &Settings,
 ) -> Result<(f64, StageTimes), String> {
@@ -108,6 +112,7 @@ fn time_case(
         );
         for c in &mut configs {
             c.solver = path;
+            c.without = without;
             // The released path is the code before #18: one world step per sample too.
             c.adaptive_steps = path != SolverPath::Released;
         }
@@ -142,7 +147,8 @@ pub struct Row {
     pub whiskers: usize,
     pub segments: usize,
     pub threads: usize,
-    pub path: &'static str,
+    /// The path, or `"<path> −<lever>"`: the default path with one lever off.
+    pub path: String,
     pub real_time_factor: f64,
     pub cpu_s_per_sim_s_per_whisker: f64,
     pub speedup_vs_released: Option<f64>,
@@ -199,11 +205,8 @@ fn measure(
         let mut released_wall = None;
         let first = rows.len();
         let mut walls = Vec::new();
-        for path in SolverPath::ALL {
-            if o.path.is_some_and(|p| p != path) {
-                continue;
-            }
-            let (wall, _) = time_case(case, path, t, o).map_err(Error::Failure)?;
+        for (path, without) in variants(o) {
+            let (wall, _) = time_case(case, (path, without), t, o).map_err(Error::Failure)?;
             let rtf = o.duration / wall;
             let speedup = match path {
                 SolverPath::Released => {
@@ -212,11 +215,14 @@ fn measure(
                 }
                 _ => released_wall.map(|r| r / wall),
             };
-            walls.push((path, wall));
+            walls.push(((path, without), wall));
+            let name = match without {
+                Some(lever) => format!("{} −{}", path.name(), lever.name()),
+                None => path.name().to_string(),
+            };
             ctx.note(&format!(
-                "  {:<26} {segments:>2} segments {t} thread(s) {:<9} {rtf:.3}× real time",
+                "  {:<26} {segments:>2} segments {t} thread(s) {name:<9} {rtf:.3}× real time",
                 case.name,
-                path.name()
             ));
             let cpu = t as f64 * wall / o.duration / whiskers as f64;
             rows.push(Row {
@@ -224,7 +230,7 @@ fn measure(
                 whiskers,
                 segments,
                 threads: t,
-                path: path.name(),
+                path: name,
                 real_time_factor: rtf,
                 cpu_s_per_sim_s_per_whisker: cpu,
                 speedup_vs_released: speedup,
@@ -235,13 +241,29 @@ fn measure(
         // Every path against the default, once all are timed.
         let default_wall = walls
             .iter()
-            .find(|(p, _)| *p == SolverPath::default())
+            .find(|(p, _)| *p == (SolverPath::default(), None))
             .map(|&(_, w)| w);
         for (row, (_, wall)) in rows[first..].iter_mut().zip(&walls) {
             row.speedup_vs_default = default_wall.map(|d| d / wall);
         }
     }
     Ok(())
+}
+
+/// What `measure` times: every path (or `--path`), and after the default the default with
+/// each of its levers off in turn (#34: each lever measured on its own).
+fn variants(o: &Settings) -> Vec<(SolverPath, Option<Lever>)> {
+    let mut list = Vec::new();
+    for path in SolverPath::ALL {
+        if o.path.is_some_and(|p| p != path) {
+            continue;
+        }
+        list.push((path, None));
+        if path == SolverPath::default() {
+            list.extend(path.levers().iter().map(|&l| (path, Some(l))));
+        }
+    }
+    list
 }
 
 /// Runs `whisker bench physics`.
@@ -334,7 +356,7 @@ impl fmt::Display for Table {
         writeln!(f, "{}", self.heading)?;
         writeln!(
             f,
-            "{:<18} {:>8} {:>7} {:>17} {:>16} {:>24} {:>11} {:>13} {:>11}",
+            "{:<18} {:>8} {:>7} {:>32} {:>16} {:>24} {:>11} {:>13} {:>11}",
             "case",
             "segments",
             "threads",
@@ -348,7 +370,7 @@ impl fmt::Display for Table {
         for r in &self.rows {
             writeln!(
                 f,
-                "{:<18} {:>8} {:>7} {:>17} {:>16.3} {:>24.3} {:>10.3}× {:>13} {:>11}",
+                "{:<18} {:>8} {:>7} {:>32} {:>16.3} {:>24.3} {:>10.3}× {:>13} {:>11}",
                 r.case,
                 r.segments,
                 r.threads,
@@ -366,7 +388,8 @@ impl fmt::Display for Table {
             f,
             "released: Rapier 0.36.1 as released, a barrier per sample; exact: vendor/PATCHES.md 1-2 (bit-identical); \
              composite: 1-2, 5 (the same matrices up to rounding); once-per-step: 1-3, 5 (the default until #34); \
-             explicit-coriolis: 1-5 (both went non-finite in nudged Mug soaks with fixed steps); articulated: 3, 6, 7 (O(n) factorisation, the same inverses up to rounding; the default); \
+             explicit-coriolis: 1-5 (both went non-finite in nudged Mug soaks with fixed steps); articulated: 3, 6-8 (O(n) factorisation, the same inverses up to rounding; the default); \
+             articulated −<lever>: the default with one of its bit-identical levers off (−reuse-step-kinematics: patch 8); \
              all but released one task per whisker and speed-adaptive steps. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
              (below 1: cheaper). Speed-up: released wall time / the path's; vs default: the default path's wall time / this path's; same case and threads."
         )
@@ -401,7 +424,7 @@ fn stages(case: &Case, o: &Settings) -> Result<Vec<Stages>> {
     };
     let mut list = Vec::new();
     for path in paths {
-        let (wall, t) = time_case(case, path, 1, o).map_err(Error::Failure)?;
+        let (wall, t) = time_case(case, (path, None), 1, o).map_err(Error::Failure)?;
         if t.step == 0.0 {
             return Err(Error::Input(
                 "--stages: this build has no stage timers; build with \

@@ -243,6 +243,7 @@ impl ArrayConfig {
                 sensor,
                 substeps: self.substeps.unwrap_or(DEFAULT_SUBSTEPS),
                 solver: Default::default(),
+                without: None,
                 adaptive_steps: true,
             });
         }

@@ -22,7 +22,7 @@ use crate::whisker::body::Whisker;
 use crate::whisker::control::{ControlState, Controller, WhiskingPattern};
 use crate::whisker::follicle::FollicleDesign;
 use crate::whisker::sensor::SensorModel;
-pub use crate::whisker::solver::SolverPath;
+pub use crate::whisker::solver::{Lever, SolverPath};
 use crate::whisker::strategies::{ArrayController, WhiskingControl};
 use nalgebra::Isometry3;
 use rapier3d_f64::counters::{Counters, Timer};
@@ -56,6 +56,8 @@ pub struct WhiskerConfig {
     pub substeps: usize,
     /// Which of Rapier's multibody code paths steps the whisker.
     pub solver: SolverPath,
+    /// One of the path's levers switched off, to measure it (None: the path as it is).
+    pub without: Option<Lever>,
     /// Split a sample's step while a segment approaches a surface faster than the
     /// speculative contacts can catch ([`super::adaptive_step`]; default true). False:
     /// one world step per sample, as before (`whisker soak --fixed-steps`).
@@ -101,6 +103,7 @@ impl WhiskerConfig {
             sensor: SensorModel::default(),
             substeps: DEFAULT_SUBSTEPS,
             solver: SolverPath::default(),
+            without: None,
             adaptive_steps: true,
         }
     }
@@ -246,7 +249,9 @@ impl WhiskerUnit {
         world.gravity = Vector::new(0.0, 0.0, -9.81);
         contact_parameters(&mut world.integration_parameters, dt);
         world.integration_parameters.num_solver_iterations = config.substeps.max(1);
-        config.solver.apply(&mut world.integration_parameters);
+        config
+            .solver
+            .apply_without(&mut world.integration_parameters, config.without);
         for (shape, pose) in environment {
             world.insert_collider(
                 ColliderBuilder::new(shape.clone())

@@ -46,15 +46,40 @@ pub enum SolverPath {
     /// default: 5 of 12 nudged Mug runs went non-finite (`Exact`: 6 of 140) with one world
     /// step per sample; with speed-adaptive steps 0 of 20.
     ExplicitCoriolis,
-    /// Patches 3, 6 and 7: as `OncePerStep`, with the mass matrices factorised the
+    /// Patches 3 and 6–8: as `OncePerStep`, with the mass matrices factorised the
     /// articulated-body way (O(n) in the chain's DoFs, no dense matrix): the same
     /// matrices' inverses up to rounding (`tests/articulated.rs`: energy-norm error 2e-15
     /// on bent whiskers; free whisking within 2e-15 m of `OncePerStep` after 0.3 s), and
     /// the weld's root rows from kept columns of `M⁻¹`. **The default** (#34): ~1.7–2×
     /// faster than `OncePerStep` (`whisker bench physics`); with it the workspace suite
     /// passes and so do the 60-s soaks of the Box, Barrel and Mug and 20 nudged Mug runs.
+    /// Patch 8 ([`Lever::ReuseStepKinematics`]) changes no bit of its results.
     #[default]
     Articulated,
+}
+
+/// A speed-up of the default path that changes no bit of its results and can be switched
+/// off on its own, so that `whisker bench physics --levers` measures what each one brings
+/// (#34: "each lever measured on its own, kept only if it pays").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Lever {
+    /// Patch 8: a step starts from the kinematics its predecessor's last substep left
+    /// (forward kinematics three times a step instead of four with 3 substeps), unless
+    /// something the kinematics depend on changed in between
+    /// (`IntegrationParameters::multibody_reuse_step_kinematics`).
+    ReuseStepKinematics,
+}
+
+impl Lever {
+    /// Every lever.
+    pub const ALL: [Lever; 1] = [Self::ReuseStepKinematics];
+
+    /// Its name in benchmarks.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::ReuseStepKinematics => "reuse-step-kinematics",
+        }
+    }
 }
 
 impl SolverPath {
@@ -70,6 +95,22 @@ impl SolverPath {
 
     /// Sets the path's Rapier parameters.
     pub fn apply(self, p: &mut IntegrationParameters) {
+        self.apply_without(p, None);
+    }
+
+    /// The switchable levers this path uses (none but the default's).
+    pub fn levers(self) -> &'static [Lever] {
+        match self {
+            Self::Articulated => &Lever::ALL,
+            _ => &[],
+        }
+    }
+
+    /// Sets the path's Rapier parameters with lever `off` switched off, to measure what it
+    /// brings (`whisker bench physics --levers`).
+    pub fn apply_without(self, p: &mut IntegrationParameters, off: Option<Lever>) {
+        let lever = Lever::ReuseStepKinematics;
+        p.multibody_reuse_step_kinematics = self.levers().contains(&lever) && off != Some(lever);
         p.multibody_mass_matrix = match self {
             Self::Released => MultibodyMassMatrix::Dense,
             Self::Exact => MultibodyMassMatrix::Truncated,

@@ -369,6 +369,17 @@ pub struct IntegrationParameters {
     /// the plain augmented mass matrix is used, so one assembly and one factorisation fewer.
     /// whisker-slam patch 4 (`vendor/PATCHES.md`).
     pub multibody_semi_implicit_coriolis: bool,
+    /// If enabled, the forward kinematics at the start of a step (which re-reads each
+    /// multibody's root pose from its rigid-body) is skipped for a multibody whose
+    /// kinematics its last substep already computed from the same inputs: its rigid-bodies
+    /// unmodified by the user, it was not borrowed mutably ([`MultibodyJointSet::get_mut`],
+    /// [`MultibodyJointSet::get_multibody_mut`]), the joint set's topology unchanged, and the
+    /// root's coordinates equal to its rigid-body's pose. The results are bit-identical
+    /// (default: `false`, as released). whisker-slam patch 8 (`vendor/PATCHES.md`).
+    ///
+    /// [`MultibodyJointSet::get_mut`]: crate::dynamics::MultibodyJointSet::get_mut
+    /// [`MultibodyJointSet::get_multibody_mut`]: crate::dynamics::MultibodyJointSet::get_multibody_mut
+    pub multibody_reuse_step_kinematics: bool,
 }
 
 impl IntegrationParameters {
@@ -476,6 +487,7 @@ impl Default for IntegrationParameters {
             multibody_mass_matrix: MultibodyMassMatrix::default(),
             multibody_mass_matrix_once_per_step: false,
             multibody_semi_implicit_coriolis: true,
+            multibody_reuse_step_kinematics: false,
         }
     }
 }

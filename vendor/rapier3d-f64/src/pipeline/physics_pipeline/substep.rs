@@ -435,8 +435,14 @@ impl PhysicsPipeline {
 
         // TODO: do this only on user-change.
         // TODO: do we want some kind of automatic inverse kinematics?
+        // whisker-slam patch 8: unless the last substep's kinematics are still current.
+        let epoch = multibody_joints.topology_epoch;
         for multibody in &mut multibody_joints.multibodies {
-            multibody.1.forward_kinematics(bodies, true);
+            if !(integration_parameters.multibody_reuse_step_kinematics
+                && multibody.1.kinematics_are_current(bodies, epoch))
+            {
+                multibody.1.forward_kinematics(bodies, true);
+            }
             multibody
                 .1
                 .update_rigid_bodies_internal(bodies, true, false, false);

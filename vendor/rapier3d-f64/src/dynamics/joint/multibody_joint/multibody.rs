@@ -154,6 +154,14 @@ pub struct Multibody {
     // whisker-slam patch 7: the body Jacobians' shifts and the generalised-force products
     // run over each link's ancestor columns only (every mode but `Dense`).
     truncated_jacobians: bool,
+    // whisker-slam patch 7: per link, how many leading columns of its body Jacobian may be
+    // non-zero (the rest are zero), so that only the ancestor columns are copied.
+    jacobian_extents: Vec<usize>,
+    // whisker-slam patch 8: the joint set's topology epoch at which the last substep of a
+    // step left this multibody's kinematics current; `None` once the user may have changed
+    // it (a mutable borrow through the joint set) or before the first step.
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    pub(crate) kinematics_current_at: Option<u32>,
 }
 impl Default for Multibody {
     fn default() -> Self {
@@ -191,6 +199,8 @@ impl Multibody {
             articulated: None,
             acc_articulated: None,
             truncated_jacobians: false,
+            jacobian_extents: Vec::new(),
+            kinematics_current_at: None,
             root_is_dynamic: false,
             self_contacts_enabled,
             couplings: Vec::new(),
@@ -930,12 +940,15 @@ impl Multibody {
     }
 
     fn update_body_jacobians(&mut self) {
+        // whisker-slam patch 7: unknown extents are the whole width.
+        self.jacobian_extents.resize(self.links.len(), self.ndofs);
         for i in 0..self.links.len() {
             let link = &self.links[i];
 
             if self.body_jacobians[i].ncols() != self.ndofs {
                 // TODO: use a resize instead.
                 self.body_jacobians[i] = Jacobian::zeros(self.ndofs);
+                self.jacobian_extents[i] = 0;
             }
 
             let parent_to_world;
@@ -946,7 +959,19 @@ impl Multibody {
                 parent_to_world = parent_link.local_to_world;
 
                 let (link_j, parent_j) = self.body_jacobians.index_mut_const(i, parent_id);
-                link_j.copy_from(parent_j);
+                // whisker-slam patch 7: the parent's Jacobian is zero from the link's own
+                // first column on, so only its ancestor columns are copied; the link's own
+                // columns and any it had written past them are cleared (the same matrix).
+                if self.truncated_jacobians {
+                    let (own, end) = (link.assembly_id, link.assembly_id + link.joint.ndofs());
+                    let extent = self.jacobian_extents[i].max(end);
+                    link_j.columns_mut(0, own).copy_from(&parent_j.columns(0, own));
+                    link_j.columns_mut(own, extent - own).fill(0.0);
+                    self.jacobian_extents[i] = end;
+                } else {
+                    link_j.copy_from(parent_j);
+                    self.jacobian_extents[i] = self.ndofs;
+                }
 
                 {
                     // whisker-slam patch 7: the parent's Jacobian is zero from the link's
@@ -1582,6 +1607,38 @@ impl Multibody {
         for link in self.links.iter_mut() {
             link.joint.apply_displacement(&disp[link.assembly_id..])
         }
+    }
+
+    /// whisker-slam patch 8: whether `forward_kinematics(bodies, true)` would recompute exactly
+    /// what the last substep of the previous step left (see
+    /// `IntegrationParameters::multibody_reuse_step_kinematics`): no mutable borrow or
+    /// topology change since, no user change to any link's rigid-body, the root's type
+    /// unchanged and its joint already at its rigid-body's pose (so `update_root_type` would
+    /// be a no-op, and every other input of the kinematics is unchanged).
+    pub(crate) fn kinematics_are_current(&self, bodies: &RigidBodySet, epoch: u32) -> bool {
+        if self.kinematics_current_at != Some(epoch) {
+            return false;
+        }
+        let unchanged = |link: &MultibodyLink| {
+            bodies
+                .get(link.rigid_body)
+                .is_some_and(|rb| rb.changes.is_empty())
+        };
+        if !self.links.iter().all(unchanged) {
+            return false;
+        }
+        let Some(rb) = bodies.get(self.links[0].rigid_body) else {
+            return false;
+        };
+        let joint = &self.links[0].joint;
+        let pose = rb.position();
+        rb.is_dynamic() == self.root_is_dynamic
+            && if joint.data.locked_axes.is_empty() {
+                joint.coords[..3] == [pose.translation.x, pose.translation.y, pose.translation.z]
+                    && joint.joint_rot == pose.rotation
+            } else {
+                joint.data.local_frame1 == *pose
+            }
     }
 
     pub(crate) fn update_root_type(&mut self, bodies: &RigidBodySet, take_body_pose: bool) {

@@ -318,7 +318,10 @@ impl MultibodyJointSet {
     /// `MultibodyJointSet`.
     pub fn get_multibody_mut(&mut self, index: MultibodyIndex) -> Option<&mut Multibody> {
         // TODO: modification tracking.
-        self.multibodies.get_mut(index.0)
+        let multibody = self.multibodies.get_mut(index.0)?;
+        // whisker-slam patch 8: the user may change the kinematics' inputs.
+        multibody.kinematics_current_at = None;
+        Some(multibody)
     }
 
     /// Gets a mutable reference to a multibody, based on its temporary index.
@@ -340,6 +343,8 @@ impl MultibodyJointSet {
     pub fn get_mut(&mut self, handle: MultibodyJointHandle) -> Option<(&mut Multibody, usize)> {
         let link = self.rb2mb.get(handle.0)?;
         let multibody = self.multibodies.get_mut(link.multibody.0)?;
+        // whisker-slam patch 8: the user may change the kinematics' inputs.
+        multibody.kinematics_current_at = None;
         Some((multibody, link.id))
     }
 

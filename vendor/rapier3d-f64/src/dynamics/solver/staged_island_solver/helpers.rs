@@ -138,6 +138,7 @@ impl VelocitySolver {
         bodies: &mut RigidBodySet,
         multibodies: &mut MultibodyJointSet,
     ) {
+        let epoch = multibodies.topology_epoch;
         for link in &self.multibody_roots {
             let multibody = multibodies
                 .get_multibody_mut_internal(link.multibody)
@@ -148,6 +149,8 @@ impl VelocitySolver {
             multibody.velocities.copy_from(&solver_vels);
             multibody.integrate(params.dt);
             multibody.forward_kinematics(bodies, false);
+            // whisker-slam patch 8: the step's last kinematics, reusable at the next step's start.
+            multibody.kinematics_current_at = is_last_substep.then_some(epoch);
             multibody.update_rigid_bodies_internal(bodies, !is_last_substep, true, false);
 
             if !is_last_substep {
