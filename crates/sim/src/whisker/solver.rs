@@ -59,8 +59,9 @@ pub enum SolverPath {
 }
 
 /// A speed-up of the default path that changes no bit of its results and can be switched
-/// off on its own, so that `whisker bench physics --levers` measures what each one brings
-/// (#34: "each lever measured on its own, kept only if it pays").
+/// off on its own, so that `whisker bench physics` measures what each one brings (after the
+/// default path, a row per lever with that lever off; #34: "each lever measured on its
+/// own, kept only if it pays").
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Lever {
     /// Patch 8: a step starts from the kinematics its predecessor's last substep left
@@ -107,7 +108,7 @@ impl SolverPath {
     }
 
     /// Sets the path's Rapier parameters with lever `off` switched off, to measure what it
-    /// brings (`whisker bench physics --levers`).
+    /// brings (the `articulated −<lever>` rows of `whisker bench physics`).
     pub fn apply_without(self, p: &mut IntegrationParameters, off: Option<Lever>) {
         let lever = Lever::ReuseStepKinematics;
         p.multibody_reuse_step_kinematics = self.levers().contains(&lever) && off != Some(lever);
