@@ -16,6 +16,7 @@ pub mod exploration;
 pub mod features;
 pub mod frontend;
 pub mod message;
+pub mod navigation;
 pub mod pose;
 pub mod pose_grid;
 pub mod radial;
