@@ -13,6 +13,7 @@ mod fuzz;
 mod inputs;
 mod maze_slam;
 mod object_slam;
+mod office;
 mod physics;
 mod radial;
 mod recording;

@@ -29,6 +29,13 @@ pub fn check(file: &Path, meshes: Option<&Path>, ctx: Context) -> Result {
     for line in &loaded.report {
         ctx.say(line);
     }
+    if let (Some(n), Some(o)) = (&scenario.navigate, &scenario.office) {
+        let objects = whisker_sim::environment::Environment {
+            pieces: loaded.environment.pieces[..scenario.objects.len()].to_vec(),
+        };
+        n.check_route(file, &o.checked_plan(file)?, &objects)?;
+        ctx.say(&n.describe());
+    }
     if let Some(dir) = meshes {
         write_meshes(file, &scenario, &loaded.environment, dir)?;
     }
@@ -38,7 +45,12 @@ pub fn check(file: &Path, meshes: Option<&Path>, ctx: Context) -> Result {
     } else {
         ""
     };
-    if let Some(e) = &scenario.explore {
+    if scenario.navigate.is_some() {
+        ctx.say(&format!(
+            "output     {} (the navigation run itself is being built: issue #36)",
+            dir.display()
+        ));
+    } else if let Some(e) = &scenario.explore {
         ctx.say(&crate::closed_loop::describe(file, &scenario, e)?);
         ctx.say(&format!(
             "output     {} ({}, {}, contacts.csv{}{rrd})",

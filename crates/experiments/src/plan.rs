@@ -193,7 +193,12 @@ impl Plan {
             c.joint_names.join(", ")
         );
         let speed = plan.speed.iter().cloned().fold(f64::INFINITY, f64::min);
-        if scenario.explore.is_some() && plan.waypoints.len() == 1 {
+        if scenario.navigate.is_some() {
+            let _ = writeln!(
+                s,
+                "trajectory none scripted: the base drives navigate.route_m; joint speeds ≤ {speed} rad/s"
+            );
+        } else if scenario.explore.is_some() && plan.waypoints.len() == 1 {
             let _ = writeln!(
                 s,
                 "trajectory none scripted: the closed loop chooses each whisk's goal (Ch 6); joint speeds ≤ {speed} rad/s"

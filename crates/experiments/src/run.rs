@@ -51,6 +51,14 @@ pub fn run(
 /// `ctx`: `whisker run` and each trial of `whisker trials`; the recording goes where
 /// `rrd` and the scenario's `output.recording` say.
 pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: Context) -> Result {
+    if scenario.navigate.is_some() {
+        return Err(crate::error::Error::field(
+            file,
+            "navigate",
+            "`whisker run` does not drive a [navigate] route yet (issue #36 is being built: \
+             `whisker check` validates the office and the route)",
+        ));
+    }
     let plan = Plan::new(scenario, file)?;
     ctx.say(&plan.describe(file, scenario));
     let loaded = scenario.environment(file)?;

@@ -221,11 +221,13 @@ pub struct LoadedEnvironment {
     pub report: Vec<String>,
 }
 
-/// Loads `[[objects]]` and `[maze]` (the maze's deformities from `seed`).
+/// Loads `[[objects]]`, `[maze]` (its deformities from `seed`) and `[office]`, in that
+/// order (the objects' pieces first, one each).
 pub fn load(
     file: &Path,
     objects: &[ObjectConfig],
     maze: Option<&MazeConfig>,
+    office: Option<&super::office::OfficeConfig>,
     seed: u64,
 ) -> Result<LoadedEnvironment> {
     let mut environment = Environment::default();
@@ -237,6 +239,11 @@ pub fn load(
     }
     if let Some(m) = maze {
         let (pieces, line) = load_maze(file, m, seed)?;
+        environment.pieces.extend(pieces);
+        report.push(line);
+    }
+    if let Some(o) = office {
+        let (pieces, line) = super::office::load(file, o)?;
         environment.pieces.extend(pieces);
         report.push(line);
     }

@@ -11,6 +11,8 @@ pub mod base;
 pub mod environment;
 pub mod explore;
 pub mod maze_slam;
+pub mod navigate;
+pub mod office;
 pub mod overrides;
 mod paths;
 mod strict;
@@ -62,6 +64,8 @@ pub struct Scenario {
     pub objects: Vec<environment::ObjectConfig>,
     /// `[maze]`: the maze board.
     pub maze: Option<environment::MazeConfig>,
+    /// `[office]`: rooms, corridors and doors (the world of `[navigate]`).
+    pub office: Option<office::OfficeConfig>,
     /// The whisker array (used with `sensing = "physics"`).
     #[serde(default)]
     pub array: array::ArrayConfig,
@@ -73,6 +77,8 @@ pub struct Scenario {
     pub frontend: FrontEndConfig,
     /// `[explore]`: the closed loop of Chapter 6 (the robot chooses where to whisk).
     pub explore: Option<explore::ExploreConfig>,
+    /// `[navigate]`: a mobile robot driving a route round the `[office]` (Fig 5.1).
+    pub navigate: Option<navigate::NavigateConfig>,
     /// Where the arm goes (scripted waypoints; none with `[explore]`).
     #[serde(default)]
     pub trajectory: TrajectoryConfig,
@@ -450,26 +456,22 @@ impl Scenario {
                 ),
             );
         }
+        let office = match (&self.maze, &self.office) {
+            (Some(_), Some(_)) => {
+                return bad(
+                    "office",
+                    "expected either a [maze] or an [office], not both".into(),
+                );
+            }
+            (_, Some(o)) => Some(o.checked_plan(file)?),
+            _ => None,
+        };
+        self.check_driver(file)?;
+        if let Some(n) = &self.navigate {
+            n.validate(file, office.as_ref())?;
+        }
         if let Some(e) = &self.explore {
-            if !self.trajectory.waypoints.is_empty() {
-                return bad(
-                    "trajectory.waypoints",
-                    "with [explore] the loop chooses where the arm goes: expected no waypoints"
-                        .into(),
-                );
-            }
-            if !matches!(self.sensing, Sensing::Kinematic | Sensing::Physics) {
-                return bad(
-                    "sensing",
-                    "[explore] needs sensing = \"kinematic\" or \"physics\"".into(),
-                );
-            }
             e.validate(file, &self.object_names())?;
-        } else if self.trajectory.waypoints.is_empty() {
-            return bad(
-                "trajectory.waypoints",
-                "expected at least one waypoint (or an [explore] section)".into(),
-            );
         }
         for (k, w) in self.trajectory.waypoints.iter().enumerate() {
             let field = format!("trajectory.waypoints[{k}]");
@@ -501,10 +503,16 @@ impl Scenario {
         relative_to(file, &self.arm.urdf)
     }
 
-    /// The environment of `[[objects]]` and `[maze]`, loaded (mesh files read, checked
+    /// The environment of `[[objects]]`, `[maze]` and `[office]`, loaded (mesh files read, checked
     /// and repaired; the maze built).
     pub fn environment(&self, file: &Path) -> Result<environment::LoadedEnvironment> {
-        environment::load(file, &self.objects, self.maze.as_ref(), self.seed)
+        environment::load(
+            file,
+            &self.objects,
+            self.maze.as_ref(),
+            self.office.as_ref(),
+            self.seed,
+        )
     }
 
     /// The package search directories, resolved against the scenario file's directory.

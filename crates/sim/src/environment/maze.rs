@@ -7,17 +7,16 @@
 //! meeting at a corner close it); posts are upright cylinders or square boxes. Optional
 //! deformities are small boxes stuck to the walls' sides at seeded random places (the
 //! `maze/deformities` sub-stream of the scenario seed), to make places distinguishable.
-//! Every part becomes a fixed collider with a primitive shape (cuboid, cylinder).
+//! Every part becomes a fixed collider with a primitive shape (cuboid, cylinder). The
+//! board, walls and posts are a [`FloorPlan`] without doors.
 
-use super::shapes::cuboid;
-use super::{Environment, Piece};
-use nalgebra::{Isometry3, Point3, Vector3};
-use parry3d_f64::shape::SharedShape;
+use super::Environment;
+use super::floor_plan::{FieldError, FloorPlan, positive, slab, wall_frame};
+use nalgebra::{Isometry3, Point3};
 use rand::RngExt;
 use serde::Deserialize;
 
-/// Floor slab thickness (m).
-pub const FLOOR_THICKNESS: f64 = 0.02;
+pub use super::floor_plan::FLOOR_THICKNESS;
 
 /// A wall: a straight segment on the board (scenario fields `from_m`, `to_m`,
 /// `height_m`, `thickness_m`).
@@ -94,53 +93,21 @@ pub struct MazeLayout {
     pub deformities: Option<Deformities>,
 }
 
-fn positive(v: f64, field: &str) -> Result<(), (String, String)> {
-    if v.is_finite() && v > 0.0 {
-        Ok(())
-    } else {
-        Err((
-            field.into(),
-            format!("{v}: expected a positive length in metres"),
-        ))
-    }
-}
-
 impl MazeLayout {
+    /// The board, walls and posts as a floor plan (no doors).
+    pub fn floor_plan(&self) -> FloorPlan {
+        FloorPlan {
+            size: self.board,
+            walls: self.walls.clone(),
+            doors: Vec::new(),
+            posts: self.posts.clone(),
+        }
+    }
+
     /// Checks sizes and that everything stands on the board; names the first bad field
     /// as (field path, message).
-    pub fn validate(&self) -> Result<(), (String, String)> {
-        positive(self.board[0], "board_m")?;
-        positive(self.board[1], "board_m")?;
-        let on_board = |p: [f64; 2], field: String| {
-            if (0.0..=self.board[0]).contains(&p[0]) && (0.0..=self.board[1]).contains(&p[1]) {
-                Ok(())
-            } else {
-                Err((
-                    field,
-                    format!(
-                        "({}, {}) is off the {} × {} m board",
-                        p[0], p[1], self.board[0], self.board[1]
-                    ),
-                ))
-            }
-        };
-        for (i, w) in self.walls.iter().enumerate() {
-            positive(w.height, &format!("walls[{i}].height_m"))?;
-            positive(w.thickness, &format!("walls[{i}].thickness_m"))?;
-            on_board(w.from, format!("walls[{i}].from_m"))?;
-            on_board(w.to, format!("walls[{i}].to_m"))?;
-            if w.from == w.to {
-                return Err((
-                    format!("walls[{i}]"),
-                    "from and to are the same point".into(),
-                ));
-            }
-        }
-        for (i, p) in self.posts.iter().enumerate() {
-            positive(p.size, &format!("posts[{i}].size_m"))?;
-            positive(p.height, &format!("posts[{i}].height_m"))?;
-            on_board(p.at, format!("posts[{i}].at_m"))?;
-        }
+    pub fn validate(&self) -> Result<(), FieldError> {
+        self.floor_plan().validate("board_m", "board")?;
         if let Some(d) = &self.deformities {
             positive(d.size[0], "deformities.size_m")?;
             if d.size[1] < d.size[0] || !d.size[1].is_finite() {
@@ -169,64 +136,9 @@ impl MazeLayout {
     /// [`MazeLayout::validate`] first); deformities are drawn from the
     /// `maze/deformities` sub-stream of `seed`.
     pub fn build(&self, frame: &Isometry3<f64>, seed: u64) -> Environment {
-        let frame = *frame;
-        let mut pieces = Vec::new();
-        let slab = |name: String, lo: Point3<f64>, hi: Point3<f64>, pose: Isometry3<f64>| {
-            let half = (hi - lo) / 2.0;
-            let centre = Isometry3::translation(lo.x + half.x, lo.y + half.y, lo.z + half.z);
-            Piece {
-                name,
-                shape: SharedShape::cuboid(half.x, half.y, half.z),
-                mesh: cuboid(Point3::from(-half), Point3::from(half)),
-                pose: pose * centre,
-                soup: false,
-            }
-        };
-        let [w, d] = self.board;
-        pieces.push(slab(
-            "maze floor".into(),
-            Point3::new(0.0, 0.0, -FLOOR_THICKNESS),
-            Point3::new(w, d, 0.0),
-            frame,
-        ));
-        let wall_frames: Vec<(Isometry3<f64>, f64)> = self
-            .walls
-            .iter()
-            .map(|wall| {
-                let a = Vector3::new(wall.from[0], wall.from[1], 0.0);
-                let b = Vector3::new(wall.to[0], wall.to[1], 0.0);
-                let yaw = (b.y - a.y).atan2(b.x - a.x);
-                let along = Isometry3::new((a + b) / 2.0, Vector3::z() * yaw);
-                (frame * along, (b - a).norm() + wall.thickness)
-            })
-            .collect();
-        for (i, (wall, (pose, length))) in self.walls.iter().zip(&wall_frames).enumerate() {
-            let half = Vector3::new(length / 2.0, wall.thickness / 2.0, wall.height / 2.0);
-            pieces.push(slab(
-                format!("maze wall {i}"),
-                Point3::new(-half.x, -half.y, 0.0),
-                Point3::new(half.x, half.y, wall.height),
-                *pose,
-            ));
-        }
-        for (i, post) in self.posts.iter().enumerate() {
-            let at = frame * Isometry3::translation(post.at[0], post.at[1], 0.0);
-            let (h, r) = (post.height, post.size / 2.0);
-            match post.shape {
-                PostShape::Box => pieces.push(slab(
-                    format!("maze post {i}"),
-                    Point3::new(-r, -r, 0.0),
-                    Point3::new(r, r, h),
-                    at,
-                )),
-                PostShape::Cylinder => pieces.push(Piece::cylinder(
-                    format!("maze post {i}"),
-                    r,
-                    h,
-                    at * Isometry3::translation(0.0, 0.0, h / 2.0),
-                )),
-            }
-        }
+        let mut pieces = self.floor_plan().build(frame, "maze").pieces;
+        let wall_frames: Vec<(Isometry3<f64>, f64)> =
+            self.walls.iter().map(|w| wall_frame(w, frame)).collect();
         if let Some(def) = &self.deformities {
             let mut rng = whisker_slam::rng::substream(seed, "maze/deformities");
             for k in 0..def.count {

@@ -19,6 +19,7 @@ pub mod cracks;
 pub mod decimate;
 pub mod edges;
 pub mod fallback;
+pub mod floor_plan;
 pub mod maze;
 pub mod mesh;
 pub mod mesh_io;

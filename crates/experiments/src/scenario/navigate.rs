@@ -1,0 +1,299 @@
+//! `[navigate]` of a scenario (documented in `scenarios/README.md`): a whiskered mobile
+//! robot driving a route round an `[office]` (thesis Fig 5.1, §7.1) — the route, the
+//! wheeled base under the arm, its odometry error model and the cue that switches
+//! between terrain and object exploration.
+//!
+//! The base is a disc on the floor with the arm's base link at its centre; its planar
+//! pose (x, y, yaw) in the office is the robot's "virtual joint" (a mobile base's planar
+//! joint to the world, as robot descriptions of mobile manipulators state it). The route
+//! is driven leg by leg: a turn in place towards the next waypoint, then straight, back
+//! to the first waypoint at the end of each lap.
+
+use super::Sensing;
+use crate::error::{Error, Result};
+use nalgebra::Point2;
+use serde::Deserialize;
+use std::path::Path;
+use whisker_sim::environment::Environment;
+use whisker_sim::environment::floor_plan::{FloorPlan, segment_distance};
+use whisker_slam::navigation::base_odometry::BaseOdometryNoise;
+use whisker_slam::navigation::mode_switch::ModeSwitch;
+
+/// The most laps of a route.
+pub const MAX_LAPS: usize = 100;
+
+/// `[navigate]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NavigateConfig {
+    /// The route's waypoints (x, y) on the office floor (m), driven in order and back to
+    /// the first.
+    pub route_m: Vec<[f64; 2]>,
+    /// Times round the route [2].
+    #[serde(default = "two")]
+    pub laps: usize,
+    /// `[navigate.base]`.
+    #[serde(default)]
+    pub base: BaseConfig,
+    /// `[navigate.odometry]`: the base's odometry error model.
+    #[serde(default)]
+    pub odometry: BaseOdometryNoise,
+    /// `[navigate.switch]`: the terrain/object mode-switch cue.
+    #[serde(default)]
+    pub switch: ModeSwitch,
+}
+
+/// `[navigate.base]`: the wheeled base.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct BaseConfig {
+    /// Radius of the base's footprint (m) [0.3].
+    pub radius_m: f64,
+    /// Driving speed (m/s) [0.1].
+    pub speed_m_s: f64,
+    /// Turning rate in place (deg/s) [30].
+    pub turn_rate_deg_s: f64,
+    /// Least clearance kept from walls, posts and objects along the route (m) [0.05].
+    pub clearance_m: f64,
+}
+
+impl Default for BaseConfig {
+    fn default() -> Self {
+        Self {
+            radius_m: 0.3,
+            speed_m_s: 0.1,
+            turn_rate_deg_s: 30.0,
+            clearance_m: 0.05,
+        }
+    }
+}
+
+fn two() -> usize {
+    2
+}
+
+impl NavigateConfig {
+    /// Checks every field that does not need the environment; names the field.
+    pub fn validate(&self, file: &Path, office: Option<&FloorPlan>) -> Result {
+        let bad =
+            |field: &str, msg: String| Err(Error::field(file, &format!("navigate.{field}"), msg));
+        let Some(plan) = office else {
+            return Err(Error::field(
+                file,
+                "navigate",
+                "[navigate] drives round an office: expected an [office] section",
+            ));
+        };
+        if self.route_m.len() < 2 {
+            return bad(
+                "route_m",
+                format!(
+                    "{} waypoint(s): expected at least 2 [x, y] points",
+                    self.route_m.len()
+                ),
+            );
+        }
+        for (i, p) in self.route_m.iter().enumerate() {
+            let inside = p.iter().all(|v| v.is_finite())
+                && (0.0..=plan.size[0]).contains(&p[0])
+                && (0.0..=plan.size[1]).contains(&p[1]);
+            if !inside {
+                return bad(
+                    &format!("route_m[{i}]"),
+                    format!(
+                        "({}, {}) is off the {} × {} m floor",
+                        p[0], p[1], plan.size[0], plan.size[1]
+                    ),
+                );
+            }
+            let next = self.route_m[(i + 1) % self.route_m.len()];
+            if next == *p {
+                return bad(
+                    &format!("route_m[{i}]"),
+                    "the same point as the next waypoint".into(),
+                );
+            }
+        }
+        if !(1..=MAX_LAPS).contains(&self.laps) {
+            return bad("laps", format!("{}: expected 1 to {MAX_LAPS}", self.laps));
+        }
+        let b = &self.base;
+        for (name, v) in [
+            ("radius_m", b.radius_m),
+            ("speed_m_s", b.speed_m_s),
+            ("turn_rate_deg_s", b.turn_rate_deg_s),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return bad(
+                    &format!("base.{name}"),
+                    format!("{v}: expected a number > 0"),
+                );
+            }
+        }
+        if !(b.clearance_m.is_finite() && b.clearance_m >= 0.0) {
+            return bad(
+                "base.clearance_m",
+                format!("{}: expected a length ≥ 0 (m)", b.clearance_m),
+            );
+        }
+        self.odometry
+            .validate()
+            .map_err(|e| Error::field(file, "navigate.odometry", e))?;
+        self.switch
+            .validate()
+            .map_err(|e| Error::field(file, "navigate.switch", e))
+    }
+
+    /// The route's legs: each waypoint to the next, the last back to the first.
+    pub fn legs(&self) -> Vec<(Point2<f64>, Point2<f64>)> {
+        let n = self.route_m.len();
+        (0..n)
+            .map(|i| {
+                (
+                    Point2::from(self.route_m[i]),
+                    Point2::from(self.route_m[(i + 1) % n]),
+                )
+            })
+            .collect()
+    }
+
+    /// Checks that the base's footprint keeps `base.clearance_m` from the office's walls
+    /// and posts and from each object's plan outline (the bounding rectangle of its
+    /// mesh in the world, `objects` its pieces) all along the route; names the leg and
+    /// what it comes too close to.
+    pub fn check_route(&self, file: &Path, plan: &FloorPlan, objects: &Environment) -> Result {
+        let need = self.base.radius_m + self.base.clearance_m;
+        for (i, (a, b)) in self.legs().into_iter().enumerate() {
+            let walls = plan.clearance(a, b);
+            let things = objects.pieces.iter().map(|p| {
+                let (lo, hi) = plan_rectangle(p);
+                let corners = [lo, Point2::new(hi.x, lo.y), hi, Point2::new(lo.x, hi.y)];
+                let inside = [a, b]
+                    .iter()
+                    .any(|q| (lo.x..=hi.x).contains(&q.x) && (lo.y..=hi.y).contains(&q.y));
+                let d = match inside {
+                    true => 0.0,
+                    false => (0..4)
+                        .map(|k| segment_distance(a, b, corners[k], corners[(k + 1) % 4]))
+                        .fold(f64::INFINITY, f64::min),
+                };
+                (d, p.name.clone())
+            });
+            let nearest = walls
+                .into_iter()
+                .chain(things)
+                .min_by(|x, y| x.0.total_cmp(&y.0));
+            if let Some((d, what)) = nearest
+                && d < need
+            {
+                let to = (i + 1) % self.route_m.len();
+                return Err(Error::field(
+                    file,
+                    &format!("navigate.route_m[{i}]"),
+                    format!(
+                        "the leg from waypoint {i} to {to} passes {d:.3} m from {what}: the \
+                         base needs {need:.3} m (navigate.base.radius_m {} + clearance_m {})",
+                        self.base.radius_m, self.base.clearance_m
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl NavigateConfig {
+    /// The route's length (m) and the time a lap takes at the base's speeds (s): the
+    /// legs driven straight, a turn in place at each waypoint.
+    pub fn lap(&self) -> (f64, f64) {
+        let legs = self.legs();
+        let length: f64 = legs.iter().map(|(a, b)| (b - a).norm()).sum();
+        let heading = |(a, b): &(Point2<f64>, Point2<f64>)| (b.y - a.y).atan2(b.x - a.x);
+        let turns: f64 = (0..legs.len())
+            .map(|i| {
+                let (h0, h1) = (heading(&legs[i]), heading(&legs[(i + 1) % legs.len()]));
+                whisker_slam::ratslam::experience_map::wrap(h1 - h0).abs()
+            })
+            .sum();
+        let time = length / self.base.speed_m_s + turns.to_degrees() / self.base.turn_rate_deg_s;
+        (length, time)
+    }
+
+    /// What `whisker check` says of the route, the base, its odometry and the cue.
+    pub fn describe(&self) -> String {
+        let (length, time) = self.lap();
+        let b = &self.base;
+        let s = &self.switch;
+        format!(
+            "navigate   route of {} waypoints, {length:.2} m a lap, {} laps: {:.1} min of driving \
+             (base r {} m at {} m/s, turns {}°/s)\n           odometry {} (Thrun et al. 2005 \
+             §5.4); mode switch: an object is an outline ≤ {} m with free space past both \
+             ends, a wall longer (§7.1)",
+            self.route_m.len(),
+            self.laps,
+            time * self.laps as f64 / 60.0,
+            b.radius_m,
+            b.speed_m_s,
+            b.turn_rate_deg_s,
+            match self.odometry.enabled {
+                true => format!("α = {:?}", self.odometry.alpha),
+                false => "noise-free".into(),
+            },
+            s.max_object_m
+        )
+    }
+}
+
+/// The axis-aligned rectangle (plan) round a piece's mesh in the world.
+fn plan_rectangle(p: &whisker_sim::environment::Piece) -> (Point2<f64>, Point2<f64>) {
+    let mut lo = Point2::new(f64::INFINITY, f64::INFINITY);
+    let mut hi = Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
+    for v in &p.mesh.vertices {
+        let w = p.pose * v;
+        lo = Point2::new(lo.x.min(w.x), lo.y.min(w.y));
+        hi = Point2::new(hi.x.max(w.x), hi.y.max(w.y));
+    }
+    (lo, hi)
+}
+
+impl super::Scenario {
+    /// Checks that one thing moves the arm: the base along its route (`[navigate]`), the
+    /// closed loop (`[explore]`) or the trajectory's waypoints.
+    pub(super) fn check_driver(&self, file: &Path) -> Result {
+        // Who moves the arm: the base along its route, the closed loop, or the waypoints.
+        let bad = |field: &str, msg: String| Err(Error::field(file, field, msg));
+        let driver = match (&self.navigate, &self.explore) {
+            (Some(_), Some(_)) => {
+                return bad(
+                    "explore",
+                    "with [navigate] the robot explores the objects it meets: expected no \
+                     [explore] section"
+                        .into(),
+                );
+            }
+            (Some(_), None) => Some(("[navigate]", "the base follows navigate.route_m")),
+            (None, Some(_)) => Some(("[explore]", "the loop chooses where the arm goes")),
+            (None, None) => None,
+        };
+        match driver {
+            Some((section, why)) => {
+                if !self.trajectory.waypoints.is_empty() {
+                    let msg = format!("with {section} {why}: expected no waypoints");
+                    return bad("trajectory.waypoints", msg);
+                }
+                if !matches!(self.sensing, Sensing::Kinematic | Sensing::Physics) {
+                    let msg = format!("{section} needs sensing = \"kinematic\" or \"physics\"");
+                    return bad("sensing", msg);
+                }
+            }
+            None if self.trajectory.waypoints.is_empty() => {
+                return bad(
+                    "trajectory.waypoints",
+                    "expected at least one waypoint (or an [explore] or [navigate] section)".into(),
+                );
+            }
+            None => {}
+        }
+        Ok(())
+    }
+}
