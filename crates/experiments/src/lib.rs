@@ -25,6 +25,7 @@ pub mod dataset;
 pub mod datasets;
 pub mod error;
 pub mod maze_slam;
+pub mod navigation;
 pub mod object_slam;
 pub mod output;
 pub mod plan;
