@@ -156,3 +156,37 @@ fn bad_offices_and_routes_exit_2_naming_the_field_and_write_nothing() {
         );
     }
 }
+
+/// The base's footprint along the default office's route, sampled as a run drives it,
+/// tested against the office's solids by parry: no collision. This check shares nothing with
+/// `whisker check`'s plan-view route check, which the route passes too. With the Box moved
+/// onto the leg B -> C both see it.
+#[test]
+fn the_default_route_is_collision_free_by_an_independent_check() {
+    use whisker_experiments::navigation::{footprint, route};
+    use whisker_experiments::scenario::Scenario;
+    let tmp = tempfile::tempdir().unwrap();
+    for (name, moved) in [("as_is", false), ("box_on_route", true)] {
+        let path = office(tmp.path(), name, |s| match moved {
+            true => swap(
+                s,
+                "position_m = [6.15, 2.4, 0.0]",
+                "position_m = [5.6, 2.4, 0.0]",
+            ),
+            false => s,
+        });
+        let scenario = Scenario::load(&path).unwrap();
+        let n = scenario.navigate.as_ref().unwrap();
+        let environment = scenario.environment(&path).unwrap().environment;
+        let poses = route::poses(n, 1.0);
+        let hits = footprint::collisions(&environment, &poses, n.base.radius_m, 0.3).unwrap();
+        let checked = whisker(&["check", path.to_str().unwrap()]);
+        if moved {
+            assert!(!hits.is_empty() && hits.iter().all(|(_, what)| what == "object box"));
+            assert_eq!(checked.status.code(), Some(2));
+        } else {
+            assert_eq!(hits, vec![]);
+            assert!(checked.status.success(), "{}", stderr(&checked));
+        }
+    }
+}
