@@ -21,10 +21,8 @@ pub fn poses(config: &NavigateConfig, period_s: f64) -> Vec<Pose2> {
     let step = config.base.speed_m_s * period_s;
     let turn = config.base.turn_rate_deg_s.to_radians() * period_s;
     let legs = config.legs();
-    let heading = |i: usize| {
-        let (a, b) = legs[i];
-        (b.y - a.y).atan2(b.x - a.x)
-    };
+    let headings = config.headings();
+    let heading = |i: usize| headings[i];
     let (a, _) = legs[0];
     let mut at = Pose2 {
         x: a.x,

@@ -94,17 +94,8 @@ impl NavigateConfig {
             );
         }
         for (i, p) in self.route_m.iter().enumerate() {
-            let inside = p.iter().all(|v| v.is_finite())
-                && (0.0..=plan.size[0]).contains(&p[0])
-                && (0.0..=plan.size[1]).contains(&p[1]);
-            if !inside {
-                return bad(
-                    &format!("route_m[{i}]"),
-                    format!(
-                        "({}, {}) is off the {} × {} m floor",
-                        p[0], p[1], plan.size[0], plan.size[1]
-                    ),
-                );
+            if let Some(msg) = plan.off_floor(*p, "floor") {
+                return bad(&format!("route_m[{i}]"), msg);
             }
             let next = self.route_m[(i + 1) % self.route_m.len()];
             if next == *p {
@@ -200,20 +191,22 @@ impl NavigateConfig {
         }
         Ok(())
     }
-}
 
-impl NavigateConfig {
+    /// The heading of each leg (rad, from +x towards +y).
+    pub fn headings(&self) -> Vec<f64> {
+        self.legs()
+            .iter()
+            .map(|(a, b)| (b.y - a.y).atan2(b.x - a.x))
+            .collect()
+    }
+
     /// The route's length (m) and the time a lap takes at the base's speeds (s): the
     /// legs driven straight, a turn in place at each waypoint.
     pub fn lap(&self) -> (f64, f64) {
-        let legs = self.legs();
-        let length: f64 = legs.iter().map(|(a, b)| (b - a).norm()).sum();
-        let heading = |(a, b): &(Point2<f64>, Point2<f64>)| (b.y - a.y).atan2(b.x - a.x);
-        let turns: f64 = (0..legs.len())
-            .map(|i| {
-                let (h0, h1) = (heading(&legs[i]), heading(&legs[(i + 1) % legs.len()]));
-                whisker_slam::ratslam::experience_map::wrap(h1 - h0).abs()
-            })
+        let length: f64 = self.legs().iter().map(|(a, b)| (b - a).norm()).sum();
+        let h = self.headings();
+        let turns: f64 = (0..h.len())
+            .map(|i| whisker_slam::ratslam::experience_map::wrap(h[(i + 1) % h.len()] - h[i]).abs())
             .sum();
         let time = length / self.base.speed_m_s + turns.to_degrees() / self.base.turn_rate_deg_s;
         (length, time)

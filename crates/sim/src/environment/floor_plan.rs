@@ -79,18 +79,9 @@ impl FloorPlan {
     pub fn validate(&self, size_field: &str, what: &str) -> Result<(), FieldError> {
         positive(self.size[0], size_field)?;
         positive(self.size[1], size_field)?;
-        let on_floor = |p: [f64; 2], field: String| {
-            if (0.0..=self.size[0]).contains(&p[0]) && (0.0..=self.size[1]).contains(&p[1]) {
-                Ok(())
-            } else {
-                Err((
-                    field,
-                    format!(
-                        "({}, {}) is off the {} × {} m {what}",
-                        p[0], p[1], self.size[0], self.size[1]
-                    ),
-                ))
-            }
+        let on_floor = |p: [f64; 2], field: String| match self.off_floor(p, what) {
+            Some(msg) => Err((field, msg)),
+            None => Ok(()),
         };
         for (i, w) in self.walls.iter().enumerate() {
             positive(w.height, &format!("walls[{i}].height_m"))?;
@@ -147,6 +138,18 @@ impl FloorPlan {
             }
         }
         Ok(())
+    }
+
+    /// What is wrong with the point `p` (x, y) when it does not lie on the floor (NaN
+    /// included), `what` naming the floor; None on it.
+    pub fn off_floor(&self, p: [f64; 2], what: &str) -> Option<String> {
+        let on = (0.0..=self.size[0]).contains(&p[0]) && (0.0..=self.size[1]).contains(&p[1]);
+        (!on).then(|| {
+            format!(
+                "({}, {}) is off the {} × {} m {what}",
+                p[0], p[1], self.size[0], self.size[1]
+            )
+        })
     }
 
     /// The walls' straight pieces between their doors, wall by wall.
