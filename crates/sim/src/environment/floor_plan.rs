@@ -11,7 +11,6 @@
 //! width). Posts are upright cylinders or square boxes. Every part becomes a fixed
 //! collider with a primitive shape (cuboid, cylinder).
 
-use super::maze::{Post, PostShape, Wall};
 use super::shapes::cuboid;
 use super::{Environment, Piece};
 use nalgebra::{Isometry3, Point2, Point3, Vector3};
@@ -20,6 +19,54 @@ use serde::Deserialize;
 
 /// Floor slab thickness (m).
 pub const FLOOR_THICKNESS: f64 = 0.02;
+
+/// A wall: a straight segment on the floor (scenario fields `from_m`, `to_m`,
+/// `height_m`, `thickness_m`).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Wall {
+    /// Start point (x, y) on the floor (m).
+    #[serde(rename = "from_m")]
+    pub from: [f64; 2],
+    /// End point (x, y) on the floor (m).
+    #[serde(rename = "to_m")]
+    pub to: [f64; 2],
+    /// Height above the floor (m).
+    #[serde(rename = "height_m")]
+    pub height: f64,
+    /// Thickness (m).
+    #[serde(rename = "thickness_m")]
+    pub thickness: f64,
+}
+
+/// Shape of a post.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum PostShape {
+    /// Upright cylinder of diameter `size`.
+    #[default]
+    Cylinder,
+    /// Square box of side `size`.
+    Box,
+}
+
+/// A post (scenario fields `at_m`, `size_m`, `height_m`, `shape`).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Post {
+    /// Centre (x, y) on the floor (m).
+    #[serde(rename = "at_m")]
+    pub at: [f64; 2],
+    /// Diameter (cylinder) or side (box) (m).
+    #[serde(rename = "size_m")]
+    pub size: f64,
+    /// Height above the floor (m).
+    #[serde(rename = "height_m")]
+    pub height: f64,
+    /// Cylinder (default) or box.
+    #[serde(default)]
+    pub shape: PostShape,
+}
 
 /// A door: a gap in a wall (scenario fields `wall`, `at_m`, `width_m`).
 #[derive(Debug, Clone, PartialEq, Deserialize)]

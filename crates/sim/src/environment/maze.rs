@@ -16,55 +16,7 @@ use nalgebra::{Isometry3, Point3};
 use rand::RngExt;
 use serde::Deserialize;
 
-pub use super::floor_plan::FLOOR_THICKNESS;
-
-/// A wall: a straight segment on the board (scenario fields `from_m`, `to_m`,
-/// `height_m`, `thickness_m`).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Wall {
-    /// Start point (x, y) on the board (m).
-    #[serde(rename = "from_m")]
-    pub from: [f64; 2],
-    /// End point (x, y) on the board (m).
-    #[serde(rename = "to_m")]
-    pub to: [f64; 2],
-    /// Height above the board (m).
-    #[serde(rename = "height_m")]
-    pub height: f64,
-    /// Thickness (m).
-    #[serde(rename = "thickness_m")]
-    pub thickness: f64,
-}
-
-/// Shape of a post.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
-#[serde(rename_all = "lowercase")]
-pub enum PostShape {
-    /// Upright cylinder of diameter `size`.
-    #[default]
-    Cylinder,
-    /// Square box of side `size`.
-    Box,
-}
-
-/// A post (scenario fields `at_m`, `size_m`, `height_m`, `shape`).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Post {
-    /// Centre (x, y) on the board (m).
-    #[serde(rename = "at_m")]
-    pub at: [f64; 2],
-    /// Diameter (cylinder) or side (box) (m).
-    #[serde(rename = "size_m")]
-    pub size: f64,
-    /// Height above the board (m).
-    #[serde(rename = "height_m")]
-    pub height: f64,
-    /// Cylinder (default) or box.
-    #[serde(default)]
-    pub shape: PostShape,
-}
+pub use super::floor_plan::{FLOOR_THICKNESS, Post, PostShape, Wall};
 
 /// The most deformities of a maze (each is one more collider).
 pub const MAX_DEFORMITIES: usize = 1000;
