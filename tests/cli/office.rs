@@ -1,6 +1,6 @@
 //! The office world and the navigation route (issue #36, Fig 5.1): `whisker check` of the
-//! default office, and bad `[office]` / `[navigate]` input (exit code 2, file and field
-//! named, nothing written).
+//! default office, bad `[office]` / `[navigate]` input (exit code 2, file and field named,
+//! nothing written), and the terrain-mode run of `whisker run`.
 
 use super::*;
 
@@ -123,6 +123,31 @@ fn bad_offices_and_routes_exit_2_naming_the_field_and_write_nothing() {
             vec!["navigate.switch", "max_object_m"],
         ),
         (
+            "physics",
+            Box::new(|s| swap(s, "sensing = \"kinematic\"", "sensing = \"physics\"")),
+            vec!["field `sensing`", "kinematic sweep so far"],
+        ),
+        (
+            "mount",
+            Box::new(|s| s + "\n[navigate.terrain]\nmount_height_m = 0\n"),
+            vec!["navigate.terrain.mount_height_m", "> 0"],
+        ),
+        (
+            "posture_out_of_reach",
+            Box::new(|s| s + "\n[navigate.terrain]\narray_position_m = [0.0, -1.5, 0.0]\n"),
+            vec!["navigate.terrain.array_position_m", "cannot hold the array"],
+        ),
+        (
+            "ratslam_value",
+            Box::new(|s| s + "\n[navigate.ratslam.pose_cells]\ncell_size_m = -0.1\n"),
+            vec!["navigate.ratslam", "cell_size_m"],
+        ),
+        (
+            "ratslam_unknown_field",
+            Box::new(|s| s + "\n[navigate.ratslam.local_view]\nthreshold = 3\n"),
+            vec!["navigate.ratslam", "threshold"],
+        ),
+        (
             "maze_and_office",
             Box::new(|s| s + "\n[maze]\n"),
             vec!["field `office`", "not both"],
@@ -142,11 +167,8 @@ fn bad_offices_and_routes_exit_2_naming_the_field_and_write_nothing() {
             let err = stderr(&o);
             assert_eq!(o.status.code(), Some(2), "{name} {command}: {err}");
             assert!(err.contains(path.to_str().unwrap()), "{name}: {err}");
-            // `run` refuses a route it has not built (#36) before checking the legs.
-            if command == "check" || !name.starts_with("route_through") {
-                for e in &expected {
-                    assert!(err.contains(e), "{name} {command}: expected {e:?} in {err}");
-                }
+            for e in &expected {
+                assert!(err.contains(e), "{name} {command}: expected {e:?} in {err}");
             }
             assert!(!err.contains("panicked"), "{name}: {err}");
         }
@@ -189,4 +211,121 @@ fn the_default_route_is_collision_free_by_an_independent_check() {
             assert!(checked.status.success(), "{}", stderr(&checked));
         }
     }
+}
+
+/// `whisker run scenarios/office.toml` (terrain mode): every update's true pose follows the
+/// route; whisks touch where the array is within whisker reach of a wall or an object and
+/// (along the south wall, followed at 0.65 m) nearly always there; nothing collides; and the
+/// map, after its best rigid fit, is closer to the truth than the odometry alone — both
+/// errors re-computed here from `path.csv` with a fit of our own (by brute force over the
+/// heading), not read from the summary.
+#[test]
+fn the_office_run_maps_the_route_closer_than_its_odometry() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = office(tmp.path(), "run", |s| s);
+    let o = whisker(&["run", path.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let dir = tmp.path().join("out-run");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(
+        summary["arm_collisions"],
+        serde_json::json!([]),
+        "{summary}"
+    );
+    assert_eq!(
+        summary["base_collisions"],
+        serde_json::json!([]),
+        "{summary}"
+    );
+    let csv = std::fs::read_to_string(dir.join("path.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').take(14).map(|f| f.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len() as u64, summary["updates"].as_u64().unwrap());
+    // Waypoints A, B, C, D, twice round, starting and ending at A.
+    let (first, last) = (&rows[0], rows.last().unwrap());
+    assert_eq!((first[2], first[3], last[2], last[3]), (0.7, 0.7, 0.7, 0.7));
+    // The array's centre: 0.48 m to the base's right, from the truth columns.
+    let array = |r: &Vec<f64>| (r[2] + 0.48 * r[4].sin(), r[3] - 0.48 * r[4].cos());
+    // Whisker reach (0.19 m) plus the array's half width: a contact needs a wall's
+    // surface or an object's side within 0.3 m of the array's centre.
+    let walls: [(f64, f64, f64, f64); 6] = [
+        (0.0, 0.0, 7.0, 0.0),
+        (7.0, 0.0, 7.0, 4.5),
+        (0.0, 4.5, 7.0, 4.5),
+        (0.0, 0.0, 0.0, 4.5),
+        (0.0, 1.5, 7.0, 1.5),
+        (3.5, 1.5, 3.5, 4.5),
+    ];
+    let objects = [(6.15, 2.4), (2.6, 3.95), (1.4, 3.95)];
+    let near = |(x, y): (f64, f64)| {
+        let wall = walls.iter().any(|&(ax, ay, bx, by)| {
+            let (cx, cy) = (
+                x.clamp(ax.min(bx), ax.max(bx)),
+                y.clamp(ay.min(by), ay.max(by)),
+            );
+            (x - cx).hypot(y - cy) < 0.05 + 0.3
+        });
+        wall || objects
+            .iter()
+            .any(|&(ox, oy)| (x - ox).hypot(y - oy) < 0.15 + 0.3)
+    };
+    let touched: Vec<&Vec<f64>> = rows.iter().filter(|r| r[11] > 0.0).collect();
+    assert!(!touched.is_empty());
+    for r in &touched {
+        assert!(
+            near(array(r)),
+            "update {} touched far from everything",
+            r[0]
+        );
+    }
+    let south: Vec<&Vec<f64>> = rows
+        .iter()
+        .filter(|r| r[3] == 0.7 && r[4] == 0.0 && r[2] > 1.0 && r[2] < 5.2)
+        .collect();
+    let hit = south.iter().filter(|r| r[11] > 0.0).count();
+    assert!(
+        hit * 10 >= south.len() * 9,
+        "{hit} of {} along the south wall",
+        south.len()
+    );
+    // Position error rms after the best rigid fit, the heading by brute force (0.01°).
+    let truth: Vec<(f64, f64)> = rows.iter().map(|r| (r[2], r[3])).collect();
+    let rms_after_fit = |est: Vec<(f64, f64)>| -> f64 {
+        let n = est.len() as f64;
+        let mean = |v: &[(f64, f64)]| {
+            let (x, y) = v.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
+            (x / n, y / n)
+        };
+        let (et, tt) = (mean(&est), mean(&truth));
+        (0..36000)
+            .map(|k| {
+                let (s, c) = (k as f64 / 100.0).to_radians().sin_cos();
+                let sq: f64 = est
+                    .iter()
+                    .zip(&truth)
+                    .map(|(e, t)| {
+                        let (dx, dy) = (e.0 - et.0, e.1 - et.1);
+                        let (x, y) = (c * dx - s * dy + tt.0, s * dx + c * dy + tt.1);
+                        (x - t.0).powi(2) + (y - t.1).powi(2)
+                    })
+                    .sum();
+                (sq / n).sqrt()
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let map = rms_after_fit(rows.iter().map(|r| (r[8], r[9])).collect());
+    let odometry = rms_after_fit(rows.iter().map(|r| (r[5], r[6])).collect());
+    let reported = summary["map_error"]["rms_m"].as_f64().unwrap();
+    assert!(
+        (map - reported).abs() < 1e-3,
+        "{map} vs the summary's {reported}"
+    );
+    assert!(
+        map < odometry,
+        "map {map} m rms, odometry alone {odometry} m rms"
+    );
 }

@@ -29,12 +29,13 @@ pub fn check(file: &Path, meshes: Option<&Path>, ctx: Context) -> Result {
     for line in &loaded.report {
         ctx.say(line);
     }
-    if let (Some(n), Some(o)) = (&scenario.navigate, &scenario.office) {
-        let objects = whisker_sim::environment::Environment {
-            pieces: loaded.environment.pieces[..scenario.objects.len()].to_vec(),
-        };
-        n.check_route(file, &o.checked_plan(file)?, &objects)?;
-        ctx.say(&n.describe());
+    if scenario.navigate.is_some() {
+        ctx.say(&crate::navigation::outputs::check(
+            file,
+            &scenario,
+            &plan,
+            &loaded.environment,
+        )?);
     }
     if let Some(dir) = meshes {
         write_meshes(file, &scenario, &loaded.environment, dir)?;
@@ -47,8 +48,10 @@ pub fn check(file: &Path, meshes: Option<&Path>, ctx: Context) -> Result {
     };
     if scenario.navigate.is_some() {
         ctx.say(&format!(
-            "output     {} (the navigation run itself is being built: issue #36)",
-            dir.display()
+            "output     {} ({}; terrain mode so far: the mode switch and object mode are \
+             issue #36's next steps)",
+            dir.display(),
+            crate::navigation::outputs::FILES
         ));
     } else if let Some(e) = &scenario.explore {
         ctx.say(&crate::closed_loop::describe(file, &scenario, e)?);

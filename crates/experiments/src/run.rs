@@ -51,14 +51,6 @@ pub fn run(
 /// `ctx`: `whisker run` and each trial of `whisker trials`; the recording goes where
 /// `rrd` and the scenario's `output.recording` say.
 pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: Context) -> Result {
-    if scenario.navigate.is_some() {
-        return Err(crate::error::Error::field(
-            file,
-            "navigate",
-            "`whisker run` does not drive a [navigate] route yet (issue #36 is being built: \
-             `whisker check` validates the office and the route)",
-        ));
-    }
     let plan = Plan::new(scenario, file)?;
     ctx.say(&plan.describe(file, scenario));
     let loaded = scenario.environment(file)?;
@@ -66,11 +58,22 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: 
         ctx.say(line);
     }
     let environment = loaded.environment;
+    if scenario.navigate.is_some() {
+        ctx.say(&crate::navigation::outputs::check(
+            file,
+            scenario,
+            &plan,
+            &environment,
+        )?);
+    }
     if let Some(e) = &scenario.explore {
         // Loads the object maps: a bad one stops the run before anything is written.
         ctx.say(&crate::closed_loop::describe(file, scenario, e)?);
     }
     output::create_dir(dir)?;
+    if scenario.navigate.is_some() {
+        return crate::navigation::outputs::write(file, scenario, &plan, &environment, dir, ctx);
+    }
     if scenario.explore.is_some() {
         return crate::closed_loop::write(file, scenario, plan, &environment, dir, rrd, ctx);
     }

@@ -196,11 +196,24 @@ impl LinkShapes {
         q: &[f64],
         solids: &crate::environment::solids::Solids,
     ) -> Vec<String> {
+        self.colliding_at(model, q, &Isometry3::identity(), solids)
+    }
+
+    /// [`colliding`](Self::colliding) with the arm's root at `root` in the world (an
+    /// arm on a mobile base).
+    pub fn colliding_at(
+        &self,
+        model: &RobotModel,
+        q: &[f64],
+        root: &Isometry3<f64>,
+        solids: &crate::environment::solids::Solids,
+    ) -> Vec<String> {
         let poses = model.link_poses(q);
         let mut out: Vec<String> = Vec::new();
         for (link, shape, local) in &self.shapes {
             let name = &model.links[*link].name;
-            if !out.contains(name) && solids.overlaps(shape.as_ref(), &(poses[*link] * local)) {
+            let pose = root * poses[*link] * local;
+            if !out.contains(name) && solids.overlaps(shape.as_ref(), &pose) {
                 out.push(name.clone());
             }
         }

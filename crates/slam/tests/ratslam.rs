@@ -409,3 +409,42 @@ fn bad_pose_cell_parameters_name_the_field() {
         assert!(e.contains(field), "{e}");
     }
 }
+
+#[test]
+fn a_gated_step_matches_its_template_but_never_injects() {
+    use whisker_slam::ratslam::local_view::TactileImage;
+    use whisker_slam::ratslam::{RatSlam, RatSlamParams};
+    // A straight line of 20 places, each its own image, then place 0's image again 20
+    // cells on: a false match. Ungated, its template injects at place 0's cell; gated,
+    // the pose cells do exactly what the odometry alone does (excite, inhibit,
+    // integrate), while the template is still matched.
+    let params = RatSlamParams::default();
+    let step = params.pose_cells.cell_size_m;
+    let image = |k: usize| {
+        let mut img = TactileImage::default();
+        img.pixels[k % 18] = 255;
+        img.pixels[(k / 18 + 7) % 18] = 200;
+        img
+    };
+    let mut slam = RatSlam::new(params);
+    for k in 0..20 {
+        slam.step(&image(k), if k == 0 { 0.0 } else { step }, 0.0);
+    }
+    let mut odometry_only = slam.cells.clone();
+    odometry_only.update(step, 0.0);
+    let mut gated = slam.clone();
+    let g = gated.step_gated(&image(0), step, 0.0, false);
+    assert_eq!(g.template, 0, "the template is still matched");
+    assert!(!g.new_template);
+    assert_eq!(gated.cells.grid.cells, odometry_only.grid.cells);
+    let mut ungated = slam.clone();
+    ungated.step(&image(0), step, 0.0);
+    let moved = ungated
+        .cells
+        .grid
+        .cells
+        .iter()
+        .zip(&odometry_only.grid.cells)
+        .any(|(a, b)| (a - b).abs() > 1e-9);
+    assert!(moved, "an ungated false match injects");
+}

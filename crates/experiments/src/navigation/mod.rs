@@ -4,4 +4,6 @@
 //! switch between them and the evaluation are built on these next.
 
 pub mod footprint;
+pub mod outputs;
 pub mod route;
+pub mod terrain;

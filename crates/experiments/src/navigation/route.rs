@@ -47,8 +47,8 @@ pub fn poses(config: &NavigateConfig, period_s: f64) -> Vec<Pose2> {
             let length = (b - a).norm();
             let n = (length / step - 1e-9).ceil().max(1.0) as usize;
             for k in 1..=n {
-                let s = (k as f64 * step / length).min(1.0);
-                let p = a + (b - a) * s;
+                let s = k as f64 * step / length;
+                let p = if k == n { b } else { a + (b - a) * s };
                 (at.x, at.y) = (p.x, p.y);
                 out.push(at);
             }
@@ -94,6 +94,8 @@ mod tests {
             },
             odometry: BaseOdometryNoise::default(),
             switch: Default::default(),
+            terrain: Default::default(),
+            ratslam: crate::scenario::navigate::office_ratslam(),
         }
     }
 

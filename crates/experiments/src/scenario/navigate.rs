@@ -18,6 +18,7 @@ use whisker_sim::environment::Environment;
 use whisker_sim::environment::floor_plan::{FloorPlan, segment_distance};
 use whisker_slam::navigation::base_odometry::BaseOdometryNoise;
 use whisker_slam::navigation::mode_switch::ModeSwitch;
+use whisker_slam::ratslam::RatSlamParams;
 
 /// The most laps of a route.
 pub const MAX_LAPS: usize = 100;
@@ -41,6 +42,85 @@ pub struct NavigateConfig {
     /// `[navigate.switch]`: the terrain/object mode-switch cue.
     #[serde(default)]
     pub switch: ModeSwitch,
+    /// `[navigate.terrain]`: the arm's posture in terrain mode.
+    #[serde(default)]
+    pub terrain: TerrainConfig,
+    /// `[navigate.ratslam]`: planar RatSLAM in the office; fields left out take
+    /// [`office_ratslam`]'s values.
+    #[serde(default = "office_ratslam", deserialize_with = "over_office_ratslam")]
+    pub ratslam: RatSlamParams,
+}
+
+/// `[navigate.terrain]`: how the arm holds the array while the base drives (terrain
+/// mode, thesis Ch 3 in the office).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TerrainConfig {
+    /// Height of the arm's base link above the floor, on the wheeled base (m) [0.35].
+    pub mount_height_m: f64,
+    /// The array's position in the arm's base frame (m) [0, −0.48, −0.1]: beside the
+    /// base on its right, 0.25 m above the floor, 0.12 m from a wall the route keeps
+    /// 0.65 m from.
+    pub array_position_m: [f64; 3],
+    /// The array's roll, pitch, yaw in the arm's base frame (deg) [−90, 0, −90]: its
+    /// snout (whisking forward, the array's +z) along the base's heading and the A–C
+    /// whiskers (its +x side) towards the base's right (−y), where the route keeps the
+    /// walls it follows, like a rat running along a wall.
+    pub array_rpy_deg: [f64; 3],
+}
+
+impl Default for TerrainConfig {
+    fn default() -> Self {
+        Self {
+            mount_height_m: 0.35,
+            array_position_m: [0.0, -0.48, -0.1],
+            array_rpy_deg: [-90.0, 0.0, -90.0],
+        }
+    }
+}
+
+impl TerrainConfig {
+    /// Checks the fields; names the field.
+    fn validate(&self) -> std::result::Result<(), (String, String)> {
+        let finite = self.array_position_m.iter().chain(&self.array_rpy_deg);
+        if !finite.clone().all(|v| v.is_finite()) {
+            return Err((
+                "array_position_m / array_rpy_deg".into(),
+                "expected finite numbers".into(),
+            ));
+        }
+        let h = self.mount_height_m;
+        if !(h.is_finite() && h > 0.0) {
+            return Err((
+                "mount_height_m".into(),
+                format!("{h}: expected a length > 0 (m)"),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Planar RatSLAM's parameters in the office: Table 3.1's, with pose cells of 0.1 m (one
+/// update's drive at the base's default speed, as the maze's 15 mm cells are one of its
+/// updates, §3.1.2) and 60 × 60 of them (a 6 m wrap).
+pub fn office_ratslam() -> RatSlamParams {
+    let mut p = RatSlamParams::default();
+    p.pose_cells.cell_size_m = 0.1;
+    p.pose_cells.dim_xy = 60;
+    p
+}
+
+/// `[navigate.ratslam]` over [`office_ratslam`]: the fields given replace the office's.
+fn over_office_ratslam<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<RatSlamParams, D::Error> {
+    use serde::de::Error as _;
+    let given = toml::Table::deserialize(d)?;
+    let mut table = toml::Table::try_from(office_ratslam()).map_err(D::Error::custom)?;
+    super::base::merge(&mut table, given);
+    table
+        .try_into()
+        .map_err(|e: toml::de::Error| D::Error::custom(e.message()))
 }
 
 /// `[navigate.base]`: the wheeled base.
@@ -132,7 +212,13 @@ impl NavigateConfig {
             .map_err(|e| Error::field(file, "navigate.odometry", e))?;
         self.switch
             .validate()
-            .map_err(|e| Error::field(file, "navigate.switch", e))
+            .map_err(|e| Error::field(file, "navigate.switch", e))?;
+        self.terrain
+            .validate()
+            .map_err(|(f, e)| Error::field(file, &format!("navigate.terrain.{f}"), e))?;
+        self.ratslam
+            .validate()
+            .map_err(|e| Error::field(file, "navigate.ratslam", e))
     }
 
     /// The route's legs: each waypoint to the next, the last back to the first.

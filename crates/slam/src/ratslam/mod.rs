@@ -118,8 +118,21 @@ impl RatSlam {
     /// One update with a tactile image and odometry (`distance` m after a turn of
     /// `dtheta` rad).
     pub fn step(&mut self, image: &TactileImage, distance: f64, dtheta: f64) -> Step {
+        self.step_gated(image, distance, dtheta, true)
+    }
+
+    /// [`step`](Self::step) where a matched template injects only if `inject` (false for
+    /// an image that holds no evidence of the place, e.g. a whisk that touched nothing:
+    /// the pose cells then only integrate the odometry).
+    pub fn step_gated(
+        &mut self,
+        image: &TactileImage,
+        distance: f64,
+        dtheta: f64,
+        inject: bool,
+    ) -> Step {
         let seen = self.view.observe(image, &self.cells.best());
-        if seen.energy > 0.0 {
+        if inject && seen.energy > 0.0 {
             self.cells.inject(&seen.cell, seen.energy);
         }
         self.cells.update(distance, dtheta);

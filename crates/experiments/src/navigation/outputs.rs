@@ -1,0 +1,193 @@
+//! What `whisker run` writes for a `[navigate]` scenario (documented in
+//! `scenarios/README.md`, "Outputs of a navigation run"): `path.csv`, one row per update,
+//! and `summary.json`, the run's figures; and what it says on the console.
+
+use super::terrain::{self, TerrainRun};
+use crate::error::{Error, Result};
+use crate::output;
+use crate::plan::Plan;
+use crate::record::Context;
+use crate::scenario::{Scenario, Sensing};
+use serde_json::json;
+use std::path::Path;
+use whisker_sim::environment::Environment;
+use whisker_slam::navigation::map_error::MapError;
+use whisker_slam::ratslam::experience_map::MapEvent;
+
+/// The files a navigation run writes.
+pub const FILES: &str = "path.csv, summary.json";
+
+/// Checks what a navigation run of `scenario` (read from `file`) needs beyond the
+/// scenario's own fields: kinematic sensing, the arm's terrain posture, and the route clear of the office's walls
+/// and posts and of the objects (the first pieces of `environment`); says what it would
+/// do. `whisker check` and `whisker run` both call it, before anything is written.
+pub fn check(
+    file: &Path,
+    scenario: &Scenario,
+    plan: &Plan,
+    environment: &Environment,
+) -> Result<String> {
+    let (Some(n), Some(office)) = (&scenario.navigate, &scenario.office) else {
+        return Err(Error::field(
+            file,
+            "navigate",
+            "expected [navigate] and [office]",
+        ));
+    };
+    if scenario.sensing != Sensing::Kinematic {
+        return Err(Error::field(
+            file,
+            "sensing",
+            "a [navigate] run senses with the kinematic sweep so far: expected \"kinematic\" \
+             (physics whiskers on the moving base are part of issue #36's next steps)",
+        ));
+    }
+    let objects = Environment {
+        pieces: environment.pieces[..scenario.objects.len()].to_vec(),
+    };
+    n.check_route(file, &office.checked_plan(file)?, &objects)?;
+    let chain = crate::sensing::array::array_chain(scenario, file, plan)?;
+    let posture = terrain::Posture::solve(&n.terrain, &chain, &plan.waypoints[0], file)?;
+    let t = &n.terrain;
+    let joints: Vec<String> = posture
+        .q
+        .iter()
+        .map(|q| format!("{:.1}", q.to_degrees()))
+        .collect();
+    Ok(format!(
+        "{}\nterrain    the arm's base {} m above the floor holds the array at {:?} m, rpy {:?}° \
+         (joints [{}]°); one whisk per update at {} Hz",
+        n.describe(),
+        t.mount_height_m,
+        t.array_position_m,
+        t.array_rpy_deg,
+        joints.join(", "),
+        terrain::UPDATE_HZ
+    ))
+}
+
+/// Runs the `[navigate]` of `scenario` (read from `file`) in `environment` and writes its
+/// outputs into `dir` (which exists).
+pub fn write(
+    file: &Path,
+    scenario: &Scenario,
+    plan: &Plan,
+    environment: &Environment,
+    dir: &Path,
+    ctx: Context,
+) -> Result {
+    let config = scenario.navigate.as_ref().expect("a [navigate] scenario");
+    let start = std::time::Instant::now();
+    let run = terrain::run(scenario, file, plan, environment, config, |k, n| {
+        ctx.progress("updates", k as u64, n as u64)
+    })?;
+    output::write_atomic(&dir.join("path.csv"), path_csv(&run).as_bytes())?;
+    let summary = summary(&run, scenario.seed);
+    output::write_json(&dir.join("summary.json"), &summary)?;
+    ctx.say(&results(&summary, start.elapsed().as_secs_f64()));
+    Ok(())
+}
+
+/// `path.csv`: per update the true, dead-reckoned and estimated base poses, the
+/// contacts, template and experience.
+fn path_csv(run: &TerrainRun) -> String {
+    let mut csv = String::from(
+        "update,time_s,true_x_m,true_y_m,true_heading_rad,odometry_x_m,odometry_y_m,\
+         odometry_heading_rad,est_x_m,est_y_m,est_heading_rad,contacts,template,experience,event\n",
+    );
+    for (k, u) in run.updates.iter().enumerate() {
+        let (o, e) = (run.dead_reckoned[k], run.estimate[k]);
+        let event = match u.event {
+            MapEvent::Stay => "stay",
+            MapEvent::Created => "created",
+            MapEvent::Relocalised => "relocalised",
+        };
+        csv += &format!(
+            "{k},{},{},{},{},{},{},{},{},{},{},{},{},{},{event}\n",
+            k as f64 / terrain::UPDATE_HZ,
+            u.truth.x,
+            u.truth.y,
+            u.truth.th,
+            o.x,
+            o.y,
+            o.th,
+            e.x,
+            e.y,
+            e.th,
+            u.contacts,
+            u.template,
+            u.experience
+        );
+    }
+    csv
+}
+
+fn error_json(e: &Option<MapError>) -> serde_json::Value {
+    match e {
+        Some(e) => {
+            json!({"rms_m": e.rms_m, "max_m": e.max_m, "heading_rms_deg": e.heading_rms_deg})
+        }
+        None => serde_json::Value::Null,
+    }
+}
+
+/// `summary.json`.
+fn summary(run: &TerrainRun, seed: u64) -> serde_json::Value {
+    let whisks_with_contact = run.updates.iter().filter(|u| u.contacts > 0).count();
+    let list = |v: &[(usize, String)]| -> Vec<serde_json::Value> {
+        v.iter()
+            .map(|(k, what)| json!({"update": k, "what": what}))
+            .collect()
+    };
+    json!({
+        "seed": seed,
+        "mode": "terrain",
+        "updates": run.updates.len(),
+        "first_lap_end": run.first_lap_end,
+        "whisks_with_contact": whisks_with_contact,
+        "contacts": run.updates.iter().map(|u| u.contacts).sum::<usize>(),
+        "templates": run.templates,
+        "experiences": run.experiences,
+        "map_error": error_json(&run.map_error),
+        "odometry_error": error_json(&run.odometry_error),
+        "arr": run.metric.arr,
+        "arcr": if run.metric.arcr.is_nan() { serde_json::Value::Null } else { json!(run.metric.arcr) },
+        "relocalisations": run.metric.relocalisations,
+        "correct_relocalisations": run.metric.correct,
+        "energy_metric": run.energy,
+        "arm_collisions": list(&run.arm_collisions),
+        "base_collisions": list(&run.base_collisions),
+        "posture_joints_deg": run.posture.iter().map(|q| q.to_degrees()).collect::<Vec<f64>>(),
+    })
+}
+
+/// The console account of `summary.json` (`wall`: seconds it took), explained.
+fn results(s: &serde_json::Value, wall: f64) -> String {
+    let f = |v: &serde_json::Value| v.as_f64().map_or("–".to_owned(), |x| format!("{x:.3}"));
+    let collisions = |key: &str| s[key].as_array().map_or(0, Vec::len);
+    format!(
+        "navigated  {} updates ({wall:.1} s wall), {} with contact ({} contacts): {} templates, \
+         {} experiences\nmap error  {} m rms, {} m max after the best rigid fit (odometry \
+         alone: {} m rms, {} m max)\nARR {}  ARCR {}  ({} re-localisations after the first \
+         lap, {} correct within 0.1 m and 25°); Energy Metric {}\ncollisions arm {}, base {}\n  \
+         map error = each update's map pose against the truth after the rigid motion that fits \
+         them best (a map's frame is arbitrary); ARR, ARCR, Energy Metric: Algorithm 1 and Eq \
+         3.2 of the thesis (Ch 3)",
+        s["updates"],
+        s["whisks_with_contact"],
+        s["contacts"],
+        s["templates"],
+        s["experiences"],
+        f(&s["map_error"]["rms_m"]),
+        f(&s["map_error"]["max_m"]),
+        f(&s["odometry_error"]["rms_m"]),
+        f(&s["odometry_error"]["max_m"]),
+        f(&s["arr"]),
+        f(&s["arcr"]),
+        s["relocalisations"],
+        s["correct_relocalisations"],
+        f(&s["energy_metric"]),
+        collisions("arm_collisions"),
+        collisions("base_collisions"),
+    )
+}

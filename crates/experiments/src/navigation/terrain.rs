@@ -1,0 +1,324 @@
+//! Terrain mode in the office (issue #36; thesis Ch 3 on the platform of Fig 5.1, §7.1):
+//! the base drives its route while the arm holds the array in a fixed posture beside it,
+//! its whiskers reaching the walls the route follows; each update is one whisk (1 Hz, the whisking
+//! frequency) at the base's pose, its contacts become a tactile image, and planar RatSLAM
+//! takes the image with the base's odometry.
+//!
+//! - **Posture.** `[navigate.terrain]` gives the array's pose in the arm's base frame; IK
+//!   (from the arm's initial joints) finds the joints that hold it, and the arm's base link
+//!   stands `mount_height_m` above the floor at the base's centre. The array's world pose
+//!   at base pose B = (x, y, θ) is B (lifted to the mount) × the posture's array pose.
+//! - **Sensing.** The kinematic sweep (the anticipated intersect of each rigid whisker,
+//!   the `[kinematic]` detection noise; sub-stream `navigate/sensing` of the seed) at that
+//!   pose. A whisker's pixel is its contact angle scaled so that an early contact is
+//!   bright ([`image`]): along a wall beside the array the angle at which a whisker meets
+//!   it is what changes with the wall's distance and shape, as the tip's height is over
+//!   the maze's board (§3.1.1, where the array faces the surface).
+//! - **RatSLAM.** One [`RatSlam::step_gated`] per update with the odometry's drive and
+//!   its two turns summed (the route turns in place or drives straight, so one of the two
+//!   is noise), pose cells of `[navigate.ratslam]`. A whisk that touched nothing is blank
+//!   and says nothing of the place: its template does not inject (in the office most
+//!   whisks between features are blank, and blank templates matching each other would
+//!   pull the pose cells to wherever the first blank whisk was).
+//! - **Checks.** Every update, the base's disc ([`super::footprint`]) and every arm link
+//!   are tested against the environment; a run that touches anything says where.
+
+use super::{footprint, route};
+use crate::error::{Error, Result};
+use crate::plan::Plan;
+use crate::scenario::Scenario;
+use crate::scenario::navigate::{NavigateConfig, TerrainConfig};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use std::path::Path;
+use whisker_sim::arm::LinkShapes;
+use whisker_sim::environment::Environment;
+use whisker_sim::environment::solids::Solids;
+use whisker_sim::kinematics::Chain;
+use whisker_sim::kinematics::ik::{self, IkOptions};
+use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
+use whisker_sim::whisker::control::WhiskingPattern;
+use whisker_slam::contact::ContactCycle;
+use whisker_slam::navigation::base_odometry::BaseMotion;
+use whisker_slam::navigation::map_error::{self, MapError};
+use whisker_slam::pose;
+use whisker_slam::ratslam::RatSlam;
+use whisker_slam::ratslam::experience_map::{MapEvent, Pose2};
+use whisker_slam::ratslam::local_view::TactileImage;
+use whisker_slam::ratslam::metrics::{
+    ExperienceMetric, consecutive, energy_metric, experience_metric,
+};
+use whisker_slam::rng::substream_key;
+
+/// Updates per second: one whisk each at the whisking frequency (1 Hz).
+pub const UPDATE_HZ: f64 = 1.0;
+
+/// Height of the base's disc for the footprint check (m): up to the arm's mount.
+fn disc_height(config: &TerrainConfig) -> f64 {
+    config.mount_height_m
+}
+
+/// The arm holding the array for terrain mode.
+pub struct Posture {
+    /// The chain's joints (rad).
+    pub q: Vec<f64>,
+    /// The array's pose in the arm's base frame (forward kinematics of `q`).
+    pub array: Isometry3<f64>,
+    /// Height of the arm's base link above the floor (m).
+    pub mount: f64,
+}
+
+impl Posture {
+    /// The joints that hold `config`'s array pose, by IK from `start`; the error names
+    /// the field.
+    /// The posture belongs to the robot, not to a run: IK's restarts (if the descent from
+    /// `start` fails) draw from seed 0 whatever the run's seed.
+    pub fn solve(
+        config: &TerrainConfig,
+        chain: &Chain,
+        start: &[f64],
+        file: &Path,
+    ) -> Result<Self> {
+        let rpy = config.array_rpy_deg.map(f64::to_radians);
+        let target = pose::from_xyz_rpy(config.array_position_m, rpy);
+        let options = IkOptions {
+            seed: 0,
+            ..IkOptions::default()
+        };
+        let q = ik::solve(chain, &target, start, &options).map_err(|e| {
+            Error::field(
+                file,
+                "navigate.terrain.array_position_m / array_rpy_deg",
+                format!("the arm cannot hold the array there: {e}"),
+            )
+        })?;
+        Ok(Self {
+            array: chain.fk(&q),
+            q,
+            mount: config.mount_height_m,
+        })
+    }
+
+    /// The arm's base link in the world with the base at `b`.
+    pub fn arm_base(&self, b: &Pose2) -> Isometry3<f64> {
+        Isometry3::from_parts(
+            Translation3::new(b.x, b.y, self.mount),
+            UnitQuaternion::from_axis_angle(&Vector3::z_axis(), b.th),
+        )
+    }
+
+    /// The array in the world with the base at `b`.
+    pub fn array_pose(&self, b: &Pose2) -> Isometry3<f64> {
+        self.arm_base(b) * self.array
+    }
+}
+
+/// The tactile image of a whisk (see the module documentation): each contacted whisker's
+/// pixel 1 + 254 × (θ_p − θ) / (θ_p − θ_r), θ its contact angle and θ_r, θ_p its
+/// retraction and protraction limits; 0 where it touched nothing.
+pub fn image(cycle: &ContactCycle, whiskers: &[RigidWhisker]) -> TactileImage {
+    let mut image = TactileImage::default();
+    for c in &cycle.contacts {
+        let w = &whiskers[c.whisker];
+        let early = ((w.protracted - c.angle_rad) / (w.protracted - w.retracted)).clamp(0.0, 1.0);
+        image.pixels[c.whisker] = 1 + (254.0 * early).round() as u8;
+    }
+    image
+}
+
+/// One update of a terrain run.
+#[derive(Debug, Clone)]
+pub struct Update {
+    /// The base's true pose.
+    pub truth: Pose2,
+    /// What the odometry read since the previous update (none at the first).
+    pub reading: BaseMotion,
+    /// Contacts detected.
+    pub contacts: usize,
+    /// The tactile image.
+    pub image: TactileImage,
+    /// The template matched or made, and the current experience after the update.
+    pub template: usize,
+    pub experience: usize,
+    /// What the experience map did.
+    pub event: MapEvent,
+}
+
+/// A terrain run and its evaluation.
+pub struct TerrainRun {
+    /// Every update, the start first.
+    pub updates: Vec<Update>,
+    /// Each update's estimate: the final relaxed map's pose of the experience current
+    /// then, the first update's experience placed at the start pose.
+    pub estimate: Vec<Pose2>,
+    /// The odometry alone, integrated from the start pose (the baseline).
+    pub dead_reckoned: Vec<Pose2>,
+    /// The estimate's and the dead-reckoned path's errors after their best rigid fits.
+    pub map_error: Option<MapError>,
+    pub odometry_error: Option<MapError>,
+    /// ARR and ARCR (Algorithm 1; base set = the first lap; 0.1 m and 25°).
+    pub metric: ExperienceMetric,
+    /// The Energy Metric (Eq 3.2 on consecutive updates).
+    pub energy: f64,
+    pub templates: usize,
+    pub experiences: usize,
+    /// The last update of the first lap.
+    pub first_lap_end: usize,
+    /// (update, link or piece) of every collision: the arm's links, the base's disc.
+    pub arm_collisions: Vec<(usize, String)>,
+    pub base_collisions: Vec<(usize, String)>,
+    /// The arm's joints holding the array (rad).
+    pub posture: Vec<f64>,
+}
+
+/// Runs terrain mode over `config`'s route in `environment` (scenario `scenario`, read
+/// from `file`, its arm `plan`), calling `progress(done, total)` after each update.
+pub fn run(
+    scenario: &Scenario,
+    file: &Path,
+    plan: &Plan,
+    environment: &Environment,
+    config: &NavigateConfig,
+    mut progress: impl FnMut(usize, usize),
+) -> Result<TerrainRun> {
+    let chain = crate::sensing::array::array_chain(scenario, file, plan)?;
+    let posture = Posture::solve(&config.terrain, &chain, &plan.waypoints[0], file)?;
+    let truth = route::poses(config, 1.0 / UPDATE_HZ);
+    let readings = route::odometry(&truth, &config.odometry, scenario.seed);
+    let base_collisions = footprint::collisions(
+        environment,
+        &truth,
+        config.base.radius_m,
+        disc_height(&config.terrain),
+    )
+    .map_err(Error::Failure)?;
+    let solids = Solids::new(environment).map_err(Error::Failure)?;
+    let shapes = LinkShapes::new(&plan.model);
+    let joints = plan.model_joints(&posture.q);
+
+    let whiskers = crate::maze_slam::kinematic_whiskers();
+    let patterns = vec![WhiskingPattern::default(); whiskers.len()];
+    let noise = scenario.kinematic.noise(file)?;
+    let control = scenario.whisker_configs(file)?[0].control;
+    let key = substream_key(scenario.seed, "navigate/sensing");
+    let mut sensing =
+        KinematicArray::new(whiskers.clone(), patterns, noise, key).with_control(control);
+    let target = SweepTarget::of(environment);
+    let mut slam = RatSlam::new(config.ratslam);
+    let mut updates = Vec::with_capacity(truth.len());
+    let mut arm_collisions = Vec::new();
+    for (k, b) in truth.iter().enumerate() {
+        for link in shapes.colliding_at(&plan.model, &joints, &posture.arm_base(b), &solids) {
+            arm_collisions.push((k, link));
+        }
+        let cycle = sensing.sense(
+            &target,
+            k as u64,
+            k as f64 / UPDATE_HZ,
+            &posture.array_pose(b),
+        );
+        let img = image(&cycle, &whiskers);
+        let reading = match k {
+            0 => BaseMotion::default(),
+            _ => readings[k - 1],
+        };
+        // A whisk that touched nothing says nothing of the place: it does not inject.
+        let touched = !cycle.contacts.is_empty();
+        let step = slam.step_gated(&img, reading.trans, reading.rot1 + reading.rot2, touched);
+        updates.push(Update {
+            truth: *b,
+            reading,
+            contacts: cycle.contacts.len(),
+            image: img,
+            template: step.template,
+            experience: step.experience,
+            event: step.event,
+        });
+        progress(k + 1, truth.len());
+    }
+    let log: Vec<usize> = updates.iter().map(|u| u.experience).collect();
+    let anchor = slam.map.experiences[log[0]].pose;
+    let estimate: Vec<Pose2> = log
+        .iter()
+        .map(|&e| truth[0].compose(&anchor.relative(&slam.map.experiences[e].pose)))
+        .collect();
+    let dead_reckoned = route::dead_reckon(truth[0], &readings);
+    let first_lap_end = (truth.len() - 1) / config.laps;
+    Ok(TerrainRun {
+        map_error: map_error::measure(&estimate, &truth),
+        odometry_error: map_error::measure(&dead_reckoned, &truth),
+        metric: experience_metric(&log, &truth, first_lap_end, 0.1, 25f64.to_radians()),
+        energy: energy_metric(&estimate, &truth, &consecutive(truth.len())).unwrap_or(f64::NAN),
+        templates: slam.view.templates.len(),
+        experiences: slam.map.experiences.len(),
+        first_lap_end,
+        arm_collisions,
+        base_collisions,
+        posture: posture.q,
+        updates,
+        estimate,
+        dead_reckoned,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Point3;
+    use whisker_slam::contact::Contact;
+
+    fn cycle(contacts: &[(usize, f64)]) -> ContactCycle {
+        ContactCycle {
+            index: 0,
+            start_s: 0.0,
+            array_pose: Isometry3::identity(),
+            contacts: contacts
+                .iter()
+                .map(|&(whisker, angle)| Contact {
+                    whisker,
+                    time_s: 0.0,
+                    angle_rad: angle.to_radians(),
+                    radial_distance: 0.1,
+                    point: Point3::origin(),
+                    slope: 0.0,
+                })
+                .collect(),
+        }
+    }
+
+    /// 40°–140° whisks: a contact at 40° is 255, at 140° 1, at 90° 1 + 127 = 128; an
+    /// untouched whisker 0.
+    #[test]
+    fn the_image_scales_the_contact_angle_early_bright() {
+        let ws = crate::maze_slam::kinematic_whiskers();
+        let img = image(&cycle(&[(0, 40.0), (5, 140.0), (17, 90.0)]), &ws);
+        let mut want = [0u8; 18];
+        (want[0], want[5], want[17]) = (255, 1, 128);
+        assert_eq!(img.pixels, want);
+    }
+
+    /// The array's world pose at base pose (x, y, θ) is the posture's (a, in the arm's
+    /// base frame) turned by θ about the vertical, raised by the mount and moved to
+    /// (x, y): computed here by hand for θ = 90°, where (aₓ, a_y) turns to (−a_y, aₓ).
+    #[test]
+    fn the_array_rides_on_the_base() {
+        let array = Isometry3::from_parts(
+            Translation3::new(0.1, -0.48, -0.1),
+            UnitQuaternion::from_euler_angles(0.3, 0.2, 0.1),
+        );
+        let posture = Posture {
+            q: vec![],
+            array,
+            mount: 0.35,
+        };
+        let b = Pose2 {
+            x: 2.0,
+            y: 1.0,
+            th: std::f64::consts::FRAC_PI_2,
+        };
+        let world = posture.array_pose(&b);
+        let want = Point3::new(2.0 + 0.48, 1.0 + 0.1, 0.35 - 0.1);
+        assert!((world.translation.vector - want.coords).norm() < 1e-12);
+        let turned = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), b.th) * array.rotation;
+        assert!(world.rotation.angle_to(&turned) < 1e-12);
+    }
+}
