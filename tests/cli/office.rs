@@ -228,15 +228,13 @@ fn the_office_run_maps_the_route_closer_than_its_odometry() {
     let dir = tmp.path().join("out-run");
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
-    assert_eq!(
-        summary["arm_collisions"],
-        serde_json::json!([]),
-        "{summary}"
-    );
-    assert_eq!(
-        summary["base_collisions"],
-        serde_json::json!([]),
-        "{summary}"
+    assert_eq!(summary["arm_collisions"], 0, "{summary}");
+    assert_eq!(summary["base_collisions"], 0, "{summary}");
+    assert_eq!(summary["collisions"], serde_json::json!([]), "{summary}");
+    let svg = std::fs::read_to_string(dir.join("path.svg")).unwrap();
+    assert!(
+        svg.starts_with("<svg") && svg.contains("map estimate"),
+        "path.svg"
     );
     let csv = std::fs::read_to_string(dir.join("path.csv")).unwrap();
     let rows: Vec<Vec<f64>> = csv

@@ -3,6 +3,7 @@
 //! collision check of its footprint ([`footprint`]). The terrain and object modes, the
 //! switch between them and the evaluation are built on these next.
 
+pub mod figure;
 pub mod footprint;
 pub mod outputs;
 pub mod route;

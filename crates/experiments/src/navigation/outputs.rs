@@ -1,6 +1,7 @@
 //! What `whisker run` writes for a `[navigate]` scenario (documented in
-//! `scenarios/README.md`, "Outputs of a navigation run"): `path.csv`, one row per update,
-//! and `summary.json`, the run's figures; and what it says on the console.
+//! `scenarios/README.md`, `[navigate]`): `path.csv`, one row per update, `summary.json`,
+//! the run's figures, and `path.svg`, the paths over the office's plan; and what it says
+//! on the console.
 
 use super::terrain::{self, TerrainRun};
 use crate::error::{Error, Result};
@@ -15,7 +16,7 @@ use whisker_slam::navigation::map_error::MapError;
 use whisker_slam::ratslam::experience_map::MapEvent;
 
 /// The files a navigation run writes.
-pub const FILES: &str = "path.csv, summary.json";
+pub const FILES: &str = "path.csv, summary.json, path.svg";
 
 /// Checks what a navigation run of `scenario` (read from `file`) needs beyond the
 /// scenario's own fields: kinematic sensing, the arm's terrain posture, and the route clear of the office's walls
@@ -83,6 +84,28 @@ pub fn write(
     })?;
     output::write_atomic(&dir.join("path.csv"), path_csv(&run).as_bytes())?;
     let summary = summary(&run, scenario.seed);
+    let plan = scenario
+        .office
+        .as_ref()
+        .expect("checked")
+        .checked_plan(file)?;
+    let objects: Vec<(String, [f64; 2], [f64; 2])> = environment.pieces[..scenario.objects.len()]
+        .iter()
+        .map(|p| {
+            let (lo, hi) = crate::scenario::navigate::plan_rectangle(p);
+            (p.name.clone(), [lo.x, lo.y], [hi.x, hi.y])
+        })
+        .collect();
+    let figure = dir.join("path.svg");
+    let title = format!(
+        "{}, seed {}: map {:.3} m rms, odometry alone {:.3} m rms (after the best rigid fits)",
+        file.file_name().unwrap_or_default().to_string_lossy(),
+        scenario.seed,
+        run.map_error.map_or(f64::NAN, |e| e.rms_m),
+        run.odometry_error.map_or(f64::NAN, |e| e.rms_m),
+    );
+    let svg = super::figure::path_svg(&figure, &plan, &objects, &run, &title)?;
+    output::write_atomic(&figure, svg.as_bytes())?;
     output::write_json(&dir.join("summary.json"), &summary)?;
     ctx.say(&results(&summary, start.elapsed().as_secs_f64()));
     Ok(())
@@ -134,11 +157,11 @@ fn error_json(e: &Option<MapError>) -> serde_json::Value {
 /// `summary.json`.
 fn summary(run: &TerrainRun, seed: u64) -> serde_json::Value {
     let whisks_with_contact = run.updates.iter().filter(|u| u.contacts > 0).count();
-    let list = |v: &[(usize, String)]| -> Vec<serde_json::Value> {
-        v.iter()
-            .map(|(k, what)| json!({"update": k, "what": what}))
-            .collect()
-    };
+    let arm = run.arm_collisions.iter().map(|c| ("arm", c));
+    let collisions: Vec<serde_json::Value> = arm
+        .chain(run.base_collisions.iter().map(|c| ("base", c)))
+        .map(|(by, (k, what))| json!({"update": k, "by": by, "what": what}))
+        .collect();
     json!({
         "seed": seed,
         "mode": "terrain",
@@ -155,8 +178,9 @@ fn summary(run: &TerrainRun, seed: u64) -> serde_json::Value {
         "relocalisations": run.metric.relocalisations,
         "correct_relocalisations": run.metric.correct,
         "energy_metric": run.energy,
-        "arm_collisions": list(&run.arm_collisions),
-        "base_collisions": list(&run.base_collisions),
+        "arm_collisions": run.arm_collisions.len(),
+        "base_collisions": run.base_collisions.len(),
+        "collisions": collisions,
         "posture_joints_deg": run.posture.iter().map(|q| q.to_degrees()).collect::<Vec<f64>>(),
     })
 }
@@ -164,7 +188,6 @@ fn summary(run: &TerrainRun, seed: u64) -> serde_json::Value {
 /// The console account of `summary.json` (`wall`: seconds it took), explained.
 fn results(s: &serde_json::Value, wall: f64) -> String {
     let f = |v: &serde_json::Value| v.as_f64().map_or("–".to_owned(), |x| format!("{x:.3}"));
-    let collisions = |key: &str| s[key].as_array().map_or(0, Vec::len);
     format!(
         "navigated  {} updates ({wall:.1} s wall), {} with contact ({} contacts): {} templates, \
          {} experiences\nmap error  {} m rms, {} m max after the best rigid fit (odometry \
@@ -187,7 +210,7 @@ fn results(s: &serde_json::Value, wall: f64) -> String {
         s["relocalisations"],
         s["correct_relocalisations"],
         f(&s["energy_metric"]),
-        collisions("arm_collisions"),
-        collisions("base_collisions"),
+        s["arm_collisions"],
+        s["base_collisions"],
     )
 }

@@ -324,7 +324,7 @@ impl NavigateConfig {
 }
 
 /// The axis-aligned rectangle (plan) round a piece's mesh in the world.
-fn plan_rectangle(p: &whisker_sim::environment::Piece) -> (Point2<f64>, Point2<f64>) {
+pub fn plan_rectangle(p: &whisker_sim::environment::Piece) -> (Point2<f64>, Point2<f64>) {
     let mut lo = Point2::new(f64::INFINITY, f64::INFINITY);
     let mut hi = Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
     for v in &p.mesh.vertices {
