@@ -119,7 +119,13 @@ fn bad_offices_and_routes_exit_2_naming_the_field_and_write_nothing() {
         ),
         (
             "switch",
-            Box::new(|s| s + "\n[navigate.switch]\nmax_object_m = 0\n"),
+            Box::new(|s| {
+                swap(
+                    s,
+                    "link_gap_m = 0.15",
+                    "link_gap_m = 0.15\nmax_object_m = 0",
+                )
+            }),
             vec!["navigate.switch", "max_object_m"],
         ),
         (
@@ -231,6 +237,14 @@ fn the_office_run_maps_the_route_closer_than_its_odometry() {
     assert_eq!(summary["arm_collisions"], 0, "{summary}");
     assert_eq!(summary["base_collisions"], 0, "{summary}");
     assert_eq!(summary["collisions"], serde_json::json!([]), "{summary}");
+    // The cue answers after every whisk that touched, and never calls a wall an object
+    // on this route (the office's link gap; docs/navigation.md).
+    let switch = &summary["switch"];
+    assert_eq!(
+        switch["decisions"], summary["whisks_with_contact"],
+        "{switch}"
+    );
+    assert_eq!(switch["on_walls"]["object"], 0, "{switch}");
     let svg = std::fs::read_to_string(dir.join("path.svg")).unwrap();
     assert!(
         svg.starts_with("<svg") && svg.contains("map estimate"),
@@ -271,6 +285,13 @@ fn the_office_run_maps_the_route_closer_than_its_odometry() {
             .iter()
             .any(|&(ox, oy)| (x - ox).hypot(y - oy) < 0.15 + 0.3)
     };
+    // A verdict and the touched piece exactly where a whisk touched.
+    for line in csv.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        let touched = f[11] != "0";
+        assert_eq!(!f[15].is_empty(), touched, "{line}");
+        assert_eq!(!f[16].is_empty(), touched, "{line}");
+    }
     let touched: Vec<&Vec<f64>> = rows.iter().filter(|r| r[11] > 0.0).collect();
     assert!(!touched.is_empty());
     for r in &touched {

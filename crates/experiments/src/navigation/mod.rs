@@ -6,5 +6,6 @@
 pub mod figure;
 pub mod footprint;
 pub mod outputs;
+pub mod plan_view;
 pub mod route;
 pub mod terrain;

@@ -13,6 +13,7 @@ use serde_json::json;
 use std::path::Path;
 use whisker_sim::environment::Environment;
 use whisker_slam::navigation::map_error::MapError;
+use whisker_slam::navigation::mode_switch::Verdict;
 use whisker_slam::ratslam::experience_map::MapEvent;
 
 /// The files a navigation run writes.
@@ -116,7 +117,8 @@ pub fn write(
 fn path_csv(run: &TerrainRun) -> String {
     let mut csv = String::from(
         "update,time_s,true_x_m,true_y_m,true_heading_rad,odometry_x_m,odometry_y_m,\
-         odometry_heading_rad,est_x_m,est_y_m,est_heading_rad,contacts,template,experience,event\n",
+         odometry_heading_rad,est_x_m,est_y_m,est_heading_rad,contacts,template,experience,event,\
+         verdict,touched\n",
     );
     for (k, u) in run.updates.iter().enumerate() {
         let (o, e) = (run.dead_reckoned[k], run.estimate[k]);
@@ -125,8 +127,14 @@ fn path_csv(run: &TerrainRun) -> String {
             MapEvent::Created => "created",
             MapEvent::Relocalised => "relocalised",
         };
+        let (verdict, touched) = match &u.switch {
+            None => ("", ""),
+            Some((Verdict::Wall, piece)) => ("wall", piece.as_str()),
+            Some((Verdict::Object, piece)) => ("object", piece.as_str()),
+            Some((Verdict::Undecided, piece)) => ("undecided", piece.as_str()),
+        };
         csv += &format!(
-            "{k},{},{},{},{},{},{},{},{},{},{},{},{},{},{event}\n",
+            "{k},{},{},{},{},{},{},{},{},{},{},{},{},{},{event},{verdict},{touched}\n",
             k as f64 / terrain::UPDATE_HZ,
             u.truth.x,
             u.truth.y,
@@ -181,21 +189,33 @@ fn summary(run: &TerrainRun, seed: u64) -> serde_json::Value {
         "arm_collisions": run.arm_collisions.len(),
         "base_collisions": run.base_collisions.len(),
         "collisions": collisions,
+        "switch": run.switch.json(),
         "posture_joints_deg": run.posture.iter().map(|q| q.to_degrees()).collect::<Vec<f64>>(),
     })
 }
 
 /// The console account of `summary.json` (`wall`: seconds it took), explained.
 fn results(s: &serde_json::Value, wall: f64) -> String {
+    let sw = &s["switch"];
+    let found = match sw["objects_found"].as_object() {
+        Some(m) if !m.is_empty() => m
+            .iter()
+            .map(|(name, k)| format!("{name} (update {k})"))
+            .collect::<Vec<_>>()
+            .join(", "),
+        _ => "none".into(),
+    };
     let f = |v: &serde_json::Value| v.as_f64().map_or("–".to_owned(), |x| format!("{x:.3}"));
     format!(
         "navigated  {} updates ({wall:.1} s wall), {} with contact ({} contacts): {} templates, \
          {} experiences\nmap error  {} m rms, {} m max after the best rigid fit (odometry \
          alone: {} m rms, {} m max)\nARR {}  ARCR {}  ({} re-localisations after the first \
-         lap, {} correct within 0.1 m and 25°); Energy Metric {}\ncollisions arm {}, base {}\n  \
+         lap, {} correct within 0.1 m and 25°); Energy Metric {}\ncollisions arm {}, base {}\nswitch     {} verdicts after whisks that touched: on walls {} wall, {} object, \
+         {} undecided; on objects {} object, {} wall, {} undecided; objects found: {}\n  \
          map error = each update's map pose against the truth after the rigid motion that fits \
          them best (a map's frame is arbitrary); ARR, ARCR, Energy Metric: Algorithm 1 and Eq \
-         3.2 of the thesis (Ch 3)",
+         3.2 of the thesis (Ch 3); switch = the mode-switch cue (docs/navigation.md) scored \
+         against the piece the newest contact lies on",
         s["updates"],
         s["whisks_with_contact"],
         s["contacts"],
@@ -212,5 +232,13 @@ fn results(s: &serde_json::Value, wall: f64) -> String {
         f(&s["energy_metric"]),
         s["arm_collisions"],
         s["base_collisions"],
+        sw["decisions"],
+        sw["on_walls"]["wall"],
+        sw["on_walls"]["object"],
+        sw["on_walls"]["undecided"],
+        sw["on_objects"]["object"],
+        sw["on_objects"]["wall"],
+        sw["on_objects"]["undecided"],
+        found,
     )
 }

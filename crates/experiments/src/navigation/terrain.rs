@@ -20,9 +20,13 @@
 //!   and says nothing of the place: its template does not inject (in the office most
 //!   whisks between features are blank, and blank templates matching each other would
 //!   pull the pose cells to wherever the first blank whisk was).
+//! - **The mode-switch cue** ([`super::plan_view`]) after every whisk that touched, on the
+//!   latest whisks' contacts and free points in the odometry frame, scored against the
+//!   piece the newest contact lies on. It only reports so far: object mode is next.
 //! - **Checks.** Every update, the base's disc ([`super::footprint`]) and every arm link
 //!   are tested against the environment; a run that touches anything says where.
 
+use super::plan_view::{self, PlanView, SwitchTally};
 use super::{footprint, route};
 use crate::error::{Error, Result};
 use crate::plan::Plan;
@@ -40,6 +44,7 @@ use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_slam::contact::ContactCycle;
 use whisker_slam::navigation::base_odometry::BaseMotion;
 use whisker_slam::navigation::map_error::{self, MapError};
+use whisker_slam::navigation::mode_switch::Verdict;
 use whisker_slam::pose;
 use whisker_slam::ratslam::RatSlam;
 use whisker_slam::ratslam::experience_map::{MapEvent, Pose2};
@@ -141,6 +146,9 @@ pub struct Update {
     pub experience: usize,
     /// What the experience map did.
     pub event: MapEvent,
+    /// The mode-switch cue's verdict after a whisk that touched, and the piece the
+    /// newest contact truly lies on ([`super::plan_view`]).
+    pub switch: Option<(Verdict, String)>,
 }
 
 /// A terrain run and its evaluation.
@@ -168,6 +176,8 @@ pub struct TerrainRun {
     pub base_collisions: Vec<(usize, String)>,
     /// The arm's joints holding the array (rad).
     pub posture: Vec<f64>,
+    /// The mode-switch cue's verdicts against the truth.
+    pub switch: SwitchTally,
 }
 
 /// Runs terrain mode over `config`'s route in `environment` (scenario `scenario`, read
@@ -206,6 +216,9 @@ pub fn run(
     let mut slam = RatSlam::new(config.ratslam);
     let mut updates = Vec::with_capacity(truth.len());
     let mut arm_collisions = Vec::new();
+    let dead_reckoned = route::dead_reckon(truth[0], &readings);
+    let mut view = PlanView::new(config.switch.window_whisks);
+    let mut switch = SwitchTally::default();
     for (k, b) in truth.iter().enumerate() {
         for link in shapes.colliding_at(&plan.model, &joints, &posture.arm_base(b), &solids) {
             arm_collisions.push((k, link));
@@ -217,6 +230,23 @@ pub fn run(
             &posture.array_pose(b),
         );
         let img = image(&cycle, &whiskers);
+        view.add(&cycle, &whiskers, &posture.array_pose(&dead_reckoned[k]));
+        let verdict = match cycle.contacts.last() {
+            None => None,
+            Some(newest) => {
+                let decision = config.switch.decide(&view.outline());
+                let point = sensing
+                    .intersects
+                    .iter()
+                    .find(|(w, _)| *w == newest.whisker);
+                let piece = point
+                    .and_then(|(_, p)| plan_view::piece_at(environment, p))
+                    .expect("a detected contact has its intersect");
+                let name = environment.pieces[piece].name.clone();
+                switch.add(k, decision.verdict, &name, piece < scenario.objects.len());
+                Some((decision.verdict, name))
+            }
+        };
         let reading = match k {
             0 => BaseMotion::default(),
             _ => readings[k - 1],
@@ -232,6 +262,7 @@ pub fn run(
             template: step.template,
             experience: step.experience,
             event: step.event,
+            switch: verdict,
         });
         progress(k + 1, truth.len());
     }
@@ -241,7 +272,6 @@ pub fn run(
         .iter()
         .map(|&e| truth[0].compose(&anchor.relative(&slam.map.experiences[e].pose)))
         .collect();
-    let dead_reckoned = route::dead_reckon(truth[0], &readings);
     let first_lap_end = (truth.len() - 1) / config.laps;
     Ok(TerrainRun {
         map_error: map_error::measure(&estimate, &truth),
@@ -254,6 +284,7 @@ pub fn run(
         arm_collisions,
         base_collisions,
         posture: posture.q,
+        switch,
         updates,
         estimate,
         dead_reckoned,

@@ -45,6 +45,10 @@ pub struct ModeSwitch {
     /// Largest RMS distance of the contacts from a fitted line or circle for the shape
     /// to be called a line, a corner or an arc (m) [0.01].
     pub fit_tolerance_m: f64,
+    /// How many of the latest whisks the outline is built from [20]: the caller's
+    /// memory of the plan, two metres of driving at 0.1 m a whisk (older contacts carry
+    /// more odometric drift).
+    pub window_whisks: usize,
 }
 
 impl Default for ModeSwitch {
@@ -55,6 +59,7 @@ impl Default for ModeSwitch {
             end_window_m: 0.1,
             min_contacts: 6,
             fit_tolerance_m: 0.01,
+            window_whisks: 20,
         }
     }
 }
@@ -125,6 +130,9 @@ impl ModeSwitch {
             if !(v.is_finite() && v > 0.0) {
                 return Err(format!("{name} {v}: expected a positive length (m)"));
             }
+        }
+        if self.window_whisks == 0 {
+            return Err("window_whisks 0: expected at least 1".into());
         }
         if self.min_contacts < 2 {
             return Err(format!(
