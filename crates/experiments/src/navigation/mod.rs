@@ -1,7 +1,9 @@
 //! The whiskered mobile robot in the office (issue #36, thesis Fig 5.1, §7.1;
-//! `docs/navigation.md`): the base's route and odometry ([`route`]) and an independent
-//! collision check of its footprint ([`footprint`]). The terrain and object modes, the
-//! switch between them and the evaluation are built on these next.
+//! `docs/navigation.md`): the base's route and odometry ([`route`]), an independent
+//! collision check of its footprint ([`footprint`]), terrain mode — planar RatSLAM on the
+//! whisks of the array the arm holds beside the base ([`terrain`]) — the mode-switch cue on
+//! the sensed whisks ([`plan_view`]), and the run's files ([`outputs`], [`figure`]). Object
+//! mode is built on these next.
 
 pub mod figure;
 pub mod footprint;
