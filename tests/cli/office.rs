@@ -231,6 +231,12 @@ fn the_office_run_maps_the_route_closer_than_its_odometry() {
     let path = office(tmp.path(), "run", |s| s);
     let o = whisker(&["run", path.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
+    // No recording yet, and the closing lines say why (not "switched off").
+    assert!(
+        stdout(&o).contains("recording  none: a [navigate] run writes no .rrd yet"),
+        "{}",
+        stdout(&o)
+    );
     let dir = tmp.path().join("out-run");
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();

@@ -79,6 +79,9 @@ pub fn write(
     ctx: Context,
 ) -> Result {
     let config = scenario.navigate.as_ref().expect("a [navigate] scenario");
+    crate::console::not_recorded(
+        "a [navigate] run writes no .rrd yet (issue #36's next steps); path.svg shows the paths",
+    );
     let start = std::time::Instant::now();
     let run = terrain::run(scenario, file, plan, environment, config, |k, n| {
         ctx.progress("updates", k as u64, n as u64)
