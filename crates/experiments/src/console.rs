@@ -119,8 +119,8 @@ pub fn outputs(written: &[PathBuf], missing: Option<NoRecording>) -> String {
         .lock()
         .unwrap_or_else(std::sync::PoisonError::into_inner);
     match (rrds.as_slice(), missing) {
-        ([], Some(_)) if reason.is_some() => {
-            let _ = writeln!(out, "recording  none: {}", reason.unwrap_or_default());
+        ([], Some(_)) if let Some(reason) = reason => {
+            let _ = writeln!(out, "recording  none: {reason}");
         }
         ([], Some(NoRecording::SwitchedOff)) => {
             out.push_str("recording  none (switched off: --no-rrd or output.recording = false)\n");

@@ -448,3 +448,36 @@ fn a_gated_step_matches_its_template_but_never_injects() {
         .any(|(a, b)| (a - b).abs() > 1e-9);
     assert!(moved, "an ungated false match injects");
 }
+
+#[test]
+fn a_logged_path_is_placed_at_the_start_by_its_first_experience() {
+    // Experience 0 faces +y at (1, 0); experience 1 lies 1 m ahead of it, facing −x.
+    // Placed with experience 0 at (5, 5) facing +x, experience 1 is 1 m ahead along +x
+    // and faces +y: (6, 5, π/2).
+    let mut map = ExperienceMap::new(ExperienceMapParams::default());
+    for (x, y, th) in [(1.0, 0.0, FRAC_PI_2), (1.0, 1.0, PI)] {
+        map.experiences.push(Experience {
+            pose: Pose2 { x, y, th },
+            template: 0,
+            cell: [0.0; 3],
+        });
+    }
+    let start = Pose2 {
+        x: 5.0,
+        y: 5.0,
+        th: 0.0,
+    };
+    let placed = map.placed(&[0, 1, 0], &start);
+    assert_eq!(placed.len(), 3);
+    for (p, want) in placed
+        .iter()
+        .zip([(5.0, 5.0, 0.0), (6.0, 5.0, FRAC_PI_2), (5.0, 5.0, 0.0)])
+    {
+        assert!(
+            (p.x - want.0).abs() < 1e-12 && (p.y - want.1).abs() < 1e-12,
+            "{p:?}"
+        );
+        assert!((p.th - want.2).abs() < 1e-12, "{p:?}");
+    }
+    assert!(map.placed(&[], &start).is_empty());
+}

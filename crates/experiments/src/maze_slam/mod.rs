@@ -122,13 +122,7 @@ impl Evaluation {
                 r.update(k, img, &slam, &step, truth.map(|t| &t[k]), last)?;
             }
         }
-        // Relaxation moves the whole map (its links fix only relative poses): anchor it
-        // at the first update's experience, placed at the start pose.
-        let anchor = slam.map.experiences[log[0]].pose;
-        let estimate: Vec<Pose2> = log
-            .iter()
-            .map(|&e| start.compose(&anchor.relative(&slam.map.experiences[e].pose)))
-            .collect();
+        let estimate = slam.map.placed(&log, &start);
         let metric = truth.map(|t| experience_metric(&log, t, base_end, 0.1, 25f64.to_radians()));
         let energy =
             truth.map(|t| energy_metric(&estimate, t, &consecutive(t.len())).unwrap_or(f64::NAN));

@@ -20,9 +20,9 @@ use whisker_slam::ratslam::experience_map::MapEvent;
 pub const FILES: &str = "path.csv, summary.json, path.svg";
 
 /// Checks what a navigation run of `scenario` (read from `file`) needs beyond the
-/// scenario's own fields: kinematic sensing, the arm's terrain posture, and the route clear of the office's walls
-/// and posts and of the objects (the first pieces of `environment`); says what it would
-/// do. `whisker check` and `whisker run` both call it, before anything is written.
+/// scenario's own fields: kinematic sensing, the arm's terrain posture, and the route
+/// clear of the office's walls and posts and of the objects (the first pieces of
+/// `environment`); says what it would do. `whisker check` and `whisker run` both call it, before anything is written.
 pub fn check(
     file: &Path,
     scenario: &Scenario,
@@ -88,7 +88,7 @@ pub fn write(
     })?;
     output::write_atomic(&dir.join("path.csv"), path_csv(&run).as_bytes())?;
     let summary = summary(&run, scenario.seed);
-    let plan = scenario
+    let floor = scenario
         .office
         .as_ref()
         .expect("checked")
@@ -108,7 +108,7 @@ pub fn write(
         run.map_error.map_or(f64::NAN, |e| e.rms_m),
         run.odometry_error.map_or(f64::NAN, |e| e.rms_m),
     );
-    let svg = super::figure::path_svg(&figure, &plan, &objects, &run, &title)?;
+    let svg = super::figure::path_svg(&figure, &floor, &objects, &run, &title)?;
     output::write_atomic(&figure, svg.as_bytes())?;
     output::write_json(&dir.join("summary.json"), &summary)?;
     ctx.say(&results(&summary, start.elapsed().as_secs_f64()));

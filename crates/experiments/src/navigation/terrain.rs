@@ -1,8 +1,8 @@
 //! Terrain mode in the office (issue #36; thesis Ch 3 on the platform of Fig 5.1, §7.1):
 //! the base drives its route while the arm holds the array in a fixed posture beside it,
-//! its whiskers reaching the walls the route follows; each update is one whisk (1 Hz, the whisking
-//! frequency) at the base's pose, its contacts become a tactile image, and planar RatSLAM
-//! takes the image with the base's odometry.
+//! its whiskers reaching the walls the route follows; each update is one whisk (1 Hz, the
+//! whisking frequency) at the base's pose, its contacts become a tactile image, and planar
+//! RatSLAM takes the image with the base's odometry.
 //!
 //! - **Posture.** `[navigate.terrain]` gives the array's pose in the arm's base frame; IK
 //!   (from the arm's initial joints) finds the joints that hold it, and the arm's base link
@@ -17,9 +17,9 @@
 //! - **RatSLAM.** One [`RatSlam::step_gated`] per update with the odometry's drive and
 //!   its two turns summed (the route turns in place or drives straight, so one of the two
 //!   is noise), pose cells of `[navigate.ratslam]`. A whisk that touched nothing is blank
-//!   and says nothing of the place: its template does not inject (in the office most
-//!   whisks between features are blank, and blank templates matching each other would
-//!   pull the pose cells to wherever the first blank whisk was).
+//!   and says nothing of the place: its template does not inject (blank templates matching
+//!   each other would pull the pose cells to wherever the first blank whisk was; on the
+//!   default office this made no systematic difference, docs/navigation.md).
 //! - **The mode-switch cue** ([`super::plan_view`]) after every whisk that touched, on the
 //!   latest whisks' contacts and free points in the odometry frame, scored against the
 //!   piece the newest contact lies on. It only reports so far: object mode is next.
@@ -57,11 +57,6 @@ use whisker_slam::rng::substream_key;
 /// Updates per second: one whisk each at the whisking frequency (1 Hz).
 pub const UPDATE_HZ: f64 = 1.0;
 
-/// Height of the base's disc for the footprint check (m): up to the arm's mount.
-fn disc_height(config: &TerrainConfig) -> f64 {
-    config.mount_height_m
-}
-
 /// The arm holding the array for terrain mode.
 pub struct Posture {
     /// The chain's joints (rad).
@@ -75,6 +70,7 @@ pub struct Posture {
 impl Posture {
     /// The joints that hold `config`'s array pose, by IK from `start`; the error names
     /// the field.
+    ///
     /// The posture belongs to the robot, not to a run: IK's restarts (if the descent from
     /// `start` fails) draw from seed 0 whatever the run's seed.
     pub fn solve(
@@ -194,11 +190,12 @@ pub fn run(
     let posture = Posture::solve(&config.terrain, &chain, &plan.waypoints[0], file)?;
     let truth = route::poses(config, 1.0 / UPDATE_HZ);
     let readings = route::odometry(&truth, &config.odometry, scenario.seed);
+    // The base's disc stands as tall as the arm's mount.
     let base_collisions = footprint::collisions(
         environment,
         &truth,
         config.base.radius_m,
-        disc_height(&config.terrain),
+        config.terrain.mount_height_m,
     )
     .map_err(Error::Failure)?;
     let solids = Solids::new(environment).map_err(Error::Failure)?;
@@ -267,11 +264,7 @@ pub fn run(
         progress(k + 1, truth.len());
     }
     let log: Vec<usize> = updates.iter().map(|u| u.experience).collect();
-    let anchor = slam.map.experiences[log[0]].pose;
-    let estimate: Vec<Pose2> = log
-        .iter()
-        .map(|&e| truth[0].compose(&anchor.relative(&slam.map.experiences[e].pose)))
-        .collect();
+    let estimate = slam.map.placed(&log, &truth[0]);
     let first_lap_end = (truth.len() - 1) / config.laps;
     Ok(TerrainRun {
         map_error: map_error::measure(&estimate, &truth),

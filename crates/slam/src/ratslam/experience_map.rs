@@ -167,6 +167,20 @@ impl ExperienceMap {
         }
     }
 
+    /// The map's pose of each experience in `log` (the current experience at each
+    /// update), relative to the first one's and placed at `start`: relaxation moves the
+    /// whole map (its links fix only relative poses), so a path read from it is anchored
+    /// at its first update's experience. Empty for an empty log.
+    pub fn placed(&self, log: &[usize], start: &Pose2) -> Vec<Pose2> {
+        let Some(&first) = log.first() else {
+            return Vec::new();
+        };
+        let anchor = self.experiences[first].pose;
+        log.iter()
+            .map(|&e| start.compose(&anchor.relative(&self.experiences[e].pose)))
+            .collect()
+    }
+
     /// The dead-reckoned pose: the current experience plus the odometry since.
     pub fn pose(&self) -> Pose2 {
         match self.experiences.get(self.current) {
