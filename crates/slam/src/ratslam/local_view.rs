@@ -14,6 +14,13 @@
 //! recent do not inject (the reference implementation's gate, there 10, which underflows
 //! with fewer templates; here with fewer templates none is skipped wrongly: a template
 //! injects when at least `skip_recent` templates were created after it).
+//!
+//! **Landmark templates** (issue #36, thesis Fig 5.1): a template keyed by an object's
+//! identity (what the Ch 6 closed loop recognised) instead of an image
+//! ([`LocalView::observe_landmark`]). It is never compared with images; re-observing the
+//! same identity matches it and injects at the pose cell where it was first seen, with
+//! its own energy in place of e and the same decay, so a recognised object closes the
+//! loop where a tactile image would.
 
 use super::posecells3d::Cell3;
 use serde::{Deserialize, Serialize};
@@ -93,6 +100,9 @@ pub struct Template {
     pub cell: Cell3,
     /// Its decay.
     pub decay: f64,
+    /// The identity of a landmark template (none for an image's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub landmark: Option<String>,
 }
 
 /// What one observation gave.
@@ -128,46 +138,83 @@ impl LocalView {
 
     /// Observes `image` with the pose cells' best pose at `cell`.
     pub fn observe(&mut self, image: &TactileImage, cell: &Cell3) -> Observation {
-        let p = self.params;
-        for t in &mut self.templates {
-            t.decay = (t.decay - p.restore).max(p.active_decay);
-        }
+        self.restore();
         let best = self
             .templates
             .iter()
             .enumerate()
+            .filter(|(_, t)| t.landmark.is_none())
             .map(|(i, t)| (i, similarity(&t.image, image)))
             .min_by(|a, b| a.1.total_cmp(&b.1));
         match best {
-            Some((i, s)) if s < p.match_threshold => {
-                let n = self.templates.len();
-                let t = &mut self.templates[i];
-                let energy = if i + p.skip_recent < n {
-                    (p.inject_energy / 30.0 * (30.0 - (1.2 * t.decay).exp())).max(0.0)
-                } else {
-                    0.0
-                };
-                t.decay += p.active_decay;
-                Observation {
-                    template: i,
-                    new: false,
-                    energy,
-                    cell: t.cell,
-                }
+            Some((i, s)) if s < self.params.match_threshold => {
+                self.matched(i, self.params.inject_energy)
             }
-            _ => {
-                self.templates.push(Template {
-                    image: *image,
-                    cell: *cell,
-                    decay: p.active_decay,
-                });
-                Observation {
-                    template: self.templates.len() - 1,
-                    new: true,
-                    energy: 0.0,
-                    cell: *cell,
-                }
-            }
+            _ => self.create(*image, None, cell),
+        }
+    }
+
+    /// Observes the landmark `identity` (a landmark template, module documentation) with
+    /// the pose cells' best pose at `cell`; a re-observation injects from `energy` (in
+    /// place of e).
+    pub fn observe_landmark(&mut self, identity: &str, cell: &Cell3, energy: f64) -> Observation {
+        self.restore();
+        let known = self
+            .templates
+            .iter()
+            .position(|t| t.landmark.as_deref() == Some(identity));
+        match known {
+            Some(i) => self.matched(i, energy),
+            None => self.create(TactileImage::default(), Some(identity.to_string()), cell),
+        }
+    }
+
+    /// Every template's decay relaxes by `restore`, down to `active_decay` (one update).
+    fn restore(&mut self) {
+        let p = self.params;
+        for t in &mut self.templates {
+            t.decay = (t.decay - p.restore).max(p.active_decay);
+        }
+    }
+
+    /// Template `i` matched: Eq 5.8's energy from `e` (none for one of the
+    /// `skip_recent` most recent), its decay grown.
+    fn matched(&mut self, i: usize, e: f64) -> Observation {
+        let p = self.params;
+        let n = self.templates.len();
+        let t = &mut self.templates[i];
+        let energy = if i + p.skip_recent < n {
+            (e / 30.0 * (30.0 - (1.2 * t.decay).exp())).max(0.0)
+        } else {
+            0.0
+        };
+        t.decay += p.active_decay;
+        Observation {
+            template: i,
+            new: false,
+            energy,
+            cell: t.cell,
+        }
+    }
+
+    /// A new template, first seen at `cell`.
+    fn create(
+        &mut self,
+        image: TactileImage,
+        landmark: Option<String>,
+        cell: &Cell3,
+    ) -> Observation {
+        self.templates.push(Template {
+            image,
+            cell: *cell,
+            decay: self.params.active_decay,
+            landmark,
+        });
+        Observation {
+            template: self.templates.len() - 1,
+            new: true,
+            energy: 0.0,
+            cell: *cell,
         }
     }
 }

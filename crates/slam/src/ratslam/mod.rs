@@ -132,6 +132,33 @@ impl RatSlam {
         inject: bool,
     ) -> Step {
         let seen = self.view.observe(image, &self.cells.best());
+        self.advance(seen, inject, distance, dtheta)
+    }
+
+    /// One update on a landmark (a recognised object's `identity`, issue #36) instead of
+    /// an image: its landmark template ([`LocalView::observe_landmark`]) injects from
+    /// `energy` when re-observed; then as [`step`](Self::step).
+    pub fn step_landmark(
+        &mut self,
+        identity: &str,
+        energy: f64,
+        distance: f64,
+        dtheta: f64,
+    ) -> Step {
+        let seen = self
+            .view
+            .observe_landmark(identity, &self.cells.best(), energy);
+        self.advance(seen, true, distance, dtheta)
+    }
+
+    /// The rest of an update after the local view saw `seen`.
+    fn advance(
+        &mut self,
+        seen: local_view::Observation,
+        inject: bool,
+        distance: f64,
+        dtheta: f64,
+    ) -> Step {
         if inject && seen.energy > 0.0 {
             self.cells.inject(&seen.cell, seen.energy);
         }
