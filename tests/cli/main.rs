@@ -14,6 +14,7 @@ mod inputs;
 mod maze_slam;
 mod object_slam;
 mod office;
+mod office_objects;
 mod physics;
 mod radial;
 mod recording;

@@ -5,7 +5,7 @@
 use super::*;
 
 /// scenarios/office.toml with `edit` applied, written into `dir` as `name.toml`.
-fn office(dir: &Path, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
+pub(super) fn office(dir: &Path, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
     let text = std::fs::read_to_string(repo("scenarios/office.toml"))
         .unwrap()
         .replace("\"../assets/", &format!("\"{}/", repo("assets").display()))
@@ -22,7 +22,7 @@ fn office(dir: &Path, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
 }
 
 /// `s` with `old` (which must be in it) replaced by `new`.
-fn swap(s: String, old: &str, new: &str) -> String {
+pub(super) fn swap(s: String, old: &str, new: &str) -> String {
     assert!(s.contains(old), "{old:?} not in the office scenario");
     s.replacen(old, new, 1)
 }
@@ -154,6 +154,37 @@ fn bad_offices_and_routes_exit_2_naming_the_field_and_write_nothing() {
             vec!["navigate.ratslam", "threshold"],
         ),
         (
+            "object_mode_maps",
+            Box::new(|s| swap(s, "task = \"recognise\"", "task = \"map\"")),
+            vec!["navigate.object.explore.task", "recognise"],
+        ),
+        (
+            "object_mode_object",
+            Box::new(|s| {
+                swap(
+                    s,
+                    "stop_on_identity = true",
+                    "stop_on_identity = true\nobject = \"box\"",
+                )
+            }),
+            vec!["navigate.object.explore.object", "expected none"],
+        ),
+        (
+            "object_mode_missing_map",
+            Box::new(|s| swap(s, "maps/box.json", "maps/no_such_box.json")),
+            vec!["navigate.object.explore.maps.box", "no such file"],
+        ),
+        (
+            "landmark_energy",
+            Box::new(|s| s + "\n[navigate.object]\nlandmark_energy = 0.0\n"),
+            vec!["navigate.object.landmark_energy", "expected a number > 0"],
+        ),
+        (
+            "kidnap_one_lap",
+            Box::new(|s| swap(s, "laps = 2", "laps = 1\nkidnap = true")),
+            vec!["navigate.kidnap", "laps ≥ 2"],
+        ),
+        (
             "maze_and_office",
             Box::new(|s| s + "\n[maze]\n"),
             vec!["field `office`", "not both"],
@@ -243,14 +274,14 @@ fn the_office_run_maps_the_route_closer_than_its_odometry() {
     assert_eq!(summary["arm_collisions"], 0, "{summary}");
     assert_eq!(summary["base_collisions"], 0, "{summary}");
     assert_eq!(summary["collisions"], serde_json::json!([]), "{summary}");
-    // The cue answers after every whisk that touched, and never calls a wall an object
-    // on this route (the office's link gap; docs/navigation.md).
+    // The cue rarely calls a wall an object on this route (docs/navigation.md: the
+    // office's end window trades a few such verdicts for finding the objects).
     let switch = &summary["switch"];
-    assert_eq!(
-        switch["decisions"], summary["whisks_with_contact"],
-        "{switch}"
+    let (on_wall, wall_object) = (
+        switch["on_walls"]["wall"].as_u64().unwrap(),
+        switch["on_walls"]["object"].as_u64().unwrap(),
     );
-    assert_eq!(switch["on_walls"]["object"], 0, "{switch}");
+    assert!(wall_object * 10 < on_wall, "{switch}");
     let svg = std::fs::read_to_string(dir.join("path.svg")).unwrap();
     assert!(
         svg.starts_with("<svg") && svg.contains("map estimate"),
@@ -291,12 +322,17 @@ fn the_office_run_maps_the_route_closer_than_its_odometry() {
             .iter()
             .any(|&(ox, oy)| (x - ox).hypot(y - oy) < 0.15 + 0.3)
     };
-    // A verdict and the touched piece exactly where a whisk touched.
-    for line in csv.lines().skip(1) {
+    // A verdict and the touched piece exactly where one of the latest 20 whisks (the
+    // cue's window) touched.
+    let mut last_touch = None;
+    for (k, line) in csv.lines().skip(1).enumerate() {
         let f: Vec<&str> = line.split(',').collect();
-        let touched = f[11] != "0";
-        assert_eq!(!f[15].is_empty(), touched, "{line}");
-        assert_eq!(!f[16].is_empty(), touched, "{line}");
+        if f[11] != "0" {
+            last_touch = Some(k);
+        }
+        let in_window = last_touch.is_some_and(|t| k - t < 20);
+        assert_eq!(!f[15].is_empty(), in_window, "{line}");
+        assert_eq!(!f[16].is_empty(), in_window, "{line}");
     }
     let touched: Vec<&Vec<f64>> = rows.iter().filter(|r| r[11] > 0.0).collect();
     assert!(!touched.is_empty());

@@ -48,8 +48,7 @@ pub fn check(file: &Path, meshes: Option<&Path>, ctx: Context) -> Result {
     };
     if scenario.navigate.is_some() {
         ctx.say(&format!(
-            "output     {} ({}; terrain mode so far: the mode switch and object mode are \
-             issue #36's next steps)",
+            "output     {} ({}; no .rrd recording yet)",
             dir.display(),
             crate::navigation::outputs::FILES
         ));

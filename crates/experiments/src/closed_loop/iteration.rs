@@ -265,7 +265,10 @@ impl Loop<'_> {
     fn done(&self) -> bool {
         match (&self.recognition, self.config.task) {
             (_, Task::Map) => self.tour.loops >= self.config.map_loops,
-            (Some(r), Task::Recognise) => r.all_reached(self.config.stop_ic),
+            (Some(r), Task::Recognise) => {
+                (self.config.stop_on_identity && r.identified().is_some())
+                    || r.all_reached(self.config.stop_ic)
+            }
             (None, Task::Recognise) => true,
         }
     }

@@ -5,9 +5,12 @@
 //! the sensed whisks ([`plan_view`]), and the run's files ([`outputs`], [`figure`]). Object
 //! mode is built on these next.
 
+pub mod closures;
 pub mod figure;
 pub mod footprint;
+pub mod object_mode;
 pub mod outputs;
 pub mod plan_view;
+pub mod posture;
 pub mod route;
 pub mod terrain;

@@ -3,6 +3,7 @@
 //! the run's figures, and `path.svg`, the paths over the office's plan; and what it says
 //! on the console.
 
+use super::closures::Closures;
 use super::terrain::{self, TerrainRun};
 use crate::error::{Error, Result};
 use crate::output;
@@ -17,7 +18,7 @@ use whisker_slam::navigation::mode_switch::Verdict;
 use whisker_slam::ratslam::experience_map::MapEvent;
 
 /// The files a navigation run writes.
-pub const FILES: &str = "path.csv, summary.json, path.svg";
+pub const FILES: &str = "path.csv, stops.csv, summary.json, path.svg";
 
 /// Checks what a navigation run of `scenario` (read from `file`) needs beyond the
 /// scenario's own fields: kinematic sensing, the arm's terrain posture, and the route
@@ -49,7 +50,7 @@ pub fn check(
     };
     n.check_route(file, &office.checked_plan(file)?, &objects)?;
     let chain = crate::sensing::array::array_chain(scenario, file, plan)?;
-    let posture = terrain::Posture::solve(&n.terrain, &chain, &plan.waypoints[0], file)?;
+    let posture = super::posture::Posture::solve(&n.terrain, &chain, &plan.waypoints[0], file)?;
     let t = &n.terrain;
     let joints: Vec<String> = posture
         .q
@@ -87,7 +88,8 @@ pub fn write(
         ctx.progress("updates", k as u64, n as u64)
     })?;
     output::write_atomic(&dir.join("path.csv"), path_csv(&run).as_bytes())?;
-    let summary = summary(&run, scenario.seed);
+    output::write_atomic(&dir.join("stops.csv"), stops_csv(&run).as_bytes())?;
+    let summary = summary(&run, scenario.seed, config);
     let floor = scenario
         .office
         .as_ref()
@@ -112,6 +114,9 @@ pub fn write(
     output::write_atomic(&figure, svg.as_bytes())?;
     output::write_json(&dir.join("summary.json"), &summary)?;
     ctx.say(&results(&summary, start.elapsed().as_secs_f64()));
+    if config.object.is_some() {
+        ctx.say(&object_results(&summary));
+    }
     Ok(())
 }
 
@@ -125,11 +130,7 @@ fn path_csv(run: &TerrainRun) -> String {
     );
     for (k, u) in run.updates.iter().enumerate() {
         let (o, e) = (run.dead_reckoned[k], run.estimate[k]);
-        let event = match u.event {
-            MapEvent::Stay => "stay",
-            MapEvent::Created => "created",
-            MapEvent::Relocalised => "relocalised",
-        };
+        let event = event_name(u.event);
         let (verdict, touched) = match &u.switch {
             None => ("", ""),
             Some((Verdict::Wall, piece)) => ("wall", piece.as_str()),
@@ -156,6 +157,97 @@ fn path_csv(run: &TerrainRun) -> String {
     csv
 }
 
+fn event_name(e: MapEvent) -> &'static str {
+    match e {
+        MapEvent::Stay => "stay",
+        MapEvent::Created => "created",
+        MapEvent::Relocalised => "relocalised",
+    }
+}
+
+/// `stops.csv`: per stop of object mode where the base stood, what it explored and
+/// found, and the landmark's step in the planar map.
+fn stops_csv(run: &TerrainRun) -> String {
+    let mut csv = String::from(
+        "update,true_x_m,true_y_m,turn_deg,drive_m,outline_x_m,outline_y_m,object,identified,outcome,\
+         whisks,time_s,landmark_experience,landmark_event,ic\n",
+    );
+    for s in &run.stops {
+        let e = &s.episode;
+        let (exp, event) = match s.landmark {
+            Some((x, ev)) => (x.to_string(), event_name(ev)),
+            None => (String::new(), ""),
+        };
+        csv += &format!(
+            "{},{},{},{},{},{},{},{},{},{},{},{},{exp},{event},{}\n",
+            s.update,
+            s.truth.x,
+            s.truth.y,
+            s.dock.turn.to_degrees(),
+            s.dock.drive,
+            s.centre.x,
+            s.centre.y,
+            e.object.as_deref().unwrap_or(""),
+            e.identified.as_deref().unwrap_or(""),
+            e.outcome(),
+            e.whisks,
+            s.time_s,
+            e.ic.iter()
+                .map(|(k, v)| format!("{k}={v:.0}"))
+                .collect::<Vec<_>>()
+                .join(" "),
+        );
+    }
+    csv
+}
+
+/// `summary.json`'s `stops`: counts by outcome, whisks and time.
+fn stops_json(run: &TerrainRun) -> serde_json::Value {
+    let count = |o: &str| {
+        run.stops
+            .iter()
+            .filter(|s| s.episode.outcome() == o)
+            .count()
+    };
+    json!({
+        "stops": run.stops.len(),
+        "correct": count("correct"),
+        "wrong": count("wrong"),
+        "none": count("none"),
+        "wall": count("wall"),
+        "whisks": run.stops.iter().map(|s| s.episode.whisks).sum::<usize>(),
+        "time_s": run.stops.iter().map(|s| s.time_s).sum::<f64>(),
+        "landmarks": run.stops.iter().filter(|s| s.landmark.is_some()).count(),
+    })
+}
+
+/// `summary.json`'s `closures`: true and false by images and by landmarks, and all false.
+fn closures_json(c: &Closures) -> serde_json::Value {
+    json!({
+        "image_true": c.image_true,
+        "image_false": c.image_false,
+        "landmark_true": c.landmark_true,
+        "landmark_false": c.landmark_false,
+        "false": c.image_false + c.landmark_false,
+    })
+}
+
+/// `summary.json`'s `recovery`: the kidnapped robot's (null when not kidnapped);
+/// `recovered` and `by_landmark` are 1 or 0 so that batches average them into rates.
+fn recovery_json(c: &Closures) -> serde_json::Value {
+    match &c.kidnap {
+        None => serde_json::Value::Null,
+        Some(r) => json!({
+            "after_update": r.after_update,
+            "recovered": u8::from(r.recovered_at.is_some()),
+            "recovered_at": r.recovered_at,
+            "by_landmark": u8::from(r.by_landmark),
+            "time_s": r.time_s,
+            "false_before": r.false_before,
+        }),
+    }
+}
+
 fn error_json(e: &Option<MapError>) -> serde_json::Value {
     match e {
         Some(e) => {
@@ -166,7 +258,11 @@ fn error_json(e: &Option<MapError>) -> serde_json::Value {
 }
 
 /// `summary.json`.
-fn summary(run: &TerrainRun, seed: u64) -> serde_json::Value {
+fn summary(
+    run: &TerrainRun,
+    seed: u64,
+    config: &crate::scenario::navigate::NavigateConfig,
+) -> serde_json::Value {
     let whisks_with_contact = run.updates.iter().filter(|u| u.contacts > 0).count();
     let arm = run.arm_collisions.iter().map(|c| ("arm", c));
     let collisions: Vec<serde_json::Value> = arm
@@ -175,7 +271,13 @@ fn summary(run: &TerrainRun, seed: u64) -> serde_json::Value {
         .collect();
     json!({
         "seed": seed,
-        "mode": "terrain",
+        "mode": if config.object.is_some() { "terrain+object" } else { "terrain" },
+        "fusion": config.fusion,
+        "kidnap": config.kidnap,
+        "time_s": run.time_s,
+        "objects": stops_json(run),
+        "closures": closures_json(&run.closures),
+        "recovery": recovery_json(&run.closures),
         "updates": run.updates.len(),
         "first_lap_end": run.first_lap_end,
         "whisks_with_contact": whisks_with_contact,
@@ -195,6 +297,55 @@ fn summary(run: &TerrainRun, seed: u64) -> serde_json::Value {
         "switch": run.switch.json(),
         "posture_joints_deg": run.posture.iter().map(|q| q.to_degrees()).collect::<Vec<f64>>(),
     })
+}
+
+/// The console lines on object mode, the closures and the kidnap, explained.
+fn object_results(s: &serde_json::Value) -> String {
+    let o = &s["objects"];
+    let c = &s["closures"];
+    let kidnap = match s["recovery"].as_object() {
+        None => String::new(),
+        Some(k) => match k["recovered_at"].as_u64() {
+            Some(at) => format!(
+                "\nkidnap     carried at update {}; re-localised at update {at}, {:.0} s later, by \
+                 {} ({} false re-localisations before)",
+                k["after_update"],
+                k["time_s"].as_f64().unwrap_or(f64::NAN),
+                if k["by_landmark"] == true {
+                    "a recognised object"
+                } else {
+                    "the walls"
+                },
+                k["false_before"]
+            ),
+            None => format!(
+                "\nkidnap     carried at update {}; never re-localised ({} false \
+                 re-localisations)",
+                k["after_update"], k["false_before"]
+            ),
+        },
+    };
+    format!(
+        "objects    {} stops ({} whisks, {:.0} s): {} correct, {} wrong, {} none, {} at walls; {} \
+         landmark steps (fusion {})\nclosures   images {} true, {} false; landmarks {} true, {} \
+         false (true: onto an experience made within 0.3 m of where the base is){kidnap}\n  \
+         a stop = the cue said object, the base turned to face it and the Ch 6 closed loop ran; \
+         none = no object's confidence reached the threshold (right for an unmapped object); \
+         at walls = the cue was wrong (no loop runs)",
+        o["stops"],
+        o["whisks"],
+        o["time_s"].as_f64().unwrap_or(f64::NAN),
+        o["correct"],
+        o["wrong"],
+        o["none"],
+        o["wall"],
+        o["landmarks"],
+        if s["fusion"] == true { "on" } else { "off" },
+        c["image_true"],
+        c["image_false"],
+        c["landmark_true"],
+        c["landmark_false"],
+    )
 }
 
 /// The console account of `summary.json` (`wall`: seconds it took), explained.

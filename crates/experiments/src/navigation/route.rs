@@ -59,6 +59,27 @@ pub fn poses(config: &NavigateConfig, period_s: f64) -> Vec<Pose2> {
 
 /// What the odometry reads between consecutive `truth` poses (one fewer than poses),
 /// with `noise` drawn from the sub-stream `navigate/odometry` of `seed`.
+/// The index of each lap's last pose in `truth` (the route's poses, [`poses`]): where
+/// the base arrives back at the first waypoint. Laps differ in length: the first starts
+/// facing its first leg, the others turn towards it first.
+pub fn lap_ends(truth: &[Pose2], config: &NavigateConfig) -> Vec<usize> {
+    let [x, y] = config.route_m[0];
+    let at = |i: usize| (truth[i].x, truth[i].y) == (x, y);
+    (1..truth.len()).filter(|&i| at(i) && !at(i - 1)).collect()
+}
+
+/// The kidnapped robot (`navigate.kidnap`): `truth` (the route's poses, [`poses`]) with
+/// the last lap's legs from its first waypoint to its middle one cut out, and the index
+/// of the first pose after the carry. None when the route has one lap.
+pub fn kidnap(truth: &[Pose2], config: &NavigateConfig) -> Option<(Vec<Pose2>, usize)> {
+    let start = *lap_ends(truth, config).get(config.laps.checked_sub(2)?)?;
+    let [x, y] = config.route_m[config.route_m.len() / 2];
+    let arrive = (start + 1..truth.len()).find(|&i| (truth[i].x, truth[i].y) == (x, y))?;
+    let mut cut = truth[..=start].to_vec();
+    cut.extend_from_slice(&truth[arrive..]);
+    Some((cut, start + 1))
+}
+
 pub fn odometry(truth: &[Pose2], noise: &BaseOdometryNoise, seed: u64) -> Vec<BaseMotion> {
     let mut rng = substream(seed, "navigate/odometry");
     truth
@@ -96,6 +117,9 @@ mod tests {
             switch: Default::default(),
             terrain: Default::default(),
             ratslam: crate::scenario::navigate::office_ratslam(),
+            object: None,
+            fusion: true,
+            kidnap: false,
         }
     }
 
@@ -130,6 +154,25 @@ mod tests {
         // 7 m a lap at 0.1 m per update is 70 drive updates; 3 turns of 90° at 30° per
         // update in the first lap, 4 in the second (the first waypoint's too).
         assert_eq!(truth.len(), 1 + 2 * 70 + 7 * 3);
+    }
+
+    /// The carry starts where the last lap starts (the first waypoint) and lands on the
+    /// middle waypoint; nothing else changes.
+    #[test]
+    fn the_kidnap_cuts_the_last_laps_first_half() {
+        let config = square(2);
+        let truth = poses(&config, 1.0);
+        let (cut, j) = kidnap(&truth, &config).unwrap();
+        let before = cut[j - 1];
+        assert_eq!((before.x, before.y), (1.0, 1.0));
+        assert_eq!((cut[j].x, cut[j].y), (3.0, 2.5));
+        assert_eq!(&cut[..j], &truth[..j]);
+        // The second lap's first half (two legs of 20 and 15 steps, one turn of 3) is gone.
+        assert_eq!(truth.len() - cut.len(), 3 + 20 + 3 + 15 - 1);
+        assert_eq!(cut.last(), truth.last());
+        assert!(kidnap(&poses(&square(1), 1.0), &square(1)).is_none());
+        // Lap 1: 70 steps and three turns of 3; lap 2 turns at the start too.
+        assert_eq!(lap_ends(&truth, &config), vec![79, 161]);
     }
 
     #[test]

@@ -26,26 +26,26 @@
 //! - **Checks.** Every update, the base's disc ([`super::footprint`]) and every arm link
 //!   are tested against the environment; a run that touches anything says where.
 
+use super::closures::{self, Closures, StepRecord};
+use super::object_mode::{self, Episode};
 use super::plan_view::{self, PlanView, SwitchTally};
+use super::posture::Posture;
 use super::{footprint, route};
 use crate::error::{Error, Result};
 use crate::plan::Plan;
 use crate::scenario::Scenario;
-use crate::scenario::navigate::{NavigateConfig, TerrainConfig};
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use crate::scenario::navigate::NavigateConfig;
+use nalgebra::Point2;
 use std::path::Path;
 use whisker_sim::arm::LinkShapes;
 use whisker_sim::environment::Environment;
 use whisker_sim::environment::solids::Solids;
-use whisker_sim::kinematics::Chain;
-use whisker_sim::kinematics::ik::{self, IkOptions};
 use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
 use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_slam::contact::ContactCycle;
 use whisker_slam::navigation::base_odometry::BaseMotion;
 use whisker_slam::navigation::map_error::{self, MapError};
 use whisker_slam::navigation::mode_switch::Verdict;
-use whisker_slam::pose;
 use whisker_slam::ratslam::RatSlam;
 use whisker_slam::ratslam::experience_map::{MapEvent, Pose2};
 use whisker_slam::ratslam::local_view::TactileImage;
@@ -56,62 +56,6 @@ use whisker_slam::rng::substream_key;
 
 /// Updates per second: one whisk each at the whisking frequency (1 Hz).
 pub const UPDATE_HZ: f64 = 1.0;
-
-/// The arm holding the array for terrain mode.
-pub struct Posture {
-    /// The chain's joints (rad).
-    pub q: Vec<f64>,
-    /// The array's pose in the arm's base frame (forward kinematics of `q`).
-    pub array: Isometry3<f64>,
-    /// Height of the arm's base link above the floor (m).
-    pub mount: f64,
-}
-
-impl Posture {
-    /// The joints that hold `config`'s array pose, by IK from `start`; the error names
-    /// the field.
-    ///
-    /// The posture belongs to the robot, not to a run: IK's restarts (if the descent from
-    /// `start` fails) draw from seed 0 whatever the run's seed.
-    pub fn solve(
-        config: &TerrainConfig,
-        chain: &Chain,
-        start: &[f64],
-        file: &Path,
-    ) -> Result<Self> {
-        let rpy = config.array_rpy_deg.map(f64::to_radians);
-        let target = pose::from_xyz_rpy(config.array_position_m, rpy);
-        let options = IkOptions {
-            seed: 0,
-            ..IkOptions::default()
-        };
-        let q = ik::solve(chain, &target, start, &options).map_err(|e| {
-            Error::field(
-                file,
-                "navigate.terrain.array_position_m / array_rpy_deg",
-                format!("the arm cannot hold the array there: {e}"),
-            )
-        })?;
-        Ok(Self {
-            array: chain.fk(&q),
-            q,
-            mount: config.mount_height_m,
-        })
-    }
-
-    /// The arm's base link in the world with the base at `b`.
-    pub fn arm_base(&self, b: &Pose2) -> Isometry3<f64> {
-        Isometry3::from_parts(
-            Translation3::new(b.x, b.y, self.mount),
-            UnitQuaternion::from_axis_angle(&Vector3::z_axis(), b.th),
-        )
-    }
-
-    /// The array in the world with the base at `b`.
-    pub fn array_pose(&self, b: &Pose2) -> Isometry3<f64> {
-        self.arm_base(b) * self.array
-    }
-}
 
 /// The tactile image of a whisk (see the module documentation): each contacted whisker's
 /// pixel 1 + 254 × (θ_p − θ) / (θ_p − θ_r), θ its contact angle and θ_r, θ_p its
@@ -147,6 +91,26 @@ pub struct Update {
     pub switch: Option<(Verdict, String)>,
 }
 
+/// A stop in object mode ([`object_mode`]).
+#[derive(Debug, Clone)]
+pub struct Stop {
+    /// The update after which the base stopped, and where it truly stood.
+    pub update: usize,
+    pub truth: Pose2,
+    /// How it docked.
+    pub dock: object_mode::Dock,
+    /// The outline's centre in the odometry frame, and the true centre of the object's
+    /// bounding box (none at a wall).
+    pub centre: Point2<f64>,
+    /// What the closed loop found.
+    pub episode: Episode,
+    /// The landmark's step in the planar map (fused runs that identified something): the
+    /// experience and what the map did.
+    pub landmark: Option<(usize, MapEvent)>,
+    /// The stop's time: the closed loop and the two turns (s).
+    pub time_s: f64,
+}
+
 /// A terrain run and its evaluation.
 pub struct TerrainRun {
     /// Every update, the start first.
@@ -174,10 +138,17 @@ pub struct TerrainRun {
     pub posture: Vec<f64>,
     /// The mode-switch cue's verdicts against the truth.
     pub switch: SwitchTally,
+    /// Object mode's stops.
+    pub stops: Vec<Stop>,
+    /// Every re-localisation judged against the truth; the kidnapped robot's recovery.
+    pub closures: Closures,
+    /// The robot's time over the run (s): the updates and the stops.
+    pub time_s: f64,
 }
 
 /// Runs terrain mode over `config`'s route in `environment` (scenario `scenario`, read
-/// from `file`, its arm `plan`), calling `progress(done, total)` after each update.
+/// from `file`, its arm `plan`), with object mode's stops when `[navigate.object]` is
+/// given, calling `progress(done, total)` after each update.
 pub fn run(
     scenario: &Scenario,
     file: &Path,
@@ -188,10 +159,27 @@ pub fn run(
 ) -> Result<TerrainRun> {
     let chain = crate::sensing::array::array_chain(scenario, file, plan)?;
     let posture = Posture::solve(&config.terrain, &chain, &plan.waypoints[0], file)?;
-    let truth = route::poses(config, 1.0 / UPDATE_HZ);
-    let readings = route::odometry(&truth, &config.odometry, scenario.seed);
+    let route = route::poses(config, 1.0 / UPDATE_HZ);
+    let (truth, carried) = match config.kidnap {
+        false => (route, None),
+        true => {
+            let (cut, j) = route::kidnap(&route, config).ok_or_else(|| {
+                Error::field(
+                    file,
+                    "navigate.kidnap",
+                    "the route never reaches its middle waypoint",
+                )
+            })?;
+            (cut, Some(j))
+        }
+    };
+    let mut readings = route::odometry(&truth, &config.odometry, scenario.seed);
+    if let Some(j) = carried {
+        // Carried: the wheels did not turn.
+        readings[j - 1] = BaseMotion::default();
+    }
     // The base's disc stands as tall as the arm's mount.
-    let base_collisions = footprint::collisions(
+    let mut base_collisions = footprint::collisions(
         environment,
         &truth,
         config.base.radius_m,
@@ -212,45 +200,71 @@ pub fn run(
     let target = SweepTarget::of(environment);
     let mut slam = RatSlam::new(config.ratslam);
     let mut updates = Vec::with_capacity(truth.len());
+    let mut steps = Vec::with_capacity(truth.len());
     let mut arm_collisions = Vec::new();
-    let dead_reckoned = route::dead_reckon(truth[0], &readings);
+    let mut dead_reckoned = Vec::with_capacity(truth.len());
     let mut view = PlanView::new(config.switch.window_whisks);
     let mut switch = SwitchTally::default();
+    let mut stops: Vec<Stop> = Vec::new();
+    let mut newest_piece = None;
+    let setting = object_mode::Setting {
+        scenario,
+        file,
+        plan,
+        environment,
+    };
+    let mut landmarks =
+        object_mode::Landmarks::new(config.object.as_ref().map_or(0.0, |o| o.landmark_gate_m));
+    let mut clock = 0.0;
     for (k, b) in truth.iter().enumerate() {
-        for link in shapes.colliding_at(&plan.model, &joints, &posture.arm_base(b), &solids) {
-            arm_collisions.push((k, link));
-        }
-        let cycle = sensing.sense(
-            &target,
-            k as u64,
-            k as f64 / UPDATE_HZ,
-            &posture.array_pose(b),
-        );
-        let img = image(&cycle, &whiskers);
-        view.add(&cycle, &whiskers, &posture.array_pose(&dead_reckoned[k]));
-        let verdict = match cycle.contacts.last() {
-            None => None,
-            Some(newest) => {
-                let decision = config.switch.decide(&view.outline());
-                let point = sensing
-                    .intersects
-                    .iter()
-                    .find(|(w, _)| *w == newest.whisker);
-                let piece = point
-                    .and_then(|(_, p)| plan_view::piece_at(environment, p))
-                    .expect("a detected contact has its intersect");
-                let name = environment.pieces[piece].name.clone();
-                switch.add(k, decision.verdict, &name, piece < scenario.objects.len());
-                Some((decision.verdict, name))
-            }
-        };
         let reading = match k {
             0 => BaseMotion::default(),
             _ => readings[k - 1],
         };
+        let dr = match dead_reckoned.last() {
+            None => *b,
+            Some(at) => reading.apply(at),
+        };
+        dead_reckoned.push(dr);
+        for link in shapes.colliding_at(&plan.model, &joints, &posture.arm_base(b), &solids) {
+            arm_collisions.push((k, link));
+        }
+        let cycle = sensing.sense(&target, k as u64, clock, &posture.array_pose(b));
+        let img = image(&cycle, &whiskers);
+        view.add(&cycle, &whiskers, &posture.array_pose(&dr));
+        // The piece the window's newest contact truly lies on.
+        if let Some(newest) = cycle.contacts.last() {
+            let point = sensing
+                .intersects
+                .iter()
+                .find(|(w, _)| *w == newest.whisker);
+            newest_piece = point.and_then(|(_, p)| plan_view::piece_at(environment, p));
+            debug_assert!(
+                newest_piece.is_some(),
+                "a detected contact has its intersect"
+            );
+        }
+        let outline = view.outline();
+        let decided = match (outline.contacts.is_empty(), newest_piece) {
+            (false, Some(piece)) => {
+                let decision = config.switch.decide(&outline);
+                let name = &environment.pieces[piece].name;
+                switch.add(k, decision.verdict, name, piece < scenario.objects.len());
+                Some((decision, piece))
+            }
+            _ => None,
+        };
         // A whisk that touched nothing says nothing of the place: it does not inject.
         let touched = !cycle.contacts.is_empty();
         let step = slam.step_gated(&img, reading.trans, reading.rot1 + reading.rot2, touched);
+        steps.push(StepRecord {
+            update: k,
+            time_s: clock,
+            experience: step.experience,
+            event: step.event,
+            truth: *b,
+            landmark: false,
+        });
         updates.push(Update {
             truth: *b,
             reading,
@@ -259,13 +273,77 @@ pub fn run(
             template: step.template,
             experience: step.experience,
             event: step.event,
-            switch: verdict,
+            switch: decided
+                .as_ref()
+                .map(|(d, p)| (d.verdict, environment.pieces[*p].name.clone())),
         });
+        clock += 1.0 / UPDATE_HZ;
+        if let (Some(om), Some((decision, piece))) = (&config.object, decided)
+            && decision.verdict == Verdict::Object
+            && stops
+                .last()
+                .is_none_or(|s| (s.centre - decision.centre).norm() > om.revisit_m)
+        {
+            let dock = object_mode::Dock::toward(&dr, &decision.centre, om.dock_distance_m);
+            if let Some(next) = readings.get_mut(k) {
+                let manoeuvre = dock.reading(&config.odometry, scenario.seed, k);
+                *next = object_mode::compose(&manoeuvre, next);
+            }
+            let docked = dock.docked(b);
+            for (_, what) in footprint::collisions(
+                environment,
+                &[docked],
+                config.base.radius_m,
+                config.terrain.mount_height_m,
+            )
+            .map_err(Error::Failure)?
+            {
+                base_collisions.push((k, what));
+            }
+            let episode = match piece < scenario.objects.len() {
+                true => object_mode::explore(&setting, om, &posture.arm_base(&docked), piece, k)?,
+                false => Episode {
+                    object: None,
+                    identified: None,
+                    ic: Default::default(),
+                    whisks: 0,
+                    time_s: 0.0,
+                },
+            };
+            let time_s = episode.time_s
+                + 2.0 * dock.turn.abs().to_degrees() / config.base.turn_rate_deg_s
+                + 2.0 * dock.drive / config.base.speed_m_s;
+            clock += time_s;
+            let landmark = match (&episode.identified, config.fusion) {
+                (Some(id), true) => {
+                    let s = landmarks.observe(&mut slam, id, om.landmark_energy);
+                    steps.push(StepRecord {
+                        update: k,
+                        time_s: clock,
+                        experience: s.experience,
+                        event: s.event,
+                        truth: *b,
+                        landmark: true,
+                    });
+                    Some((s.experience, s.event))
+                }
+                _ => None,
+            };
+            stops.push(Stop {
+                update: k,
+                truth: *b,
+                dock,
+                centre: decision.centre,
+                episode,
+                landmark,
+                time_s,
+            });
+        }
         progress(k + 1, truth.len());
     }
     let log: Vec<usize> = updates.iter().map(|u| u.experience).collect();
     let estimate = slam.map.placed(&log, &truth[0]);
-    let first_lap_end = (truth.len() - 1) / config.laps;
+    let first_lap_end = route::lap_ends(&truth, config)[0];
     Ok(TerrainRun {
         map_error: map_error::measure(&estimate, &truth),
         odometry_error: map_error::measure(&dead_reckoned, &truth),
@@ -278,6 +356,9 @@ pub fn run(
         base_collisions,
         posture: posture.q,
         switch,
+        closures: closures::judge(&steps, carried),
+        stops,
+        time_s: clock,
         updates,
         estimate,
         dead_reckoned,
@@ -287,6 +368,7 @@ pub fn run(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::Isometry3;
     use nalgebra::Point3;
     use whisker_slam::contact::Contact;
 
@@ -318,31 +400,5 @@ mod tests {
         let mut want = [0u8; 18];
         (want[0], want[5], want[17]) = (255, 1, 128);
         assert_eq!(img.pixels, want);
-    }
-
-    /// The array's world pose at base pose (x, y, θ) is the posture's (a, in the arm's
-    /// base frame) turned by θ about the vertical, raised by the mount and moved to
-    /// (x, y): computed here by hand for θ = 90°, where (aₓ, a_y) turns to (−a_y, aₓ).
-    #[test]
-    fn the_array_rides_on_the_base() {
-        let array = Isometry3::from_parts(
-            Translation3::new(0.1, -0.48, -0.1),
-            UnitQuaternion::from_euler_angles(0.3, 0.2, 0.1),
-        );
-        let posture = Posture {
-            q: vec![],
-            array,
-            mount: 0.35,
-        };
-        let b = Pose2 {
-            x: 2.0,
-            y: 1.0,
-            th: std::f64::consts::FRAC_PI_2,
-        };
-        let world = posture.array_pose(&b);
-        let want = Point3::new(2.0 + 0.48, 1.0 + 0.1, 0.35 - 0.1);
-        assert!((world.translation.vector - want.coords).norm() < 1e-12);
-        let turned = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), b.th) * array.rotation;
-        assert!(world.rotation.angle_to(&turned) < 1e-12);
     }
 }

@@ -91,6 +91,10 @@ pub struct ExploreConfig {
     /// serves the thresholds 100–900 of Fig 6.7).
     #[serde(default = "stop_ic")]
     pub stop_ic: f64,
+    /// Recognise: stop at the first object's IC crossing the recognition threshold (the
+    /// decision), as object mode on the mobile robot does (`[navigate.object]`) [false].
+    #[serde(default)]
+    pub stop_on_identity: bool,
     /// Map: passes over the ellipsoid's faces (2, §6.1.3.1).
     #[serde(default = "two")]
     pub map_loops: usize,

@@ -12,6 +12,7 @@ pub mod environment;
 pub mod explore;
 pub mod maze_slam;
 pub mod navigate;
+pub mod object_mode;
 pub mod office;
 pub mod overrides;
 mod paths;
@@ -469,6 +470,9 @@ impl Scenario {
         self.check_driver(file)?;
         if let Some(n) = &self.navigate {
             n.validate(file, office.as_ref())?;
+            if let Some(o) = &n.object {
+                o.validate(file, &self.object_names())?;
+            }
         }
         if let Some(e) = &self.explore {
             e.validate(file, &self.object_names())?;

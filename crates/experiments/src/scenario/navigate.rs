@@ -10,6 +10,7 @@
 //! to the first waypoint at the end of each lap.
 
 use super::Sensing;
+use super::object_mode::ObjectModeConfig;
 use crate::error::{Error, Result};
 use nalgebra::Point2;
 use serde::Deserialize;
@@ -49,6 +50,19 @@ pub struct NavigateConfig {
     /// [`office_ratslam`]'s values.
     #[serde(default = "office_ratslam", deserialize_with = "over_office_ratslam")]
     pub ratslam: RatSlamParams,
+    /// `[navigate.object]`: object mode at the cue's "object"; absent, the cue only
+    /// reports.
+    #[serde(default)]
+    pub object: Option<ObjectModeConfig>,
+    /// Whether a recognised object becomes a landmark in the planar map [true]; false is
+    /// the terrain-only baseline, with the same stops (only the fusion differs).
+    #[serde(default = "yes")]
+    pub fusion: bool,
+    /// The kidnapped robot [false]: at the start of the last lap the base is carried from
+    /// the first waypoint to the middle one (the office: from the corridor into the east
+    /// room), the legs between cut out and the odometry reading no motion.
+    #[serde(default)]
+    pub kidnap: bool,
 }
 
 /// `[navigate.terrain]`: how the arm holds the array while the base drives (terrain
@@ -151,6 +165,9 @@ impl Default for BaseConfig {
 fn two() -> usize {
     2
 }
+fn yes() -> bool {
+    true
+}
 
 impl NavigateConfig {
     /// Checks every field that does not need the environment; names the field.
@@ -187,6 +204,16 @@ impl NavigateConfig {
         }
         if !(1..=MAX_LAPS).contains(&self.laps) {
             return bad("laps", format!("{}: expected 1 to {MAX_LAPS}", self.laps));
+        }
+        if self.kidnap && self.laps < 2 {
+            return bad(
+                "kidnap",
+                format!(
+                    "the robot is kidnapped at the start of the last lap, after a first lap to \
+                     know the office by: expected laps ≥ 2, got {}",
+                    self.laps
+                ),
+            );
         }
         let b = &self.base;
         for (name, v) in [
@@ -319,7 +346,29 @@ impl NavigateConfig {
                 false => "noise-free".into(),
             },
             s.max_object_m
-        )
+        ) + &self.describe_object_mode()
+    }
+
+    /// The lines of [`describe`](Self::describe) on object mode, the fusion and the kidnap.
+    fn describe_object_mode(&self) -> String {
+        let mut out = match &self.object {
+            None => "\nobject     none: the cue only reports (no [navigate.object])".to_string(),
+            Some(o) => format!(
+                "\nobject     at \"object\" the base stops, turns to face it and the Ch 6 closed \
+                 loop identifies it against {:?} in ≤ {} whisks; {}",
+                o.explore.maps.keys().collect::<Vec<_>>(),
+                o.explore.max_iterations,
+                match self.fusion {
+                    true => "an identity becomes a landmark in the planar map (fusion)",
+                    false => "identities are not fed to the planar map (terrain-only baseline)",
+                }
+            ),
+        };
+        if self.kidnap {
+            out += "\nkidnap     at the start of the last lap the base is carried from the first \
+                    waypoint to the middle one, the odometry reading no motion";
+        }
+        out
     }
 }
 
