@@ -180,6 +180,11 @@ fn bad_offices_and_routes_exit_2_naming_the_field_and_write_nothing() {
             vec!["navigate.object.landmark_energy", "expected a number > 0"],
         ),
         (
+            "dock_by_wheels",
+            Box::new(|s| s + "\n[navigate.object]\ndock = \"wheels\"\n"),
+            vec!["dock = \"wheels\"", "expected `arm` or `base`"],
+        ),
+        (
             "kidnap_one_lap",
             Box::new(|s| swap(s, "laps = 2", "laps = 1\nkidnap = true")),
             vec!["navigate.kidnap", "laps ≥ 2"],

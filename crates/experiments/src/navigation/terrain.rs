@@ -35,6 +35,7 @@ use crate::error::{Error, Result};
 use crate::plan::Plan;
 use crate::scenario::Scenario;
 use crate::scenario::navigate::NavigateConfig;
+use crate::scenario::object_mode::DockBy;
 use nalgebra::Point2;
 use std::path::Path;
 use whisker_sim::arm::LinkShapes;
@@ -284,21 +285,32 @@ pub fn run(
                 .last()
                 .is_none_or(|s| (s.centre - decision.centre).norm() > om.revisit_m)
         {
-            let dock = object_mode::Dock::toward(&dr, &decision.centre, om.dock_distance_m);
-            if let Some(next) = readings.get_mut(k) {
-                let manoeuvre = dock.reading(&config.odometry, scenario.seed, k);
-                *next = object_mode::compose(&manoeuvre, next);
-            }
+            let by_base = om.dock == DockBy::Base;
+            let dock = match by_base {
+                true => object_mode::Dock::toward(&dr, &decision.centre, om.dock_distance_m),
+                false => object_mode::Dock {
+                    turn: object_mode::facing(&dr, &decision.centre),
+                    drive: 0.0,
+                },
+            };
+            // Docked by the arm: the frame of the arm's base turned by the shoulder's pan
+            // (its axis is the base link's vertical through its origin).
             let docked = dock.docked(b);
-            for (_, what) in footprint::collisions(
-                environment,
-                &[docked],
-                config.base.radius_m,
-                config.terrain.mount_height_m,
-            )
-            .map_err(Error::Failure)?
-            {
-                base_collisions.push((k, what));
+            if by_base {
+                if let Some(next) = readings.get_mut(k) {
+                    let manoeuvre = dock.reading(&config.odometry, scenario.seed, k);
+                    *next = object_mode::compose(&manoeuvre, next);
+                }
+                for (_, what) in footprint::collisions(
+                    environment,
+                    &[docked],
+                    config.base.radius_m,
+                    config.terrain.mount_height_m,
+                )
+                .map_err(Error::Failure)?
+                {
+                    base_collisions.push((k, what));
+                }
             }
             let episode = match piece < scenario.objects.len() {
                 true => object_mode::explore(&setting, om, &posture.arm_base(&docked), piece, k)?,
@@ -311,8 +323,12 @@ pub fn run(
                 },
             };
             let time_s = episode.time_s
-                + 2.0 * dock.turn.abs().to_degrees() / config.base.turn_rate_deg_s
-                + 2.0 * dock.drive / config.base.speed_m_s;
+                + 2.0 * dock.drive / config.base.speed_m_s
+                + 2.0
+                    * match by_base {
+                        true => dock.turn.abs().to_degrees() / config.base.turn_rate_deg_s,
+                        false => dock.turn.abs() / scenario.arm.joint_speed_limit_rad_s,
+                    };
             clock += time_s;
             let landmark = match (&episode.identified, config.fusion) {
                 (Some(id), true) => {

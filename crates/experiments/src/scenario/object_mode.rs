@@ -13,6 +13,11 @@ use std::path::Path;
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectModeConfig {
+    /// What turns to face the object: `"arm"` (the shoulder's pan joint; the base stays
+    /// where it stopped) or `"base"` (the base turns in place and drives up to
+    /// `dock_distance_m`, its odometry reading both legs with its errors) ["arm"].
+    #[serde(default)]
+    pub dock: DockBy,
     /// How far ahead of the base's centre (the arm's base) the base docks the outline's
     /// centre, the contacts' centroid on the object's near side (m) [0.45]: the Ch 6
     /// scenarios' 0.55 m to the object's centre less a small object's half width.
@@ -37,6 +42,17 @@ pub struct ObjectModeConfig {
     /// (its table is the floor, `mount_height_m` below); `task` must be "recognise" and
     /// `object` is left out (the stop sets it).
     pub explore: ExploreConfig,
+}
+
+/// `[navigate.object]` `dock`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DockBy {
+    /// The arm's shoulder pan turns the arm to face the object.
+    #[default]
+    Arm,
+    /// The base turns and drives.
+    Base,
 }
 
 fn dock() -> f64 {
