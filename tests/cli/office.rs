@@ -267,13 +267,22 @@ fn the_office_run_maps_the_route_closer_than_its_odometry() {
     let path = office(tmp.path(), "run", |s| s);
     let o = whisker(&["run", path.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
-    // No recording yet, and the closing lines say why (not "switched off").
-    assert!(
-        stdout(&o).contains("recording  none: a [navigate] run writes no .rrd yet"),
-        "{}",
-        stdout(&o)
-    );
     let dir = tmp.path().join("out-run");
+    // The recording: every entity documented, one tactile image per update.
+    let chunks = super::recording::checked(
+        &dir.join("run.rrd"),
+        &[
+            "slam/office/tactile_image",
+            "slam/office/pose_cells",
+            "world/runs/office/array",
+            "world/runs/office/true",
+            "world/runs/office/estimated",
+            "world/runs/office/odometry",
+            "world/runs/office/stops",
+            "events",
+        ],
+    );
+    let entities = whisker_recording::decode::entities(&chunks);
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["arm_collisions"], 0, "{summary}");
@@ -299,6 +308,7 @@ fn the_office_run_maps_the_route_closer_than_its_odometry() {
         .map(|l| l.split(',').take(14).map(|f| f.parse().unwrap()).collect())
         .collect();
     assert_eq!(rows.len() as u64, summary["updates"].as_u64().unwrap());
+    assert_eq!(entities["/slam/office/tactile_image"].rows, rows.len());
     // Waypoints A, B, C, D, twice round, starting and ending at A.
     let (first, last) = (&rows[0], rows.last().unwrap());
     assert_eq!((first[2], first[3], last[2], last[3]), (0.7, 0.7, 0.7, 0.7));

@@ -29,17 +29,6 @@ pub fn legend(title: &str, entries: &[(&str, &str)]) -> String {
     out
 }
 
-/// Set by a run whose kind writes no recording yet (the reason), to be said in place of
-/// the command's usual [`NoRecording`].
-static NOT_RECORDED: std::sync::Mutex<Option<&'static str>> = std::sync::Mutex::new(None);
-
-/// Says, in the closing lines, that this run's kind writes no recording, and why.
-pub fn not_recorded(reason: &'static str) {
-    *NOT_RECORDED
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner) = Some(reason);
-}
-
 /// Why a command wrote no recording, when it could have.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum NoRecording {
@@ -115,13 +104,7 @@ pub fn outputs(written: &[PathBuf], missing: Option<NoRecording>) -> String {
         .iter()
         .filter(|p| p.extension().is_some_and(|e| e == "rrd"))
         .collect();
-    let reason = *NOT_RECORDED
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner);
     match (rrds.as_slice(), missing) {
-        ([], Some(_)) if let Some(reason) = reason => {
-            let _ = writeln!(out, "recording  none: {reason}");
-        }
         ([], Some(NoRecording::SwitchedOff)) => {
             out.push_str("recording  none (switched off: --no-rrd or output.recording = false)\n");
         }

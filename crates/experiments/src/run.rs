@@ -72,7 +72,14 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: 
     }
     output::create_dir(dir)?;
     if scenario.navigate.is_some() {
-        return crate::navigation::outputs::write(file, scenario, &plan, &environment, dir, ctx);
+        return crate::navigation::outputs::write(
+            file,
+            scenario,
+            (&plan, &environment),
+            dir,
+            rrd,
+            ctx,
+        );
     }
     if scenario.explore.is_some() {
         return crate::closed_loop::write(file, scenario, plan, &environment, dir, rrd, ctx);

@@ -469,6 +469,7 @@ pub fn slam_runs(
                     rec,
                     name: run_recording::run_name(images_name, name, &tuning, seed),
                     z: plane.z,
+                    hz: geometry::UPDATE_HZ,
                     graph: Default::default(),
                 });
                 let run = Evaluation::of(

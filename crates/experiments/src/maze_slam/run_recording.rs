@@ -2,9 +2,9 @@
 //! RatSLAM run (`slam/<run>`, `world/runs/<run>`; a run is one seed, variant, image set and
 //! tuning) at every update the tactile image, the pose cells (maximum over θ), the
 //! experience map, the true position and the re-localisations; at its end the true and
-//! estimated trajectories. Timelines `update` and `sim_time` (update / 1.5 Hz).
+//! estimated trajectories. Timelines `update` and `sim_time` (update / `hz`: the maze's
+//! 1.5 Hz, the office's 1 Hz).
 
-use super::geometry::UPDATE_HZ;
 use super::path::Sample;
 use crate::error::Result;
 use crate::record::{Graph, GraphSchedule, Recorder};
@@ -20,7 +20,9 @@ pub struct RunRecording<'a> {
     pub name: String,
     /// Height at which paths are drawn (the array's plane, m).
     pub z: f64,
-    pub(super) graph: GraphSchedule,
+    /// Updates per second (timeline `sim_time`).
+    pub hz: f64,
+    pub graph: GraphSchedule,
 }
 
 /// A run's name as an entity path segment.
@@ -30,7 +32,7 @@ pub fn run_name(images: &str, variant: &str, tuning: &str, seed: u64) -> String 
 
 impl RunRecording<'_> {
     fn at(&self, k: usize) {
-        self.rec.at(k as f64 / UPDATE_HZ);
+        self.rec.at(k as f64 / self.hz);
         self.rec.at_step("update", k as u64);
     }
 

@@ -6,9 +6,10 @@
 use super::closures::Closures;
 use super::terrain::{self, TerrainRun};
 use crate::error::{Error, Result};
+use crate::maze_slam::run_recording::RunRecording;
 use crate::output;
 use crate::plan::Plan;
-use crate::record::Context;
+use crate::record::{Context, Eye, Layout, Target};
 use crate::scenario::{Scenario, Sensing};
 use serde_json::json;
 use std::path::Path;
@@ -16,6 +17,9 @@ use whisker_sim::environment::Environment;
 use whisker_slam::navigation::map_error::MapError;
 use whisker_slam::navigation::mode_switch::Verdict;
 use whisker_slam::ratslam::experience_map::MapEvent;
+
+/// The run's name in the recording (`slam/office`, `world/runs/office`).
+pub const RUN: &str = "office";
 
 /// The files a navigation run writes.
 pub const FILES: &str = "path.csv, stops.csv, summary.json, path.svg";
@@ -74,19 +78,58 @@ pub fn check(
 pub fn write(
     file: &Path,
     scenario: &Scenario,
-    plan: &Plan,
-    environment: &Environment,
+    (plan, environment): (&Plan, &Environment),
     dir: &Path,
+    rrd: &Target,
     ctx: Context,
 ) -> Result {
     let config = scenario.navigate.as_ref().expect("a [navigate] scenario");
-    crate::console::not_recorded(
-        "a [navigate] run writes no .rrd yet (issue #36's next steps); path.svg shows the paths",
-    );
+    let recorder = ctx.scenario_recording(
+        file,
+        scenario.seed,
+        scenario.output.recording,
+        dir,
+        rrd,
+        Layout::SlamRuns {
+            runs: vec![RUN.into()],
+            images: true,
+            timeline: "update",
+            eye: Eye::of(environment, &[]),
+        },
+    )?;
+    if let Some(rec) = &recorder {
+        rec.environment(environment)?;
+    }
+    let mut recording = recorder.as_deref().map(|rec| RunRecording {
+        rec,
+        name: RUN.into(),
+        z: config.terrain.mount_height_m + config.terrain.array_position_m[2],
+        hz: terrain::UPDATE_HZ,
+        graph: Default::default(),
+    });
     let start = std::time::Instant::now();
-    let run = terrain::run(scenario, file, plan, environment, config, |k, n| {
-        ctx.progress("updates", k as u64, n as u64)
-    })?;
+    let run = terrain::run(
+        scenario,
+        file,
+        plan,
+        environment,
+        config,
+        |k, n| ctx.progress("updates", k as u64, n as u64),
+        recording.as_mut(),
+    )?;
+    if let Some(r) = &recording {
+        let truth: Vec<_> = run.updates.iter().map(|u| u.truth).collect();
+        r.finish(Some(&truth), &run.estimate)?;
+        let odometry: Vec<[f64; 3]> = run.dead_reckoned.iter().map(|p| [p.x, p.y, r.z]).collect();
+        r.rec.trajectory(
+            &format!("world/runs/{RUN}/odometry"),
+            &odometry,
+            [150, 150, 150],
+        )?;
+    }
+    if let Some(rec) = recorder {
+        rec.finish()?;
+    }
     output::write_atomic(&dir.join("path.csv"), path_csv(&run).as_bytes())?;
     output::write_atomic(&dir.join("stops.csv"), stops_csv(&run).as_bytes())?;
     let summary = summary(&run, scenario.seed, config);
@@ -329,7 +372,7 @@ fn object_results(s: &serde_json::Value) -> String {
         "objects    {} stops ({} whisks, {:.0} s): {} correct, {} wrong, {} none, {} at walls; {} \
          landmark steps (fusion {})\nclosures   images {} true, {} false; landmarks {} true, {} \
          false (true: onto an experience made within 0.3 m of where the base is){kidnap}\n  \
-         a stop = the cue said object, the base turned to face it and the Ch 6 closed loop ran; \
+         a stop = the cue said object, the arm (or with dock = base the base) turned to face it and the Ch 6 closed loop ran; \
          none = no object's confidence reached the threshold (right for an unmapped object); \
          at walls = the cue was wrong (no loop runs)",
         o["stops"],

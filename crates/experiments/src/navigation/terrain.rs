@@ -20,9 +20,14 @@
 //!   and says nothing of the place: its template does not inject (blank templates matching
 //!   each other would pull the pose cells to wherever the first blank whisk was; on the
 //!   default office this made no systematic difference, docs/navigation.md).
-//! - **The mode-switch cue** ([`super::plan_view`]) after every whisk that touched, on the
-//!   latest whisks' contacts and free points in the odometry frame, scored against the
-//!   piece the newest contact lies on. It only reports so far: object mode is next.
+//! - **The mode-switch cue** ([`super::plan_view`]) after every whisk while the latest
+//!   whisks hold a contact, on their contacts and free points in the odometry frame,
+//!   scored against the piece the newest contact lies on.
+//! - **Object mode** ([`super::object_mode`], with `[navigate.object]`): at the cue's
+//!   "object" the base stops, the arm (or the base) faces the outline, the Ch 6 closed loop
+//!   identifies it, and with `navigate.fusion` the identity becomes a landmark step of the
+//!   planar map. Every step is judged against the truth ([`super::closures`]);
+//!   `navigate.kidnap` carries the robot at the start of the last lap ([`route::kidnap`]).
 //! - **Checks.** Every update, the base's disc ([`super::footprint`]) and every arm link
 //!   are tested against the environment; a run that touches anything says where.
 
@@ -32,6 +37,7 @@ use super::plan_view::{self, PlanView, SwitchTally};
 use super::posture::Posture;
 use super::{footprint, route};
 use crate::error::{Error, Result};
+use crate::maze_slam::run_recording::RunRecording;
 use crate::plan::Plan;
 use crate::scenario::Scenario;
 use crate::scenario::navigate::NavigateConfig;
@@ -157,6 +163,7 @@ pub fn run(
     environment: &Environment,
     config: &NavigateConfig,
     mut progress: impl FnMut(usize, usize),
+    mut recording: Option<&mut RunRecording>,
 ) -> Result<TerrainRun> {
     let chain = crate::sensing::array::array_chain(scenario, file, plan)?;
     let posture = Posture::solve(&config.terrain, &chain, &plan.waypoints[0], file)?;
@@ -266,6 +273,9 @@ pub fn run(
             truth: *b,
             landmark: false,
         });
+        if let Some(r) = recording.as_deref_mut() {
+            r.update(k, &img, &slam, &step, Some(b), k + 1 == truth.len())?;
+        }
         updates.push(Update {
             truth: *b,
             reading,
@@ -345,6 +355,25 @@ pub fn run(
                 }
                 _ => None,
             };
+            if let Some(r) = recording.as_deref() {
+                let e = &episode;
+                r.rec.event(&format!(
+                    "update {k}: stop facing {}: identified {} ({}){}",
+                    e.object.as_deref().unwrap_or("a wall"),
+                    e.identified.as_deref().unwrap_or("nothing"),
+                    e.outcome(),
+                    match landmark {
+                        Some((x, ev)) => format!(", landmark experience {x} ({ev:?})"),
+                        None => String::new(),
+                    }
+                ))?;
+                r.rec.marker(
+                    &format!("world/runs/{}/stops", r.name),
+                    [b.x, b.y, r.z],
+                    0.08,
+                    Some([200, 40, 200]),
+                )?;
+            }
             stops.push(Stop {
                 update: k,
                 truth: *b,
