@@ -48,7 +48,7 @@ pub fn check(file: &Path, meshes: Option<&Path>, ctx: Context) -> Result {
     };
     if scenario.navigate.is_some() {
         ctx.say(&format!(
-            "output     {} ({}; no .rrd recording yet)",
+            "output     {} ({}{rrd})",
             dir.display(),
             crate::navigation::outputs::FILES
         ));

@@ -354,8 +354,12 @@ impl NavigateConfig {
         let mut out = match &self.object {
             None => "\nobject     none: the cue only reports (no [navigate.object])".to_string(),
             Some(o) => format!(
-                "\nobject     at \"object\" the base stops, turns to face it and the Ch 6 closed \
-                 loop identifies it against {:?} in ≤ {} whisks; {}",
+                "\nobject     at \"object\" the base stops, {} and the Ch 6 closed loop identifies \
+                 it against {:?} in ≤ {} whisks; {}",
+                match o.dock {
+                    super::object_mode::DockBy::Arm => "the arm turns to face it",
+                    super::object_mode::DockBy::Base => "the base turns and drives up to it",
+                },
                 o.explore.maps.keys().collect::<Vec<_>>(),
                 o.explore.max_iterations,
                 match self.fusion {
