@@ -129,9 +129,9 @@ fn bad_offices_and_routes_exit_2_naming_the_field_and_write_nothing() {
             vec!["navigate.switch", "max_object_m"],
         ),
         (
-            "physics",
-            Box::new(|s| swap(s, "sensing = \"kinematic\"", "sensing = \"physics\"")),
-            vec!["field `sensing`", "kinematic sweep so far"],
+            "no_sensing",
+            Box::new(|s| swap(s, "sensing = \"kinematic\"", "sensing = \"none\"")),
+            vec!["field `sensing`", "needs sensing = \"kinematic\" or \"physics\""],
         ),
         (
             "mount",

@@ -160,3 +160,46 @@ fn the_kidnapped_robot_relocalises_where_it_truly_is() {
         assert!(d <= 0.3, "{d} m");
     }
 }
+
+/// Physics sensing on the moving base (`sensing = "physics"`): a short stretch along the
+/// south wall, with the array 4 cm nearer the wall than the default posture (there the
+/// longest whiskers' tips only graze it, below the sensor's RCP threshold). The physics
+/// whiskers touch the wall on the same whisks as the kinematic sweep, give or take one,
+/// and nothing collides.
+#[test]
+fn physics_whiskers_touch_the_wall_where_the_kinematic_sweep_does() {
+    let tmp = tempfile::tempdir().unwrap();
+    let short = |sensing: &'static str| {
+        move |s: String| {
+            let s = swap(
+                s,
+                "sensing = \"kinematic\"",
+                &format!("sensing = \"{sensing}\""),
+            );
+            let s = swap(
+                s,
+                "route_m = [[0.7, 0.7], [5.5, 0.7], [5.5, 3.3], [0.7, 3.3]]   # A, B, C, D\nlaps = 2",
+                "route_m = [[0.7, 0.7], [1.3, 0.7]]\nlaps = 1",
+            );
+            let a = s.find("[navigate.object.explore]").unwrap();
+            let b = s.find("[navigate.base]").unwrap();
+            format!(
+                "{}{}\n[navigate.terrain]\narray_position_m = [0.0, -0.52, -0.1]\n",
+                &s[..a],
+                &s[b..]
+            )
+        }
+    };
+    let (_, physics) = run(tmp.path(), "physics", short("physics"));
+    let (_, kinematic) = run(tmp.path(), "kinematic", short("kinematic"));
+    let touched = |s: &serde_json::Value| s["whisks_with_contact"].as_i64().unwrap();
+    assert!(touched(&physics) >= 5, "{physics}");
+    assert!(
+        (touched(&physics) - touched(&kinematic)).abs() <= 1,
+        "physics {} vs kinematic {}",
+        touched(&physics),
+        touched(&kinematic)
+    );
+    assert_eq!(physics["arm_collisions"], 0);
+    assert_eq!(physics["base_collisions"], 0);
+}

@@ -10,7 +10,7 @@ use crate::maze_slam::run_recording::RunRecording;
 use crate::output;
 use crate::plan::Plan;
 use crate::record::{Context, Eye, Layout, Target};
-use crate::scenario::{Scenario, Sensing};
+use crate::scenario::Scenario;
 use serde_json::json;
 use std::path::Path;
 use whisker_sim::environment::Environment;
@@ -41,14 +41,6 @@ pub fn check(
             "expected [navigate] and [office]",
         ));
     };
-    if scenario.sensing != Sensing::Kinematic {
-        return Err(Error::field(
-            file,
-            "sensing",
-            "a [navigate] run senses with the kinematic sweep so far: expected \"kinematic\" \
-             (physics whiskers on the moving base are part of issue #36's next steps)",
-        ));
-    }
     let objects = Environment {
         pieces: environment.pieces[..scenario.objects.len()].to_vec(),
     };
@@ -114,7 +106,7 @@ pub fn write(
         plan,
         environment,
         config,
-        |k, n| ctx.progress("updates", k as u64, n as u64),
+        ctx.reporter,
         recording.as_mut(),
     )?;
     if let Some(r) = &recording {

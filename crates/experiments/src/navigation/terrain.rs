@@ -39,10 +39,13 @@ use super::{footprint, route};
 use crate::error::{Error, Result};
 use crate::maze_slam::run_recording::RunRecording;
 use crate::plan::Plan;
+use crate::record::Reporter;
 use crate::scenario::Scenario;
+use crate::scenario::Sensing;
 use crate::scenario::navigate::NavigateConfig;
 use crate::scenario::object_mode::DockBy;
-use nalgebra::Point2;
+use crate::sensing::held::PhysicsSensing;
+use nalgebra::{Isometry3, Point2, Point3};
 use std::path::Path;
 use whisker_sim::arm::LinkShapes;
 use whisker_sim::environment::Environment;
@@ -75,6 +78,81 @@ pub fn image(cycle: &ContactCycle, whiskers: &[RigidWhisker]) -> TactileImage {
         image.pixels[c.whisker] = 1 + (254.0 * early).round() as u8;
     }
     image
+}
+
+/// How the terrain whisks are sensed.
+enum Whisks {
+    /// The kinematic sweep, whisk by whisk (sub-stream `navigate/sensing`).
+    Kinematic(KinematicArray),
+    /// Physics whiskers of `[array]` held at each update's array pose through the signal
+    /// front end, all simulated first, in parallel (streams `navigate/physics/<update>`).
+    Physics(std::vec::IntoIter<ContactCycle>),
+}
+
+impl Whisks {
+    /// Update `k`'s whisk at `pose` (time `t`), and the world point its newest contact
+    /// truly lies at: the sweep's noise-free intersect, or (physics) the sensed point.
+    fn next(
+        &mut self,
+        target: &SweepTarget,
+        k: usize,
+        t: f64,
+        pose: &Isometry3<f64>,
+    ) -> (ContactCycle, Option<Point3<f64>>) {
+        match self {
+            Self::Kinematic(a) => {
+                let c = a.sense(target, k as u64, t, pose);
+                let p = c.contacts.last().map(|n| {
+                    a.intersects
+                        .iter()
+                        .find(|(w, _)| *w == n.whisker)
+                        .expect("a detected contact has its intersect")
+                        .1
+                });
+                (c, p)
+            }
+            Self::Physics(cycles) => {
+                let mut c = cycles.next().expect("one physics whisk per update");
+                c.start_s = t;
+                let p = c.contacts.last().map(|n| c.array_pose * n.point);
+                (c, p)
+            }
+        }
+    }
+}
+
+/// The whiskers (rigid, for the images and free points) and the whisks of `scenario`'s
+/// sensing; `poses` gives every update's array pose (physics simulates them first).
+fn whisks(
+    scenario: &Scenario,
+    file: &Path,
+    environment: &Environment,
+    target: &SweepTarget,
+    reporter: &dyn Reporter,
+    poses: impl FnOnce() -> Vec<Isometry3<f64>>,
+) -> Result<(Vec<RigidWhisker>, Whisks)> {
+    let configs = scenario.whisker_configs(file)?;
+    Ok(match scenario.sensing {
+        Sensing::Physics => {
+            let physics = PhysicsSensing::with_configs(
+                environment.physics_pieces(),
+                scenario.frontend.model(file)?,
+                configs.clone(),
+            );
+            let cycles = physics.sense(target, &poses(), scenario.seed, "navigate", reporter);
+            let whiskers = configs.iter().map(|c| c.rigid()).collect();
+            (whiskers, Whisks::Physics(cycles.into_iter()))
+        }
+        _ => {
+            let whiskers = crate::maze_slam::kinematic_whiskers();
+            let patterns = vec![WhiskingPattern::default(); whiskers.len()];
+            let noise = scenario.kinematic.noise(file)?;
+            let key = substream_key(scenario.seed, "navigate/sensing");
+            let array = KinematicArray::new(whiskers.clone(), patterns, noise, key)
+                .with_control(configs[0].control);
+            (whiskers, Whisks::Kinematic(array))
+        }
+    })
 }
 
 /// One update of a terrain run.
@@ -155,14 +233,14 @@ pub struct TerrainRun {
 
 /// Runs terrain mode over `config`'s route in `environment` (scenario `scenario`, read
 /// from `file`, its arm `plan`), with object mode's stops when `[navigate.object]` is
-/// given, calling `progress(done, total)` after each update.
+/// given, its progress said to `reporter`.
 pub fn run(
     scenario: &Scenario,
     file: &Path,
     plan: &Plan,
     environment: &Environment,
     config: &NavigateConfig,
-    mut progress: impl FnMut(usize, usize),
+    reporter: &dyn Reporter,
     mut recording: Option<&mut RunRecording>,
 ) -> Result<TerrainRun> {
     let chain = crate::sensing::array::array_chain(scenario, file, plan)?;
@@ -198,14 +276,10 @@ pub fn run(
     let shapes = LinkShapes::new(&plan.model);
     let joints = plan.model_joints(&posture.q);
 
-    let whiskers = crate::maze_slam::kinematic_whiskers();
-    let patterns = vec![WhiskingPattern::default(); whiskers.len()];
-    let noise = scenario.kinematic.noise(file)?;
-    let control = scenario.whisker_configs(file)?[0].control;
-    let key = substream_key(scenario.seed, "navigate/sensing");
-    let mut sensing =
-        KinematicArray::new(whiskers.clone(), patterns, noise, key).with_control(control);
     let target = SweepTarget::of(environment);
+    let (whiskers, mut whisks) = whisks(scenario, file, environment, &target, reporter, || {
+        truth.iter().map(|b| posture.array_pose(b)).collect()
+    })?;
     let mut slam = RatSlam::new(config.ratslam);
     let mut updates = Vec::with_capacity(truth.len());
     let mut steps = Vec::with_capacity(truth.len());
@@ -237,20 +311,12 @@ pub fn run(
         for link in shapes.colliding_at(&plan.model, &joints, &posture.arm_base(b), &solids) {
             arm_collisions.push((k, link));
         }
-        let cycle = sensing.sense(&target, k as u64, clock, &posture.array_pose(b));
+        let (cycle, newest) = whisks.next(&target, k, clock, &posture.array_pose(b));
         let img = image(&cycle, &whiskers);
         view.add(&cycle, &whiskers, &posture.array_pose(&dr));
         // The piece the window's newest contact truly lies on.
-        if let Some(newest) = cycle.contacts.last() {
-            let point = sensing
-                .intersects
-                .iter()
-                .find(|(w, _)| *w == newest.whisker);
-            newest_piece = point.and_then(|(_, p)| plan_view::piece_at(environment, p));
-            debug_assert!(
-                newest_piece.is_some(),
-                "a detected contact has its intersect"
-            );
+        if let Some(p) = newest {
+            newest_piece = plan_view::piece_at(environment, &p);
         }
         let outline = view.outline();
         let decided = match (outline.contacts.is_empty(), newest_piece) {
@@ -384,7 +450,7 @@ pub fn run(
                 time_s,
             });
         }
-        progress(k + 1, truth.len());
+        reporter.progress("updates", k as u64 + 1, truth.len() as u64);
     }
     let log: Vec<usize> = updates.iter().map(|u| u.experience).collect();
     let estimate = slam.map.placed(&log, &truth[0]);
