@@ -131,7 +131,10 @@ fn bad_offices_and_routes_exit_2_naming_the_field_and_write_nothing() {
         (
             "no_sensing",
             Box::new(|s| swap(s, "sensing = \"kinematic\"", "sensing = \"none\"")),
-            vec!["field `sensing`", "needs sensing = \"kinematic\" or \"physics\""],
+            vec![
+                "field `sensing`",
+                "needs sensing = \"kinematic\" or \"physics\"",
+            ],
         ),
         (
             "mount",

@@ -42,5 +42,5 @@ mod whisk_recording;
 
 pub use log::{CSV_NAME, SUMMARY_NAME};
 pub use outputs::{describe, write};
-pub use session::{run, run_logged};
+pub use session::{run, run_knowing, run_logged};
 pub use state::Outcome;

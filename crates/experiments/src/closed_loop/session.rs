@@ -10,6 +10,7 @@ use crate::scenario::Scenario;
 use crate::sensing::held::WhiskLog;
 use std::path::Path;
 use whisker_sim::environment::Environment;
+use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 
 /// Runs the closed loop of `scenario` (read from `file`) in `environment`.
 pub fn run(
@@ -19,6 +20,32 @@ pub fn run(
     environment: &Environment,
 ) -> Result<Outcome> {
     run_logged(scenario, file, plan, environment, None, None, &Silent)
+}
+
+/// [`run`] knowing `learned` object maps (name, map) besides `[explore].maps`.
+pub fn run_knowing(
+    scenario: &Scenario,
+    file: &Path,
+    plan: Plan,
+    environment: &Environment,
+    learned: &[(String, ObjectMap)],
+) -> Result<Outcome> {
+    let outlets = Outlets {
+        log: None,
+        recording: None,
+        reporter: &Silent,
+        learned,
+    };
+    start(
+        setup::build(scenario, file, plan, environment, outlets)?,
+        scenario,
+    )
+}
+
+/// Runs a built loop from the array's pose.
+fn start(mut state: super::state::Loop<'_>, scenario: &Scenario) -> Result<Outcome> {
+    let at = state.robot.array_pose();
+    state.run(scenario.seed, at)
 }
 
 /// [`run`], physics whisks' samples handed to `log` (stream `explore/physics/<k>`), each
@@ -36,8 +63,10 @@ pub fn run_logged(
         log,
         recording,
         reporter,
+        learned: &[],
     };
-    let mut state = setup::build(scenario, file, plan, environment, outlets)?;
-    let start = state.robot.array_pose();
-    state.run(scenario.seed, start)
+    start(
+        setup::build(scenario, file, plan, environment, outlets)?,
+        scenario,
+    )
 }

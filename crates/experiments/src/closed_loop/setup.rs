@@ -25,11 +25,13 @@ use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 use whisker_slam::whisker_ratslam::slam::WhiskerRatSlam;
 
 /// Where a run's outputs go besides its result: the physics whisks' samples (`log`), the
-/// recording, and what it says.
+/// recording, and what it says; and the object maps it knows besides `[explore].maps`
+/// (`learned`: name and map, e.g. built earlier by the mobile robot, issue #36).
 pub struct Outlets<'a> {
     pub log: Option<WhiskLog>,
     pub recording: Option<&'a dyn Recorder>,
     pub reporter: &'a dyn Reporter,
+    pub learned: &'a [(String, ObjectMap)],
 }
 
 /// The run of `scenario` (read from `file`) in `environment`, ready to start.
@@ -70,7 +72,7 @@ pub fn build<'a>(
     let sensing = sensor(scenario, file, environment, outlets.log)?;
     let surface =
         MeshSurface::new(&object, centre).map_err(|e| Error::field(file, "explore.object", e))?;
-    let (map, recognition, mesh) = goals(config, file, &surface, half)?;
+    let (map, recognition, mesh) = goals(config, file, &surface, half, outlets.learned)?;
     let tour = FaceTour::new(mesh, config.min_height_m);
     if tour.usable() == 0 {
         return Err(Error::field(
@@ -147,14 +149,15 @@ fn sensor(
     })
 }
 
-/// The task's map (empty, or the known maps appended), recognition (none when building
-/// a map) and goal mesh around the object (its `surface`, seen from its bounding box's
-/// centre; `half` the box's extents).
+/// The task's map (empty, or the known maps appended: the files', then `learned`),
+/// recognition (none when building a map) and goal mesh around the object (its `surface`,
+/// seen from its bounding box's centre; `half` the box's extents).
 fn goals(
     config: &ExploreConfig,
     file: &Path,
     surface: &MeshSurface,
     half: Vector3<f64>,
+    learned: &[(String, ObjectMap)],
 ) -> Result<(ObjectMap, Option<Recognition>, GoalMesh)> {
     let centre = surface.centre;
     Ok(match config.task {
@@ -179,6 +182,9 @@ fn goals(
                     .map_err(|e| Error::field(file, &format!("explore.maps.{name}"), e))?;
                 appended.append(&m, &name);
             }
+            for (name, m) in learned {
+                appended.append(m, name);
+            }
             // The thesis' "bounding sphere + standoff" keeps a box's faces out of reach
             // (15 cm for the Box); the mean half extent + the SPC band's middle puts the
             // side faces in reach, so the default trajectory touches without the SPC too.
@@ -186,7 +192,12 @@ fn goals(
             // Box's top and bottom, 17.5 cm from its centre) its goals move out to it.
             let band = 0.5 * (config.placement.near_m + config.placement.far_m);
             let radius = config.sphere_radius_m.unwrap_or(half.mean() + band);
-            let objects: Vec<String> = config.maps.keys().cloned().collect();
+            let objects: Vec<String> = config
+                .maps
+                .keys()
+                .chain(learned.iter().map(|(name, _)| name))
+                .cloned()
+                .collect();
             (
                 appended,
                 Some(Recognition::new(objects, config.recognition)),

@@ -24,6 +24,7 @@ use crate::closed_loop;
 use crate::error::{Error, Result};
 use crate::plan::Plan;
 use crate::scenario::Scenario;
+use crate::scenario::explore::{ExploreConfig, Task};
 use crate::scenario::object_mode::ObjectModeConfig;
 use nalgebra::{Isometry3, Point2};
 use std::collections::BTreeMap;
@@ -33,14 +34,20 @@ use whisker_slam::navigation::base_odometry::{BaseMotion, BaseOdometryNoise};
 use whisker_slam::ratslam::experience_map::{Pose2, wrap};
 use whisker_slam::ratslam::{RatSlam, Step};
 use whisker_slam::rng::{substream, substream_key};
+use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 
-/// What one stop found.
-#[derive(Debug, Clone, PartialEq)]
+/// What one stop found (the default: a stop at a wall, no loop run).
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Episode {
     /// The object's name, or none when the stop was at a wall or the floor plan.
     pub object: Option<String>,
     /// What the closed loop identified (none: no object's IC reached the threshold).
     pub identified: Option<String>,
+    /// The true object the identified map stands for: the identity itself for a known
+    /// map, the object it was built at for a learned one.
+    pub stands_for: Option<String>,
+    /// The name of the map built here (an unmapped object, `map_unmapped`).
+    pub mapped: Option<String>,
     /// Each known object's integrated confidence IC at the end (§6.2).
     pub ic: BTreeMap<String, f64>,
     /// Closed-loop whisks.
@@ -53,7 +60,7 @@ impl Episode {
     /// "correct", "wrong", "none" (nothing identified) or "wall" (the cue stopped at a
     /// wall).
     pub fn outcome(&self) -> &'static str {
-        match (&self.object, &self.identified) {
+        match (&self.object, &self.stands_for) {
             (None, _) => "wall",
             (Some(_), None) => "none",
             (Some(o), Some(i)) if o == i => "correct",
@@ -149,6 +156,7 @@ pub fn explore(
     arm_base: &Isometry3<f64>,
     piece: usize,
     update: usize,
+    learned: &mut Learned,
 ) -> Result<Episode> {
     let Setting {
         scenario,
@@ -166,7 +174,7 @@ pub fn explore(
     for p in &mut local.pieces {
         p.pose = to_base * p.pose;
     }
-    let outcome = closed_loop::run(&stop, file, plan.clone(), &local)?;
+    let outcome = closed_loop::run_knowing(&stop, file, plan.clone(), &local, &learned.maps)?;
     let s = &outcome.summary;
     let identified = s["recognition"]["identified"].as_str().map(String::from);
     let whisks = s["iterations"]
@@ -180,13 +188,46 @@ pub fn explore(
                 .collect()
         })
         .unwrap_or_default();
-    Ok(Episode {
-        object: Some(name),
+    let mut episode = Episode {
+        stands_for: identified
+            .as_ref()
+            .map(|i| learned.built_at.get(i).unwrap_or(i).clone()),
+        object: Some(name.clone()),
         identified,
         ic,
         whisks: whisks as usize,
         time_s: s["simulated_time_s"].as_f64().unwrap_or(f64::NAN),
-    })
+        mapped: None,
+    };
+    if episode.identified.is_none() && config.map_unmapped {
+        // None of the known objects: build its map (Ch 6 map building) and learn it.
+        stop.explore = Some(ExploreConfig {
+            task: Task::Map,
+            maps: Default::default(),
+            max_iterations: config.map_whisks,
+            ..config.episode(&name)
+        });
+        let built = closed_loop::run(&stop, file, plan.clone(), &local)?;
+        episode.whisks += built.summary["iterations"].as_u64().unwrap_or(0) as usize;
+        episode.time_s += built.summary["simulated_time_s"]
+            .as_f64()
+            .unwrap_or(f64::NAN);
+        if let Some(map) = built.map {
+            let label = format!("object-{}", learned.maps.len() + 1);
+            learned.built_at.insert(label.clone(), name);
+            learned.maps.push((label.clone(), map));
+            episode.mapped = Some(label);
+        }
+    }
+    Ok(episode)
+}
+
+/// The object maps the robot built at stops where it recognised nothing (names
+/// `object-<n>`), and the true object each was built at (for scoring only).
+#[derive(Debug, Clone, Default)]
+pub struct Learned {
+    pub maps: Vec<(String, ObjectMap)>,
+    pub built_at: BTreeMap<String, String>,
 }
 
 /// The landmarks in the planar map: each an identity and the experience it was first

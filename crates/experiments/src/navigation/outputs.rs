@@ -205,7 +205,7 @@ fn event_name(e: MapEvent) -> &'static str {
 fn stops_csv(run: &TerrainRun) -> String {
     let mut csv = String::from(
         "update,true_x_m,true_y_m,turn_deg,drive_m,outline_x_m,outline_y_m,object,identified,outcome,\
-         whisks,time_s,landmark_experience,landmark_event,ic\n",
+         whisks,time_s,landmark_experience,landmark_event,ic,mapped\n",
     );
     for s in &run.stops {
         let e = &s.episode;
@@ -214,7 +214,7 @@ fn stops_csv(run: &TerrainRun) -> String {
             None => (String::new(), ""),
         };
         csv += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{exp},{event},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{exp},{event},{},{}\n",
             s.update,
             s.truth.x,
             s.truth.y,
@@ -231,6 +231,7 @@ fn stops_csv(run: &TerrainRun) -> String {
                 .map(|(k, v)| format!("{k}={v:.0}"))
                 .collect::<Vec<_>>()
                 .join(" "),
+            e.mapped.as_deref().unwrap_or(""),
         );
     }
     csv
@@ -253,6 +254,7 @@ fn stops_json(run: &TerrainRun) -> serde_json::Value {
         "whisks": run.stops.iter().map(|s| s.episode.whisks).sum::<usize>(),
         "time_s": run.stops.iter().map(|s| s.time_s).sum::<f64>(),
         "landmarks": run.stops.iter().filter(|s| s.landmark.is_some()).count(),
+        "mapped": run.stops.iter().filter(|s| s.episode.mapped.is_some()).count(),
     })
 }
 

@@ -289,6 +289,7 @@ pub fn run(
     let mut switch = SwitchTally::default();
     let mut stops: Vec<Stop> = Vec::new();
     let mut newest_piece = None;
+    let mut learned = object_mode::Learned::default();
     let setting = object_mode::Setting {
         scenario,
         file,
@@ -389,14 +390,15 @@ pub fn run(
                 }
             }
             let episode = match piece < scenario.objects.len() {
-                true => object_mode::explore(&setting, om, &posture.arm_base(&docked), piece, k)?,
-                false => Episode {
-                    object: None,
-                    identified: None,
-                    ic: Default::default(),
-                    whisks: 0,
-                    time_s: 0.0,
-                },
+                true => object_mode::explore(
+                    &setting,
+                    om,
+                    &posture.arm_base(&docked),
+                    piece,
+                    k,
+                    &mut learned,
+                )?,
+                false => Episode::default(),
             };
             let time_s = episode.time_s
                 + 2.0 * dock.drive / config.base.speed_m_s

@@ -38,6 +38,14 @@ pub struct ObjectModeConfig {
     /// the Box 3.5 m away does not close the loop there.
     #[serde(default = "gate")]
     pub landmark_gate_m: f64,
+    /// Whether a stop that recognises nothing builds the object's map there (Ch 6 map
+    /// building, `[navigate.object.explore]` with `task = "map"`) and adds it to the
+    /// known maps as `object-<n>` [true].
+    #[serde(default = "yes")]
+    pub map_unmapped: bool,
+    /// The most whisks of such a map building [2000: the Box's two loops take ~1700].
+    #[serde(default = "map_whisks")]
+    pub map_whisks: usize,
     /// `[navigate.object.explore]`: the closed loop at a stop, in the arm's base frame
     /// (its table is the floor, `mount_height_m` below); `task` must be "recognise" and
     /// `object` is left out (the stop sets it).
@@ -67,6 +75,12 @@ fn one() -> f64 {
 fn gate() -> f64 {
     1.5
 }
+fn yes() -> bool {
+    true
+}
+fn map_whisks() -> usize {
+    2000
+}
 
 impl ObjectModeConfig {
     /// Checks the fields (`objects` the scenario's object names); errors name the field
@@ -84,6 +98,16 @@ impl ObjectModeConfig {
             if !(v.is_finite() && v > 0.0) {
                 return bad(name, format!("{v}: expected a number > 0"));
             }
+        }
+        if !(1..=super::explore::MAX_ITERATIONS).contains(&self.map_whisks) {
+            return bad(
+                "map_whisks",
+                format!(
+                    "{}: expected 1 to {}",
+                    self.map_whisks,
+                    super::explore::MAX_ITERATIONS
+                ),
+            );
         }
         if self.explore.task != Task::Recognise {
             return bad(
