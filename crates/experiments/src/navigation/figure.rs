@@ -1,7 +1,7 @@
 //! `path.svg` of a navigation run: the office's plan (walls as they stand, doors as gaps,
 //! objects as the rectangles round their meshes) and the base's true path, its odometry
 //! alone and the map's estimate (both placed at the true start, not fitted), to scale;
-//! the whisks that touched marked on the true path.
+//! the whisks that touched and object mode's stops marked on the true path.
 
 use super::terrain::TerrainRun;
 use crate::error::{Error, Result};
@@ -104,6 +104,17 @@ fn draw(
         )?
         .label("a whisk touched")
         .legend(|(x, y)| Circle::new((x + 10, y), 3, RGBColor(44, 160, 44).filled()));
+    if !run.stops.is_empty() {
+        let magenta = RGBColor(200, 40, 200);
+        chart
+            .draw_series(
+                run.stops
+                    .iter()
+                    .map(|s| Circle::new((s.truth.x, s.truth.y), 6, magenta.stroke_width(2))),
+            )?
+            .label("a stop (object mode)")
+            .legend(move |(x, y)| Circle::new((x + 10, y), 5, magenta.stroke_width(2)));
+    }
     chart
         .configure_series_labels()
         .position(SeriesLabelPosition::LowerRight)
