@@ -351,6 +351,21 @@ mod tests {
         assert!((end.th - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
     }
 
+    /// A learned map is scored by the object it was built at, a known one by its name.
+    #[test]
+    fn a_learned_map_is_scored_by_where_it_was_built() {
+        let e = |object: Option<&str>, stands_for: Option<&str>| Episode {
+            object: object.map(String::from),
+            identified: stands_for.map(|_| "object-1".to_string()),
+            stands_for: stands_for.map(String::from),
+            ..Episode::default()
+        };
+        assert_eq!(e(Some("barrel"), Some("barrel")).outcome(), "correct");
+        assert_eq!(e(Some("box"), Some("barrel")).outcome(), "wrong");
+        assert_eq!(e(Some("barrel"), None).outcome(), "none");
+        assert_eq!(e(None, None).outcome(), "wall");
+    }
+
     /// Data association: "box" seen again near its landmark closes onto it; "box" seen
     /// 3.5 m away (beyond the gate) is a second box, a new landmark, not a closure.
     #[test]
