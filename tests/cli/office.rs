@@ -21,6 +21,29 @@ pub(super) fn office(dir: &Path, name: &str, edit: impl Fn(String) -> String) ->
     path
 }
 
+/// The office's objects: name and centre (x, y) on the floor.
+pub(super) const OBJECTS: [(&str, f64, f64); 3] = [
+    ("box", 6.15, 2.4),
+    ("box_stack", 2.6, 3.95),
+    ("barrel", 1.4, 3.95),
+];
+
+/// `whisker run` of scenarios/office.toml with `edit` applied (as [`office`]); must
+/// succeed. Returns the output directory and its `summary.json`.
+pub(super) fn office_run(
+    dir: &Path,
+    name: &str,
+    edit: impl Fn(String) -> String,
+) -> (PathBuf, serde_json::Value) {
+    let path = office(dir, name, edit);
+    let o = whisker(&["run", path.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = dir.join(format!("out-{name}"));
+    let summary =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    (out, summary)
+}
+
 /// `s` with `old` (which must be in it) replaced by `new`.
 pub(super) fn swap(s: String, old: &str, new: &str) -> String {
     assert!(s.contains(old), "{old:?} not in the office scenario");
@@ -267,10 +290,7 @@ fn the_default_route_is_collision_free_by_an_independent_check() {
 #[test]
 fn the_office_run_maps_the_route_closer_than_its_odometry() {
     let tmp = tempfile::tempdir().unwrap();
-    let path = office(tmp.path(), "run", |s| s);
-    let o = whisker(&["run", path.to_str().unwrap()]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let dir = tmp.path().join("out-run");
+    let (dir, summary) = office_run(tmp.path(), "run", |s| s);
     // The recording: every entity documented, one tactile image per update.
     let chunks = super::recording::checked(
         &dir.join("run.rrd"),
@@ -286,8 +306,6 @@ fn the_office_run_maps_the_route_closer_than_its_odometry() {
         ],
     );
     let entities = whisker_recording::decode::entities(&chunks);
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["arm_collisions"], 0, "{summary}");
     assert_eq!(summary["base_collisions"], 0, "{summary}");
     assert_eq!(summary["collisions"], serde_json::json!([]), "{summary}");
@@ -327,7 +345,7 @@ fn the_office_run_maps_the_route_closer_than_its_odometry() {
         (0.0, 1.5, 7.0, 1.5),
         (3.5, 1.5, 3.5, 4.5),
     ];
-    let objects = [(6.15, 2.4), (2.6, 3.95), (1.4, 3.95)];
+
     let near = |(x, y): (f64, f64)| {
         let wall = walls.iter().any(|&(ax, ay, bx, by)| {
             let (cx, cy) = (
@@ -336,9 +354,9 @@ fn the_office_run_maps_the_route_closer_than_its_odometry() {
             );
             (x - cx).hypot(y - cy) < 0.05 + 0.3
         });
-        wall || objects
+        wall || OBJECTS
             .iter()
-            .any(|&(ox, oy)| (x - ox).hypot(y - oy) < 0.15 + 0.3)
+            .any(|&(_, ox, oy)| (x - ox).hypot(y - oy) < 0.15 + 0.3)
     };
     // A verdict and the touched piece exactly where one of the latest 20 whisks (the
     // cue's window) touched.

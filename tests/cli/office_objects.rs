@@ -3,35 +3,8 @@
 //! the same route and seed differ only in the landmarks; the kidnapped robot re-localises
 //! onto an experience made where it truly is.
 
-use super::office::{office, swap};
+use super::office::{OBJECTS, office_run as run, swap};
 use super::*;
-
-/// The office's objects: name and centre (x, y) on the floor.
-const OBJECTS: [(&str, f64, f64); 3] = [
-    ("box", 6.15, 2.4),
-    ("box_stack", 2.6, 3.95),
-    ("barrel", 1.4, 3.95),
-];
-
-fn run(dir: &Path, name: &str, edit: impl Fn(String) -> String) -> (PathBuf, serde_json::Value) {
-    let path = office(dir, name, edit);
-    let o = whisker(&["run", path.to_str().unwrap()]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let out = dir.join(format!("out-{name}"));
-    let summary =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
-    (out, summary)
-}
-
-/// Rows of a CSV file as fields (header dropped).
-fn fields(path: &Path) -> Vec<Vec<String>> {
-    std::fs::read_to_string(path)
-        .unwrap()
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').map(String::from).collect())
-        .collect()
-}
 
 /// Every stop of the default run, checked by the office's geometry: a stop named after an
 /// object stands within 1.2 m of that object's centre and its turn faces it (within 30°:
@@ -41,9 +14,9 @@ fn fields(path: &Path) -> Vec<Vec<String>> {
 fn stops_face_the_object_they_explore() {
     let tmp = tempfile::tempdir().unwrap();
     let (out, summary) = run(tmp.path(), "stops", |s| s);
-    let stops = fields(&out.join("stops.csv"));
+    let stops = rows(&out.join("stops.csv"));
     assert!(!stops.is_empty());
-    let path: Vec<Vec<String>> = fields(&out.join("path.csv"));
+    let path: Vec<Vec<String>> = rows(&out.join("path.csv"));
     let mut outcomes = std::collections::BTreeMap::<String, u64>::new();
     for s in &stops {
         let update: usize = s[0].parse().unwrap();
@@ -112,10 +85,7 @@ fn the_baseline_and_the_fused_run_differ_only_in_the_fusion() {
         (f["fusion"].clone(), b["fusion"].clone()),
         (true.into(), false.into())
     );
-    let (pf, pb) = (
-        fields(&fused.join("path.csv")),
-        fields(&base.join("path.csv")),
-    );
+    let (pf, pb) = (rows(&fused.join("path.csv")), rows(&base.join("path.csv")));
     assert_eq!(pf.len(), pb.len());
     for (a, c) in pf.iter().zip(&pb) {
         // update, time, truth (3), odometry (3), contacts; verdict and piece.
@@ -124,8 +94,8 @@ fn the_baseline_and_the_fused_run_differ_only_in_the_fusion() {
         }
     }
     let (sf, sb) = (
-        fields(&fused.join("stops.csv")),
-        fields(&base.join("stops.csv")),
+        rows(&fused.join("stops.csv")),
+        rows(&base.join("stops.csv")),
     );
     assert_eq!(sf.len(), sb.len());
     for (a, c) in sf.iter().zip(&sb) {
@@ -147,7 +117,7 @@ fn the_kidnapped_robot_relocalises_where_it_truly_is() {
     let (out, summary) = run(tmp.path(), "kidnap", |s| {
         swap(s, "laps = 2", "laps = 2\nkidnap = true")
     });
-    let rows = fields(&out.join("path.csv"));
+    let rows = rows(&out.join("path.csv"));
     let r = &summary["recovery"];
     let j = r["after_update"].as_u64().unwrap() as usize;
     let num = |k: usize, i: usize| rows[k][i].parse::<f64>().unwrap();

@@ -1,5 +1,6 @@
 //! The closed loop as a library call: `whisker run` with an `[explore]` section, the
-//! tests, datasets and batch trials all call [`run`] or [`run_logged`].
+//! tests, datasets and batch trials all call [`run`] or [`run_logged`]; the mobile robot's
+//! stops call [`run_knowing`] with the maps it built.
 
 use super::setup::{self, Outlets};
 use super::state::Outcome;
@@ -19,7 +20,7 @@ pub fn run(
     plan: Plan,
     environment: &Environment,
 ) -> Result<Outcome> {
-    run_logged(scenario, file, plan, environment, None, None, &Silent)
+    run_knowing(scenario, file, plan, environment, &[])
 }
 
 /// [`run`] knowing `learned` object maps (name, map) besides `[explore].maps`.

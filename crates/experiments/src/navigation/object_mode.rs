@@ -1,19 +1,26 @@
 //! Object mode on the mobile robot (issue #36; thesis Fig 5.1, Ch 6, §7.1): when the
-//! mode-switch cue says "object", the base stops and docks facing the outline, and the Ch 6 closed loop (`[navigate.object.explore]`: SPC + a strategy, the
-//! known object maps, a whisk budget, stopping at the first identity) runs there in the
-//! arm's base frame: the environment is carried into it (B⁻¹, B the arm's base in the
-//! world), its floor `mount_height_m` below the arm. The base then undocks and drives on.
+//! mode-switch cue says "object", the base stops, the robot docks facing the outline, and
+//! the Ch 6 closed loop (`[navigate.object.explore]`: SPC + a strategy, the known object
+//! maps, a whisk budget, stopping at the first identity) runs there in the arm's base
+//! frame: the environment is carried into it (B⁻¹, B the arm's base in the world), its
+//! floor `mount_height_m` below the arm. The robot then undocks and drives on.
 //!
 //! - **Which object.** The closed loop's goal sphere is centred on the object's bounding
 //!   box, as in Ch 6 where the object's place is given; the stop takes it from the piece
 //!   the newest contact truly lies on. A stop at a wall (the cue wrong) runs no loop: it
 //!   costs the turns and counts as a wrong switch.
-//! - **Docking** ([`Dock`]). The base turns in place to face the outline's centre and
-//!   drives until it lies `dock_distance_m` ahead (the Ch 6 set-up: the object's centre
-//!   ~0.55 m in front of the arm); after the loop it backs up and turns back. The odometry
-//!   reads both legs with its errors (sub-stream `navigate/dock/<update>` of the seed);
-//!   what they leave is carried into the next update's reading. The docked footprint is
-//!   checked for collisions like the route's.
+//! - **Docking** ([`Dock`]). By default (`dock = "arm"`) the shoulder's pan joint turns
+//!   the arm to face the outline's centre and the base stays: the closed loop runs in the
+//!   arm's base frame turned about its vertical axis, which every configuration of the
+//!   real arm spans. With `dock = "base"` the base turns in place to face the outline's
+//!   centre and drives until it lies `dock_distance_m` ahead (the Ch 6 set-up: the
+//!   object's centre ~0.55 m in front of the arm); after the loop it backs up and turns
+//!   back. The odometry reads both legs with its errors (sub-stream
+//!   `navigate/dock/<update>` of the seed); what they leave is carried into the next
+//!   update's reading. The docked footprint is checked for collisions like the route's.
+//! - **Unmapped objects.** A stop whose loop identifies nothing builds the object's map
+//!   (Ch 6 map building, `map_whisks`) and learns it as `object-<n>` ([`Learned`]) for the
+//!   stops after it.
 //! - **Seeds.** Each stop's closed loop runs with seed `substream_key(seed,
 //!   "navigate/stop/<update>")`, so no two stops share their noise.
 //! - **The landmark.** An identity becomes a landmark in the planar map
@@ -50,9 +57,9 @@ pub struct Episode {
     pub mapped: Option<String>,
     /// Each known object's integrated confidence IC at the end (§6.2).
     pub ic: BTreeMap<String, f64>,
-    /// Closed-loop whisks.
+    /// Closed-loop whisks: recognition, and map building when it mapped.
     pub whisks: usize,
-    /// Simulated time of the closed loop (s).
+    /// Simulated time of those closed loops (s).
     pub time_s: f64,
 }
 
@@ -177,9 +184,7 @@ pub fn explore(
     let outcome = closed_loop::run_knowing(&stop, file, plan.clone(), &local, &learned.maps)?;
     let s = &outcome.summary;
     let identified = s["recognition"]["identified"].as_str().map(String::from);
-    let whisks = s["iterations"]
-        .as_u64()
-        .ok_or_else(|| Error::Failure("the closed loop's summary has no iterations".into()))?;
+    let (whisks, time_s) = effort(s)?;
     let ic = s["recognition"]["final_ic"]
         .as_object()
         .map(|m| {
@@ -195,8 +200,8 @@ pub fn explore(
         object: Some(name.clone()),
         identified,
         ic,
-        whisks: whisks as usize,
-        time_s: s["simulated_time_s"].as_f64().unwrap_or(f64::NAN),
+        whisks,
+        time_s,
         mapped: None,
     };
     if episode.identified.is_none() && config.map_unmapped {
@@ -208,10 +213,9 @@ pub fn explore(
             ..config.episode(&name)
         });
         let built = closed_loop::run(&stop, file, plan.clone(), &local)?;
-        episode.whisks += built.summary["iterations"].as_u64().unwrap_or(0) as usize;
-        episode.time_s += built.summary["simulated_time_s"]
-            .as_f64()
-            .unwrap_or(f64::NAN);
+        let (whisks, time_s) = effort(&built.summary)?;
+        episode.whisks += whisks;
+        episode.time_s += time_s;
         if let Some(map) = built.map {
             let label = format!("object-{}", learned.maps.len() + 1);
             learned.built_at.insert(label.clone(), name);
@@ -220,6 +224,15 @@ pub fn explore(
         }
     }
     Ok(episode)
+}
+
+/// A closed loop's whisks and simulated time (s), from its `summary.json` value.
+fn effort(summary: &serde_json::Value) -> Result<(usize, f64)> {
+    let whisks = summary["iterations"]
+        .as_u64()
+        .ok_or_else(|| Error::Failure("the closed loop's summary has no iterations".into()))?;
+    let time_s = summary["simulated_time_s"].as_f64().unwrap_or(f64::NAN);
+    Ok((whisks as usize, time_s))
 }
 
 /// The object maps the robot built at stops where it recognised nothing (names

@@ -25,9 +25,9 @@ pub const RUN: &str = "office";
 pub const FILES: &str = "path.csv, stops.csv, summary.json, path.svg";
 
 /// Checks what a navigation run of `scenario` (read from `file`) needs beyond the
-/// scenario's own fields: kinematic sensing, the arm's terrain posture, and the route
-/// clear of the office's walls and posts and of the objects (the first pieces of
-/// `environment`); says what it would do. `whisker check` and `whisker run` both call it, before anything is written.
+/// scenario's own fields: the arm's terrain posture, and the route clear of the office's
+/// walls and posts and of the objects (the first pieces of `environment`); says what it
+/// would do. `whisker check` and `whisker run` both call it, before anything is written.
 pub fn check(
     file: &Path,
     scenario: &Scenario,

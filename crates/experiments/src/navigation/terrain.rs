@@ -171,8 +171,8 @@ pub struct Update {
     pub experience: usize,
     /// What the experience map did.
     pub event: MapEvent,
-    /// The mode-switch cue's verdict after a whisk that touched, and the piece the
-    /// newest contact truly lies on ([`super::plan_view`]).
+    /// The mode-switch cue's verdict while the window holds a contact, and the piece the
+    /// window's newest contact truly lies on ([`super::plan_view`]).
     pub switch: Option<(Verdict, String)>,
 }
 
@@ -184,15 +184,15 @@ pub struct Stop {
     pub truth: Pose2,
     /// How it docked.
     pub dock: object_mode::Dock,
-    /// The outline's centre in the odometry frame, and the true centre of the object's
-    /// bounding box (none at a wall).
+    /// The outline's centre in the odometry frame.
     pub centre: Point2<f64>,
     /// What the closed loop found.
     pub episode: Episode,
     /// The landmark's step in the planar map (fused runs that identified something): the
     /// experience and what the map did.
     pub landmark: Option<(usize, MapEvent)>,
-    /// The stop's time: the closed loop and the two turns (s).
+    /// The stop's time: the closed loops, the turns there and back, and the base's
+    /// drives (s).
     pub time_s: f64,
 }
 

@@ -1,8 +1,8 @@
 //! `[navigate.object]` of a scenario (documented in `scenarios/README.md`): object mode
 //! on the mobile robot (issue #36, thesis Fig 5.1, Ch 6) — when the mode-switch cue says
-//! "object" the base stops, turns to face it, and the Ch 6 closed loop
-//! (`[navigate.object.explore]`, the `[explore]` fields) identifies it against the
-//! known object maps within a whisk budget.
+//! "object" the base stops, the arm (or the base, `dock`) turns to face it, and the Ch 6
+//! closed loop (`[navigate.object.explore]`, the `[explore]` fields) identifies it against
+//! the known object maps within a whisk budget; what it cannot identify it maps.
 
 use super::explore::{ExploreConfig, Task};
 use crate::error::{Error, Result};
