@@ -252,7 +252,8 @@ fn stops_json(run: &TerrainRun) -> serde_json::Value {
         "none": count("none"),
         "wall": count("wall"),
         "whisks": run.stops.iter().map(|s| s.episode.whisks).sum::<usize>(),
-        "time_s": run.stops.iter().map(|s| s.time_s).sum::<f64>(),
+        // Folded from +0: an empty f64 sum is -0, which summary.json and the console showed.
+        "time_s": run.stops.iter().fold(0.0, |t, s| t + s.time_s),
         "landmarks": run.stops.iter().filter(|s| s.landmark.is_some()).count(),
         "mapped": run.stops.iter().filter(|s| s.episode.mapped.is_some()).count(),
     })
