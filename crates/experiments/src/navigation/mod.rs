@@ -9,6 +9,7 @@
 pub mod closures;
 pub mod figure;
 pub mod footprint;
+pub mod navigator;
 pub mod object_mode;
 pub mod outputs;
 pub mod plan_view;

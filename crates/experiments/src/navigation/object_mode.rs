@@ -76,6 +76,37 @@ impl Episode {
     }
 }
 
+/// A stop's closed loop as the robot logged it (datasets): each whisk's contacts (array
+/// frame) and 6-D odometry as SLAM saw them, the array's pose before the first move, and
+/// (ground truth) each whisk's time and reached pose in the arm's base frame.
+#[derive(Debug, Clone)]
+pub struct LoopLog {
+    pub cycles: Vec<whisker_slam::contact::ContactCycle>,
+    pub odometry: Vec<whisker_slam::sensor::Odometry>,
+    pub start: Isometry3<f64>,
+    pub times: Vec<f64>,
+    pub poses: Vec<Isometry3<f64>>,
+}
+
+impl LoopLog {
+    fn of(o: &closed_loop::Outcome) -> Self {
+        Self {
+            cycles: o.cycles.clone(),
+            odometry: o.odometry.clone(),
+            start: o.start,
+            times: o.times.clone(),
+            poses: o.poses.clone(),
+        }
+    }
+}
+
+/// A stop's closed loops: recognition, and map building when it identified nothing.
+#[derive(Debug, Clone, Default)]
+pub struct Loops {
+    pub recognise: Option<LoopLog>,
+    pub map: Option<LoopLog>,
+}
+
 /// The turn in place (rad) that faces the base at `base` towards `centre` (both in the
 /// same frame): the bearing of the centre from the base's heading.
 pub fn facing(base: &Pose2, centre: &Point2<f64>) -> f64 {
@@ -164,7 +195,7 @@ pub fn explore(
     piece: usize,
     update: usize,
     learned: &mut Learned,
-) -> Result<Episode> {
+) -> Result<(Episode, Loops)> {
     let Setting {
         scenario,
         file,
@@ -182,6 +213,10 @@ pub fn explore(
         p.pose = to_base * p.pose;
     }
     let outcome = closed_loop::run_knowing(&stop, file, plan.clone(), &local, &learned.maps)?;
+    let mut loops = Loops {
+        recognise: Some(LoopLog::of(&outcome)),
+        map: None,
+    };
     let s = &outcome.summary;
     let identified = s["recognition"]["identified"].as_str().map(String::from);
     let (whisks, time_s) = effort(s)?;
@@ -216,6 +251,7 @@ pub fn explore(
         let (whisks, time_s) = effort(&built.summary)?;
         episode.whisks += whisks;
         episode.time_s += time_s;
+        loops.map = Some(LoopLog::of(&built));
         if let Some(map) = built.map {
             let label = format!("object-{}", learned.maps.len() + 1);
             learned.built_at.insert(label.clone(), name);
@@ -223,7 +259,7 @@ pub fn explore(
             episode.mapped = Some(label);
         }
     }
-    Ok(episode)
+    Ok((episode, loops))
 }
 
 /// A closed loop's whisks and simulated time (s), from its `summary.json` value.

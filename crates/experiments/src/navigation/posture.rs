@@ -13,6 +13,7 @@ use whisker_slam::pose;
 use whisker_slam::ratslam::experience_map::Pose2;
 
 /// The arm holding the array for terrain mode.
+#[derive(Debug, Clone)]
 pub struct Posture {
     /// The chain's joints (rad).
     pub q: Vec<f64>,

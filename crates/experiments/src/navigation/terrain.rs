@@ -32,8 +32,9 @@
 //!   are tested against the environment; a run that touches anything says where.
 
 use super::closures::{self, Closures, StepRecord};
+use super::navigator::Navigator;
 use super::object_mode::{self, Episode};
-use super::plan_view::{self, PlanView, SwitchTally};
+use super::plan_view::{self, SwitchTally};
 use super::posture::Posture;
 use super::{footprint, route};
 use crate::error::{Error, Result};
@@ -56,7 +57,6 @@ use whisker_slam::contact::ContactCycle;
 use whisker_slam::navigation::base_odometry::BaseMotion;
 use whisker_slam::navigation::map_error::{self, MapError};
 use whisker_slam::navigation::mode_switch::Verdict;
-use whisker_slam::ratslam::RatSlam;
 use whisker_slam::ratslam::experience_map::{MapEvent, Pose2};
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::ratslam::metrics::{
@@ -194,6 +194,24 @@ pub struct Stop {
     /// The stop's time: the closed loops, the turns there and back, and the base's
     /// drives (s).
     pub time_s: f64,
+    /// The closed loops as the robot logged them.
+    pub loops: object_mode::Loops,
+}
+
+/// The time (s) a stop's dock takes there and back: the turns (the base's at
+/// `turn_rate_deg_s`, or the arm's pan at its joint speed limit) and the base's drives.
+fn dock_time(
+    dock: &object_mode::Dock,
+    by_base: bool,
+    config: &NavigateConfig,
+    scenario: &Scenario,
+) -> f64 {
+    2.0 * dock.drive / config.base.speed_m_s
+        + 2.0
+            * match by_base {
+                true => dock.turn.abs().to_degrees() / config.base.turn_rate_deg_s,
+                false => dock.turn.abs() / scenario.arm.joint_speed_limit_rad_s,
+            }
 }
 
 /// A terrain run and its evaluation.
@@ -280,12 +298,11 @@ pub fn run(
     let (whiskers, mut whisks) = whisks(scenario, file, environment, &target, reporter, || {
         truth.iter().map(|b| posture.array_pose(b)).collect()
     })?;
-    let mut slam = RatSlam::new(config.ratslam);
+    let mut robot = Navigator::of(config, whiskers, posture.clone());
     let mut updates = Vec::with_capacity(truth.len());
     let mut steps = Vec::with_capacity(truth.len());
     let mut arm_collisions = Vec::new();
     let mut dead_reckoned = Vec::with_capacity(truth.len());
-    let mut view = PlanView::new(config.switch.window_whisks);
     let mut switch = SwitchTally::default();
     let mut stops: Vec<Stop> = Vec::new();
     let mut newest_piece = None;
@@ -296,42 +313,29 @@ pub fn run(
         plan,
         environment,
     };
-    let mut landmarks =
-        object_mode::Landmarks::new(config.object.as_ref().map_or(0.0, |o| o.landmark_gate_m));
     let mut clock = 0.0;
     for (k, b) in truth.iter().enumerate() {
         let reading = match k {
             0 => BaseMotion::default(),
             _ => readings[k - 1],
         };
-        let dr = match dead_reckoned.last() {
-            None => *b,
-            Some(at) => reading.apply(at),
-        };
-        dead_reckoned.push(dr);
         for link in shapes.colliding_at(&plan.model, &joints, &posture.arm_base(b), &solids) {
             arm_collisions.push((k, link));
         }
         let (cycle, newest) = whisks.next(&target, k, clock, &posture.array_pose(b));
-        let img = image(&cycle, &whiskers);
-        view.add(&cycle, &whiskers, &posture.array_pose(&dr));
+        let seen = robot.update(&truth[0], &reading, &cycle);
+        let dr = seen.dead_reckoned;
+        dead_reckoned.push(dr);
         // The piece the window's newest contact truly lies on.
         if let Some(p) = newest {
             newest_piece = plan_view::piece_at(environment, &p);
         }
-        let outline = view.outline();
-        let decided = match (outline.contacts.is_empty(), newest_piece) {
-            (false, Some(piece)) => {
-                let decision = config.switch.decide(&outline);
-                let name = &environment.pieces[piece].name;
-                switch.add(k, decision.verdict, name, piece < scenario.objects.len());
-                Some((decision, piece))
-            }
-            _ => None,
-        };
-        // A whisk that touched nothing says nothing of the place: it does not inject.
-        let touched = !cycle.contacts.is_empty();
-        let step = slam.step_gated(&img, reading.trans, reading.rot1 + reading.rot2, touched);
+        let decided = seen.decision.map(|d| (d, newest_piece));
+        if let Some((decision, Some(piece))) = &decided {
+            let name = &environment.pieces[*piece].name;
+            switch.add(k, decision.verdict, name, *piece < scenario.objects.len());
+        }
+        let step = seen.step;
         steps.push(StepRecord {
             update: k,
             time_s: clock,
@@ -341,129 +345,121 @@ pub fn run(
             landmark: false,
         });
         if let Some(r) = recording.as_deref_mut() {
-            r.update(k, &img, &slam, &step, Some(b), k + 1 == truth.len())?;
+            r.update(
+                k,
+                &seen.image,
+                &robot.slam,
+                &step,
+                Some(b),
+                k + 1 == truth.len(),
+            )?;
         }
         updates.push(Update {
             truth: *b,
             reading,
             contacts: cycle.contacts.len(),
-            image: img,
+            image: seen.image,
             template: step.template,
             experience: step.experience,
             event: step.event,
             switch: decided
                 .as_ref()
-                .map(|(d, p)| (d.verdict, environment.pieces[*p].name.clone())),
+                .and_then(|(d, p)| p.map(|p| (d.verdict, environment.pieces[p].name.clone()))),
         });
         clock += 1.0 / UPDATE_HZ;
-        if let (Some(om), Some((decision, piece))) = (&config.object, decided)
-            && decision.verdict == Verdict::Object
-            && stops
-                .last()
-                .is_none_or(|s| (s.centre - decision.centre).norm() > om.revisit_m)
-        {
-            let by_base = om.dock == DockBy::Base;
-            let dock = match by_base {
-                true => object_mode::Dock::toward(&dr, &decision.centre, om.dock_distance_m),
-                false => object_mode::Dock {
-                    turn: object_mode::facing(&dr, &decision.centre),
-                    drive: 0.0,
-                },
-            };
-            // Docked by the arm: the frame of the arm's base turned by the shoulder's pan
-            // (its axis is the base link's vertical through its origin).
-            let docked = dock.docked(b);
-            if by_base {
-                if let Some(next) = readings.get_mut(k) {
-                    let manoeuvre = dock.reading(&config.odometry, scenario.seed, k);
-                    *next = object_mode::compose(&manoeuvre, next);
-                }
-                for (_, what) in footprint::collisions(
-                    environment,
-                    &[docked],
-                    config.base.radius_m,
-                    config.terrain.mount_height_m,
-                )
-                .map_err(Error::Failure)?
-                {
-                    base_collisions.push((k, what));
-                }
+        let (Some(om), Some((decision, piece))) = (&config.object, decided) else {
+            reporter.progress("updates", k as u64 + 1, truth.len() as u64);
+            continue;
+        };
+        let Some(dock) = robot.stop(&decision) else {
+            reporter.progress("updates", k as u64 + 1, truth.len() as u64);
+            continue;
+        };
+        let by_base = om.dock == DockBy::Base;
+        // Docked by the arm: the frame of the arm's base turned by the shoulder's pan
+        // (its axis is the base link's vertical through its origin).
+        let docked = dock.docked(b);
+        if by_base {
+            if let Some(next) = readings.get_mut(k) {
+                let manoeuvre = dock.reading(&config.odometry, scenario.seed, k);
+                *next = object_mode::compose(&manoeuvre, next);
             }
-            let episode = match piece < scenario.objects.len() {
-                true => object_mode::explore(
-                    &setting,
-                    om,
-                    &posture.arm_base(&docked),
-                    piece,
-                    k,
-                    &mut learned,
-                )?,
-                false => Episode::default(),
-            };
-            let time_s = episode.time_s
-                + 2.0 * dock.drive / config.base.speed_m_s
-                + 2.0
-                    * match by_base {
-                        true => dock.turn.abs().to_degrees() / config.base.turn_rate_deg_s,
-                        false => dock.turn.abs() / scenario.arm.joint_speed_limit_rad_s,
-                    };
-            clock += time_s;
-            let landmark = match (&episode.identified, config.fusion) {
-                (Some(id), true) => {
-                    let s = landmarks.observe(&mut slam, id, om.landmark_energy);
-                    steps.push(StepRecord {
-                        update: k,
-                        time_s: clock,
-                        experience: s.experience,
-                        event: s.event,
-                        truth: *b,
-                        landmark: true,
-                    });
-                    Some((s.experience, s.event))
-                }
-                _ => None,
-            };
-            if let Some(r) = recording.as_deref() {
-                let e = &episode;
-                r.rec.event(&format!(
-                    "update {k}: stop facing {}: identified {} ({}){}",
-                    e.object.as_deref().unwrap_or("a wall"),
-                    e.identified.as_deref().unwrap_or("nothing"),
-                    e.outcome(),
-                    match landmark {
-                        Some((x, ev)) => format!(", landmark experience {x} ({ev:?})"),
-                        None => String::new(),
-                    }
-                ))?;
-                r.rec.marker(
-                    &format!("world/runs/{}/stops", r.name),
-                    [b.x, b.y, r.z],
-                    0.08,
-                    Some([200, 40, 200]),
-                )?;
+            for (_, what) in footprint::collisions(
+                environment,
+                &[docked],
+                config.base.radius_m,
+                config.terrain.mount_height_m,
+            )
+            .map_err(Error::Failure)?
+            {
+                base_collisions.push((k, what));
             }
-            stops.push(Stop {
-                update: k,
-                truth: *b,
-                dock,
-                centre: decision.centre,
-                episode,
-                landmark,
-                time_s,
-            });
         }
+        let (episode, loops) = match piece.filter(|&p| p < scenario.objects.len()) {
+            Some(piece) => object_mode::explore(
+                &setting,
+                om,
+                &posture.arm_base(&docked),
+                piece,
+                k,
+                &mut learned,
+            )?,
+            None => Default::default(),
+        };
+        let time_s = episode.time_s + dock_time(&dock, by_base, config, scenario);
+        clock += time_s;
+        let landmark = robot.landmark(episode.identified.as_deref()).map(|s| {
+            steps.push(StepRecord {
+                update: k,
+                time_s: clock,
+                experience: s.experience,
+                event: s.event,
+                truth: *b,
+                landmark: true,
+            });
+            (s.experience, s.event)
+        });
+        if let Some(r) = recording.as_deref() {
+            let e = &episode;
+            r.rec.event(&format!(
+                "update {k}: stop facing {}: identified {} ({}){}",
+                e.object.as_deref().unwrap_or("a wall"),
+                e.identified.as_deref().unwrap_or("nothing"),
+                e.outcome(),
+                match landmark {
+                    Some((x, ev)) => format!(", landmark experience {x} ({ev:?})"),
+                    None => String::new(),
+                }
+            ))?;
+            r.rec.marker(
+                &format!("world/runs/{}/stops", r.name),
+                [b.x, b.y, r.z],
+                0.08,
+                Some([200, 40, 200]),
+            )?;
+        }
+        stops.push(Stop {
+            update: k,
+            truth: *b,
+            dock,
+            centre: decision.centre,
+            episode,
+            landmark,
+            time_s,
+            loops,
+        });
         reporter.progress("updates", k as u64 + 1, truth.len() as u64);
     }
     let log: Vec<usize> = updates.iter().map(|u| u.experience).collect();
-    let estimate = slam.map.placed(&log, &truth[0]);
+    let estimate = robot.slam.map.placed(&log, &truth[0]);
     let first_lap_end = route::lap_ends(&truth, config)[0];
     Ok(TerrainRun {
         map_error: map_error::measure(&estimate, &truth),
         odometry_error: map_error::measure(&dead_reckoned, &truth),
         metric: experience_metric(&log, &truth, first_lap_end, 0.1, 25f64.to_radians()),
         energy: energy_metric(&estimate, &truth, &consecutive(truth.len())).unwrap_or(f64::NAN),
-        templates: slam.view.templates.len(),
-        experiences: slam.map.experiences.len(),
+        templates: robot.slam.view.templates.len(),
+        experiences: robot.slam.map.experiences.len(),
         first_lap_end,
         arm_collisions,
         base_collisions,
