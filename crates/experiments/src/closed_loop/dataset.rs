@@ -169,7 +169,7 @@ fn manifest(
 }
 
 /// The known object maps (the robot's prior knowledge) copied to `log/maps/`; their names.
-fn put_maps(
+pub(crate) fn put_maps(
     file: &Path,
     config: &crate::scenario::explore::ExploreConfig,
     s: &mut Staging,
@@ -307,8 +307,13 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<ReplaySumm
     let mut slam = WhiskerRatSlam::new(info.slam, appended);
     let mut recognition =
         (info.task == "recognise").then(|| Recognition::new(info.maps.clone(), info.recognition));
-    let (csv, relocalisations) =
-        run_slam(&cycles, &odometry, info, &mut slam, recognition.as_mut());
+    let (csv, relocalisations) = run_slam(
+        &cycles,
+        &odometry,
+        &info.maps,
+        &mut slam,
+        recognition.as_mut(),
+    );
     let truth = object.as_deref();
     let summary = ReplaySummary {
         task: info.task.clone(),
@@ -375,17 +380,17 @@ fn true_object(dir: &Path, m: &Manifest) -> Result<String> {
 
 /// WhiskerRatSLAM (and recognition, if any) whisk by whisk; returns `replay.csv`'s text and
 /// the number of re-localisations into known maps.
-fn run_slam(
+pub(crate) fn run_slam(
     cycles: &[ContactCycle],
     odometry: &[Odometry],
-    info: &ClosedLoopInfo,
+    maps: &[String],
     slam: &mut WhiskerRatSlam,
     mut recognition: Option<&mut Recognition>,
 ) -> (String, usize) {
     let mut csv =
         String::from("whisk,contacts,matched,experience,created,relocalised,relocalised_object");
     for prefix in ["rc", "ic"] {
-        for name in &info.maps {
+        for name in maps {
             let _ = write!(csv, ",{prefix}_{name}");
         }
     }
@@ -408,7 +413,7 @@ fn run_slam(
             super::log::step_columns(step.as_ref()),
             onto.as_deref().unwrap_or("")
         );
-        for name in &info.maps {
+        for name in maps {
             let _ = write!(
                 csv,
                 ",{}",
@@ -417,7 +422,7 @@ fn run_slam(
                     .map_or(0.0, |r| r.raw.confidence[name])
             );
         }
-        for name in &info.maps {
+        for name in maps {
             let _ = write!(
                 csv,
                 ",{}",

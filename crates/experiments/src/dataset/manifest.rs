@@ -46,6 +46,10 @@ pub struct Manifest {
     pub object_slam: Option<ObjectSlamInfo>,
     /// The closed loop's parameters (experiment `closed-loop`).
     pub closed_loop: Option<ClosedLoopInfo>,
+    /// The mobile robot's run in the office (experiment `navigate`; absent from other
+    /// experiments' manifests).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub navigate: Option<NavigateInfo>,
     /// Every file, relative to the dataset's directory, with its role and checksum.
     pub files: Vec<FileEntry>,
 }
@@ -60,6 +64,9 @@ pub enum Experiment {
     ObjectSlam,
     /// The path of a closed-loop run (Ch 6), replayed open loop.
     ClosedLoop,
+    /// The mobile robot in the office (issue #36, Fig 5.1): terrain whisks, the base's
+    /// odometry and each stop's closed loop, replayed by the robot's own decisions.
+    Navigate,
 }
 
 /// `level`.
@@ -281,6 +288,65 @@ pub struct ClosedLoopInfo {
     pub recognition: whisker_slam::recognition::RecognitionParams,
 }
 
+/// `navigate`: what the replay of an office run needs (issue #36): the robot, not the
+/// office.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NavigateInfo {
+    /// SLAM updates (one whisk each) and their rate (Hz).
+    pub updates: usize,
+    pub update_hz: f64,
+    /// Whether recognised objects became landmarks in the planar map.
+    pub fusion: bool,
+    /// Provenance: the run was the kidnapped variant (the carry is in the ground truth).
+    pub kidnap: bool,
+    /// The base's odometry error the log holds (`[navigate.odometry]`: the wheeled-base
+    /// model, docs/navigation.md).
+    pub odometry_noise: whisker_slam::navigation::base_odometry::BaseOdometryNoise,
+    /// How the arm holds the array over the base.
+    pub posture: PostureInfo,
+    /// The mode-switch cue (`[navigate.switch]`).
+    pub switch: whisker_slam::navigation::mode_switch::ModeSwitch,
+    /// Planar RatSLAM (`[navigate.ratslam]`).
+    pub ratslam: RatSlamParams,
+    /// Object mode (`[navigate.object]`; none: the cue only reported).
+    pub object: Option<NavigateObjectInfo>,
+}
+
+/// `navigate.posture`: the arm's joints, the arm's base above the floor, the array in
+/// the arm's base frame.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PostureInfo {
+    pub joints_rad: Vec<f64>,
+    pub mount_height_m: f64,
+    pub array_position_m: [f64; 3],
+    /// A unit quaternion x, y, z, w.
+    pub array_quaternion: [f64; 4],
+}
+
+/// `navigate.object`: what the robot's stops need.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NavigateObjectInfo {
+    /// `arm` (the shoulder's pan turns the arm) or `base` (the base turns and drives).
+    pub dock: String,
+    pub dock_distance_m: f64,
+    pub revisit_m: f64,
+    pub landmark_energy: f64,
+    pub landmark_gate_m: f64,
+    /// The known objects, in order (their maps: `log/maps/<name>.json`).
+    pub maps: Vec<String>,
+    /// The stops' 6-D odometry error (Eq 6.4–6.11; `[navigate.object.explore.odometry]`).
+    pub odometry_noise: whisker_slam::exploration::odometry_noise::OdometryNoise,
+    /// WhiskerRatSLAM (`[navigate.object.explore.slam]`) and recognition
+    /// (`[navigate.object.explore.recognition]`).
+    pub slam: whisker_slam::whisker_ratslam::slam::Params,
+    pub recognition: whisker_slam::recognition::RecognitionParams,
+    /// Number of stops (rows of `log/stops.csv`).
+    pub stops: usize,
+}
+
 /// One file of the dataset.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -342,6 +408,7 @@ impl Manifest {
             maze: None,
             object_slam: None,
             closed_loop: None,
+            navigate: None,
             files: Vec::new(),
         }
     }
@@ -412,6 +479,26 @@ impl Manifest {
                 .validate()
                 .map_err(|e| Error::field(path, "closed_loop.slam.pose_cells", e))?;
         }
+        if let Some(n) = &self.navigate {
+            n.ratslam
+                .validate()
+                .map_err(|e| Error::field(path, "navigate.ratslam", e))?;
+            n.switch
+                .validate()
+                .map_err(|e| Error::field(path, "navigate.switch", e))?;
+            if let Some(o) = &n.object {
+                o.recognition.validate().map_err(|(f, m)| {
+                    Error::field(path, &format!("navigate.object.recognition.{f}"), m)
+                })?;
+                o.slam
+                    .pose_cells
+                    .validate()
+                    .map_err(|e| Error::field(path, "navigate.object.slam.pose_cells", e))?;
+                if !matches!(o.dock.as_str(), "arm" | "base") {
+                    return Err(bad("navigate.object.dock", "expected \"arm\" or \"base\""));
+                }
+            }
+        }
         match self.experiment {
             Experiment::MazeSlam if self.maze.is_none() => {
                 Err(bad("maze", "experiment \"maze-slam\" needs a maze section"))
@@ -423,6 +510,10 @@ impl Manifest {
             Experiment::ClosedLoop if self.closed_loop.is_none() => Err(bad(
                 "closed_loop",
                 "experiment \"closed-loop\" needs a closed_loop section",
+            )),
+            Experiment::Navigate if self.navigate.is_none() => Err(bad(
+                "navigate",
+                "experiment \"navigate\" needs a navigate section",
             )),
             _ => Ok(()),
         }

@@ -16,8 +16,9 @@ use std::path::{Path, PathBuf};
 /// What `whisker dataset SCENARIO --seed N --out DIR` writes.
 #[derive(Debug, Clone)]
 pub struct ScenarioDataset {
-    /// A maze scenario (`[maze]`, run as `whisker maze-slam` runs it) or a closed loop
-    /// (`[explore]`, run as `whisker run` runs it: the path it took).
+    /// A maze scenario (`[maze]`, run as `whisker maze-slam` runs it), a closed loop
+    /// (`[explore]`, run as `whisker run` runs it: the path it took) or an office run
+    /// (`[navigate]`, as `whisker run` runs it).
     pub scenario: PathBuf,
     /// Seed [default: the scenario's `seed`].
     pub seed: Option<u64>,
@@ -54,14 +55,23 @@ pub fn write_scenario(w: &ScenarioDataset, ctx: crate::record::Context) -> Resul
                 )));
             }
             crate::closed_loop::dataset::write(file, &scenario, &text, staging, ctx.reporter)
+        } else if scenario.navigate.is_some() {
+            if w.clean {
+                return Err(Error::Input(format!(
+                    "{}: --clean: the robot's stops depend on its noise; write the office run \
+                     with the noise it runs with",
+                    file.display()
+                )));
+            }
+            crate::navigation::dataset::write(file, &scenario, &text, staging, ctx.reporter)
         } else if scenario.maze.is_some() {
             crate::maze_slam::dataset::write(file, &scenario, &text, w.clean, staging, ctx.reporter)
         } else {
             Err(Error::field(
                 file,
                 "maze",
-                "whisker dataset writes maze scenarios ([maze]) and closed loops \
-                 ([explore]); object walks: `whisker dataset object-slam`",
+                "whisker dataset writes maze scenarios ([maze]), closed loops ([explore]) \
+                 and office runs ([navigate]); object walks: `whisker dataset object-slam`",
             ))
         }
     })
@@ -84,6 +94,7 @@ pub enum SlamReport {
     Maze(crate::maze_slam::Report),
     Object(crate::object_slam::Report),
     ClosedLoop(crate::closed_loop::dataset::ReplaySummary),
+    Navigate(crate::navigation::replay::Report),
 }
 
 impl std::fmt::Display for SlamReport {
@@ -92,6 +103,7 @@ impl std::fmt::Display for SlamReport {
             SlamReport::Maze(r) => r.fmt(f),
             SlamReport::Object(r) => r.fmt(f),
             SlamReport::ClosedLoop(r) => r.fmt(f),
+            SlamReport::Navigate(r) => r.fmt(f),
         }
     }
 }
@@ -117,6 +129,9 @@ pub fn slam(dir: &Path, out: Option<&Path>, ctx: crate::record::Context) -> Resu
         }
         Experiment::ClosedLoop => {
             crate::closed_loop::dataset::replay(dir, &manifest, out).map(SlamReport::ClosedLoop)
+        }
+        Experiment::Navigate => {
+            crate::navigation::replay::replay(dir, &manifest, out).map(SlamReport::Navigate)
         }
     }
 }

@@ -7,6 +7,7 @@
 //! judged against the truth ([`closures`]), and the run's files ([`outputs`], [`figure`]).
 
 pub mod closures;
+pub mod dataset;
 pub mod figure;
 pub mod footprint;
 pub mod navigator;
@@ -14,5 +15,6 @@ pub mod object_mode;
 pub mod outputs;
 pub mod plan_view;
 pub mod posture;
+pub mod replay;
 pub mod route;
 pub mod terrain;

@@ -24,6 +24,100 @@ pub const RUN: &str = "office";
 /// The files a navigation run writes.
 pub const FILES: &str = "path.csv, stops.csv, summary.json, path.svg";
 
+/// What a run's files can say: the truth (true poses, the objects at the stops, and
+/// what is judged against them) and the world (collisions, the piece a contact touched,
+/// the cue's verdicts scored). A live run knows both; the replay of a dataset knows no
+/// world, and without its `truth/` no truth: those columns are left empty and those
+/// `summary.json` fields are `null`, never zeros.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Known {
+    pub truth: bool,
+    pub world: bool,
+}
+
+impl Known {
+    /// A live run's.
+    pub const ALL: Known = Known {
+        truth: true,
+        world: true,
+    };
+}
+
+/// The columns of `path.csv` and `stops.csv` that need the truth, and the one that
+/// needs the world.
+const PATH_TRUTH: [&str; 3] = ["true_x_m", "true_y_m", "true_heading_rad"];
+const PATH_WORLD: [&str; 1] = ["touched"];
+const STOPS_TRUTH: [&str; 4] = ["true_x_m", "true_y_m", "object", "outcome"];
+
+/// `summary.json`'s fields that need the truth, and those that need the world.
+const SUMMARY_TRUTH: [&str; 10] = [
+    "closures",
+    "recovery",
+    "first_lap_end",
+    "map_error",
+    "odometry_error",
+    "arr",
+    "arcr",
+    "relocalisations",
+    "correct_relocalisations",
+    "energy_metric",
+];
+const SUMMARY_WORLD: [&str; 4] = ["arm_collisions", "base_collisions", "collisions", "switch"];
+/// `summary.json`'s `objects` fields that score the stops against the true objects.
+const OBJECTS_TRUTH: [&str; 4] = ["correct", "wrong", "none", "wall"];
+
+/// `csv` with the columns named `names` left empty.
+fn blank(csv: String, names: &[&str]) -> String {
+    let mut lines = csv.lines();
+    let header = lines.next().unwrap_or_default();
+    let gone: Vec<usize> = header
+        .split(',')
+        .enumerate()
+        .filter(|(_, h)| names.contains(h))
+        .map(|(i, _)| i)
+        .collect();
+    let mut out = format!("{header}\n");
+    for line in lines {
+        let cells: Vec<&str> = line
+            .split(',')
+            .enumerate()
+            .map(|(i, c)| if gone.contains(&i) { "" } else { c })
+            .collect();
+        out += &cells.join(",");
+        out.push('\n');
+    }
+    out
+}
+
+/// `path.csv`, `stops.csv` and `summary.json` of `run` as far as `known`; `flags` are
+/// (object mode, fusion, kidnap).
+pub fn tables(
+    run: &TerrainRun,
+    seed: u64,
+    flags: (bool, bool, bool),
+    known: Known,
+) -> (String, String, serde_json::Value) {
+    let (mut path, mut stops) = (path_csv(run), stops_csv(run));
+    let mut summary = summary(run, seed, flags);
+    if !known.truth {
+        path = blank(path, &PATH_TRUTH);
+        stops = blank(stops, &STOPS_TRUTH);
+        for k in SUMMARY_TRUTH {
+            summary[k] = serde_json::Value::Null;
+        }
+        for k in OBJECTS_TRUTH {
+            summary["objects"][k] = serde_json::Value::Null;
+        }
+    }
+    if !known.world {
+        path = blank(path, &PATH_WORLD);
+        for k in SUMMARY_WORLD {
+            summary[k] = serde_json::Value::Null;
+        }
+    }
+    (path, stops, summary)
+}
+
 /// Checks what a navigation run of `scenario` (read from `file`) needs beyond the
 /// scenario's own fields: the arm's terrain posture, and the route clear of the office's
 /// walls and posts and of the objects (the first pieces of `environment`); says what it
@@ -122,9 +216,10 @@ pub fn write(
     if let Some(rec) = recorder {
         rec.finish()?;
     }
-    output::write_atomic(&dir.join("path.csv"), path_csv(&run).as_bytes())?;
-    output::write_atomic(&dir.join("stops.csv"), stops_csv(&run).as_bytes())?;
-    let summary = summary(&run, scenario.seed, config);
+    let flags = (config.object.is_some(), config.fusion, config.kidnap);
+    let (path, stops, summary) = tables(&run, scenario.seed, flags, Known::ALL);
+    output::write_atomic(&dir.join("path.csv"), path.as_bytes())?;
+    output::write_atomic(&dir.join("stops.csv"), stops.as_bytes())?;
     let floor = scenario
         .office
         .as_ref()
@@ -148,11 +243,32 @@ pub fn write(
     let svg = super::figure::path_svg(&figure, &floor, &objects, &run, &title)?;
     output::write_atomic(&figure, svg.as_bytes())?;
     output::write_json(&dir.join("summary.json"), &summary)?;
-    ctx.say(&results(&summary, start.elapsed().as_secs_f64()));
-    if config.object.is_some() {
-        ctx.say(&object_results(&summary));
-    }
+    ctx.say(&console(&summary, Some(start.elapsed().as_secs_f64())));
     Ok(())
+}
+
+/// The console account of `summary.json` (`wall`: seconds it took, if timed): the run,
+/// and with object mode its stops, closures and kidnap.
+pub fn console(summary: &serde_json::Value, wall: Option<f64>) -> String {
+    let mut text = results(summary, wall);
+    if summary["mode"] == "terrain+object" {
+        text += "\n";
+        text += &object_results(summary);
+    }
+    if !summary["switch"].is_null() {
+        return text;
+    }
+    // A replay: no office to collide with or to score the cue against, and (without
+    // ground truth) no metric judged against the truth.
+    let lines: Vec<String> = text
+        .lines()
+        .filter(|l| !l.starts_with("switch ") && !l.starts_with("collisions "))
+        .map(|l| l.replace("null", "–"))
+        .collect();
+    lines.join("\n")
+        + "\noffice     not in a dataset: collisions and the cue's verdicts scored against the \
+           pieces are unknown (– = unknown; without truth/ also every metric judged against the \
+           truth)"
 }
 
 /// `path.csv`: per update the true, dead-reckoned and estimated base poses, the
@@ -295,11 +411,11 @@ fn error_json(e: &Option<MapError>) -> serde_json::Value {
     }
 }
 
-/// `summary.json`.
+/// `summary.json`; `flags` are (object mode, fusion, kidnap).
 fn summary(
     run: &TerrainRun,
     seed: u64,
-    config: &crate::scenario::navigate::NavigateConfig,
+    (object, fusion, kidnap): (bool, bool, bool),
 ) -> serde_json::Value {
     let whisks_with_contact = run.updates.iter().filter(|u| u.contacts > 0).count();
     let arm = run.arm_collisions.iter().map(|c| ("arm", c));
@@ -309,9 +425,9 @@ fn summary(
         .collect();
     json!({
         "seed": seed,
-        "mode": if config.object.is_some() { "terrain+object" } else { "terrain" },
-        "fusion": config.fusion,
-        "kidnap": config.kidnap,
+        "mode": if object { "terrain+object" } else { "terrain" },
+        "fusion": fusion,
+        "kidnap": kidnap,
         "time_s": run.time_s,
         "objects": stops_json(run),
         "closures": closures_json(&run.closures),
@@ -386,8 +502,8 @@ fn object_results(s: &serde_json::Value) -> String {
     )
 }
 
-/// The console account of `summary.json` (`wall`: seconds it took), explained.
-fn results(s: &serde_json::Value, wall: f64) -> String {
+/// The console account of `summary.json` (`wall`: seconds it took, if timed), explained.
+fn results(s: &serde_json::Value, wall: Option<f64>) -> String {
     let sw = &s["switch"];
     let found = match sw["objects_found"].as_object() {
         Some(m) if !m.is_empty() => m
@@ -399,7 +515,7 @@ fn results(s: &serde_json::Value, wall: f64) -> String {
     };
     let f = |v: &serde_json::Value| v.as_f64().map_or("–".to_owned(), |x| format!("{x:.3}"));
     format!(
-        "navigated  {} updates ({wall:.1} s wall), {} with contact ({} contacts): {} templates, \
+        "navigated  {} updates{}, {} with contact ({} contacts): {} templates, \
          {} experiences\nmap error  {} m rms, {} m max after the best rigid fit (odometry \
          alone: {} m rms, {} m max)\nARR {}  ARCR {}  ({} re-localisations after the first \
          lap, {} correct within 0.1 m and 25°); Energy Metric {}\ncollisions arm {}, base {}\nswitch     {} verdicts after whisks that touched: on walls {} wall, {} object, \
@@ -409,6 +525,7 @@ fn results(s: &serde_json::Value, wall: f64) -> String {
          3.2 of the thesis (Ch 3); switch = the mode-switch cue (docs/navigation.md) scored \
          against the piece the newest contact lies on",
         s["updates"],
+        wall.map_or(String::new(), |w| format!(" ({w:.1} s wall)")),
         s["whisks_with_contact"],
         s["contacts"],
         s["templates"],

@@ -160,6 +160,8 @@ fn whisks(
 pub struct Update {
     /// The base's true pose.
     pub truth: Pose2,
+    /// The robot's clock at the whisk (s): the updates and the stops before it.
+    pub time_s: f64,
     /// What the odometry read since the previous update (none at the first).
     pub reading: BaseMotion,
     /// Contacts detected.
@@ -218,6 +220,8 @@ fn dock_time(
 pub struct TerrainRun {
     /// Every update, the start first.
     pub updates: Vec<Update>,
+    /// Each update's whisk: its contacts (array frame) as SLAM saw them.
+    pub cycles: Vec<ContactCycle>,
     /// Each update's estimate: the final relaxed map's pose of the experience current
     /// then, the first update's experience placed at the start pose.
     pub estimate: Vec<Pose2>,
@@ -300,6 +304,7 @@ pub fn run(
     })?;
     let mut robot = Navigator::of(config, whiskers, posture.clone());
     let mut updates = Vec::with_capacity(truth.len());
+    let mut cycles = Vec::with_capacity(truth.len());
     let mut steps = Vec::with_capacity(truth.len());
     let mut arm_collisions = Vec::new();
     let mut dead_reckoned = Vec::with_capacity(truth.len());
@@ -356,6 +361,7 @@ pub fn run(
         }
         updates.push(Update {
             truth: *b,
+            time_s: clock,
             reading,
             contacts: cycle.contacts.len(),
             image: seen.image,
@@ -366,6 +372,7 @@ pub fn run(
                 .as_ref()
                 .and_then(|(d, p)| p.map(|p| (d.verdict, environment.pieces[p].name.clone()))),
         });
+        cycles.push(cycle);
         clock += 1.0 / UPDATE_HZ;
         let (Some(om), Some((decision, piece))) = (&config.object, decided) else {
             reporter.progress("updates", k as u64 + 1, truth.len() as u64);
@@ -469,6 +476,7 @@ pub fn run(
         stops,
         time_s: clock,
         updates,
+        cycles,
         estimate,
         dead_reckoned,
     })
