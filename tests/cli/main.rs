@@ -7,6 +7,7 @@ mod console;
 mod dataset;
 mod dataset_malformed;
 mod dataset_object;
+mod dataset_office;
 mod environment;
 mod explore;
 mod fuzz;
