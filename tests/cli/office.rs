@@ -425,4 +425,45 @@ fn the_office_run_maps_the_route_closer_than_its_odometry() {
         map < odometry,
         "map {map} m rms, odometry alone {odometry} m rms"
     );
+    stop_recordings_agree(&dir);
+}
+
+/// Each stop's closed loops are recorded beside run.rrd (`stops/NNNNNN-<task>.rrd`)
+/// exactly where stops.csv says loops ran: recognition at every object, map building where
+/// nothing was identified, none at walls. A recognition's recording holds one integrated
+/// confidence per whisk, its last value stops.csv's `ic` (which counts both loops'
+/// whisks: recognition alone where nothing was mapped).
+fn stop_recordings_agree(dir: &Path) {
+    use whisker_recording::decode;
+    let stops = rows(&dir.join("stops.csv"));
+    let mut checked = 0;
+    for s in &stops {
+        let file = |task: &str| dir.join(format!("stops/{:0>6}-{task}.rrd", s[0]));
+        assert_eq!(file("recognise").exists(), !s[7].is_empty(), "{s:?}");
+        assert_eq!(file("map").exists(), !s[15].is_empty(), "{s:?}");
+        if s[7].is_empty() || !s[15].is_empty() {
+            continue;
+        }
+        let chunks = super::recording::checked(
+            &file("recognise"),
+            &[
+                "world/arm/skeleton",
+                "world/contacts/estimated",
+                "recognition/integrated/box",
+            ],
+        );
+        for pair in s[14].split(' ') {
+            let (object, ic) = pair.split_once('=').unwrap();
+            let ic: f64 = ic.parse().unwrap();
+            let recorded = decode::scalars(&chunks, &format!("/recognition/integrated/{object}"));
+            assert_eq!(recorded.len(), s[10].parse::<usize>().unwrap(), "{s:?}");
+            let last = recorded.last().unwrap().1[0];
+            assert!(
+                (last - ic).abs() <= 0.5,
+                "{object}: recorded {last}, stops.csv {ic}"
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked > 0, "no recognition to check: {stops:?}");
 }

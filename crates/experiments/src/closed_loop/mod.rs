@@ -41,6 +41,6 @@ mod strategy;
 mod whisk_recording;
 
 pub use log::{CSV_NAME, SUMMARY_NAME};
-pub use outputs::{describe, write};
-pub use session::{run, run_knowing, run_logged};
+pub use outputs::{describe, record_arm, write};
+pub use session::{run, run_knowing, run_logged, run_recorded};
 pub use state::Outcome;

@@ -73,7 +73,6 @@ pub fn write(
     if let Some(rec) = &recording {
         rec.environment(environment)?;
     }
-    let skeleton = plan.skeleton();
     let frames = plan.clone();
     let started = std::time::Instant::now();
     let out = run_logged(
@@ -94,17 +93,24 @@ pub fn write(
         crate::output::write_json(&dir.join("map.json"), map)?;
     }
     if let Some(rec) = recording {
-        let tips: Vec<_> = out.joints.iter().map(|q| frames.chain.fk(q)).collect();
-        for (k, q) in out.joints.iter().enumerate() {
-            let links = frames.link_frames(q, &skeleton);
-            let recent = &tips[k.saturating_sub(TRAIL_WHISKS)..=k];
-            rec.arm_at_whisk(out.times[k], k as u64, (&links, &tips[k]), recent)?;
-        }
-        rec.frame_axes()?;
+        record_arm(rec.as_ref(), &frames, &out)?;
         rec.finish()?;
     }
     ctx.say(&results(&out.summary, wall));
     Ok(())
+}
+
+/// The arm of `plan` at every whisk of the loop `out` into `rec` (its links, the tip and
+/// the tip's recent trail), then the frame axes.
+pub fn record_arm(rec: &dyn crate::record::Recorder, plan: &Plan, out: &super::Outcome) -> Result {
+    let skeleton = plan.skeleton();
+    let tips: Vec<_> = out.joints.iter().map(|q| plan.chain.fk(q)).collect();
+    for (k, q) in out.joints.iter().enumerate() {
+        let links = plan.link_frames(q, &skeleton);
+        let recent = &tips[k.saturating_sub(TRAIL_WHISKS)..=k];
+        rec.arm_at_whisk(out.times[k], k as u64, (&links, &tips[k]), recent)?;
+    }
+    rec.frame_axes()
 }
 
 /// The console account of a closed-loop run's `summary.json` (`wall`: seconds it took),

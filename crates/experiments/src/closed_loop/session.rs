@@ -31,9 +31,22 @@ pub fn run_knowing(
     environment: &Environment,
     learned: &[(String, ObjectMap)],
 ) -> Result<Outcome> {
+    run_recorded(scenario, file, plan, environment, learned, None)
+}
+
+/// [`run_knowing`], each whisk logged to `recording` (the arm's motion is recorded after
+/// the loop: [`super::outputs::record_arm`]).
+pub fn run_recorded(
+    scenario: &Scenario,
+    file: &Path,
+    plan: Plan,
+    environment: &Environment,
+    learned: &[(String, ObjectMap)],
+    recording: Option<&dyn Recorder>,
+) -> Result<Outcome> {
     let outlets = Outlets {
         log: None,
-        recording: None,
+        recording,
         reporter: &Silent,
         learned,
     };

@@ -30,6 +30,7 @@
 use crate::closed_loop;
 use crate::error::{Error, Result};
 use crate::plan::Plan;
+use crate::record::Recorder;
 use crate::scenario::Scenario;
 use crate::scenario::explore::{ExploreConfig, Task};
 use crate::scenario::object_mode::ObjectModeConfig;
@@ -176,13 +177,44 @@ pub fn compose(first: &BaseMotion, then: &BaseMotion) -> BaseMotion {
     BaseMotion::between(&start, &then.apply(&first.apply(&start)))
 }
 
+/// Starts the recording of a stop's closed loop: its name (`NNNNNN-recognise`,
+/// `NNNNNN-map`) and what its camera frames (the object, in the arm's base frame).
+pub type StopRecorder<'a> = &'a dyn Fn(&str, &Environment) -> Result<Box<dyn Recorder>>;
+
 /// What a stop's closed loop runs in: the scenario (read from `file`), its arm and the
-/// office.
+/// office; `record` records each loop (none: no recordings).
 pub struct Setting<'a> {
     pub scenario: &'a Scenario,
     pub file: &'a Path,
     pub plan: &'a Plan,
     pub environment: &'a Environment,
+    pub record: Option<StopRecorder<'a>>,
+}
+
+/// Runs the closed loop of `stop` in `local` knowing `learned`, recorded as `name` when
+/// `record` is given (the camera on `focus`): the loop's whisks, then the arm's motion.
+fn recorded_loop(
+    (stop, file, plan): (&Scenario, &Path, &Plan),
+    (local, focus): (&Environment, &Environment),
+    learned: &[(String, ObjectMap)],
+    record: Option<StopRecorder>,
+    name: &str,
+) -> Result<closed_loop::Outcome> {
+    let rec = match record {
+        Some(start) => {
+            let rec = start(name, focus)?;
+            rec.environment(local)?;
+            Some(rec)
+        }
+        None => None,
+    };
+    let outcome =
+        closed_loop::run_recorded(stop, file, plan.clone(), local, learned, rec.as_deref())?;
+    if let Some(rec) = rec {
+        closed_loop::record_arm(rec.as_ref(), plan, &outcome)?;
+        rec.finish()?;
+    }
+    Ok(outcome)
 }
 
 /// Runs the closed loop of `config` at the object `piece` of the setting's environment
@@ -201,6 +233,7 @@ pub fn explore(
         file,
         plan,
         environment,
+        record,
     } = *setting;
     let name = scenario.object_names()[piece].clone();
     let mut stop = scenario.clone();
@@ -212,7 +245,12 @@ pub fn explore(
     for p in &mut local.pieces {
         p.pose = to_base * p.pose;
     }
-    let outcome = closed_loop::run_knowing(&stop, file, plan.clone(), &local, &learned.maps)?;
+    let at = (&stop, file, plan);
+    let focus = Environment {
+        pieces: vec![local.pieces[piece].clone()],
+    };
+    let loop_name = format!("{update:06}-recognise");
+    let outcome = recorded_loop(at, (&local, &focus), &learned.maps, record, &loop_name)?;
     let mut loops = Loops {
         recognise: Some(LoopLog::of(&outcome)),
         map: None,
@@ -247,7 +285,9 @@ pub fn explore(
             max_iterations: config.map_whisks,
             ..config.episode(&name)
         });
-        let built = closed_loop::run(&stop, file, plan.clone(), &local)?;
+        let loop_name = format!("{update:06}-map");
+        let at = (&stop, file, plan);
+        let built = recorded_loop(at, (&local, &focus), &[], record, &loop_name)?;
         let (whisks, time_s) = effort(&built.summary)?;
         episode.whisks += whisks;
         episode.time_s += time_s;

@@ -194,6 +194,26 @@ pub fn write(
         graph: Default::default(),
     });
     let start = std::time::Instant::now();
+    // Each stop's closed loops, recorded as `whisker run` records an [explore] scenario,
+    // into stops/NNNNNN-<recognise|map>.rrd beside the office's recording.
+    let stops_dir = rrd
+        .path(Some(dir), scenario.output.recording)
+        .map(|p| p.parent().unwrap_or(dir).join("stops"));
+    let stem = file.file_stem().unwrap_or_default().to_string_lossy();
+    let record_stop =
+        |name: &str, focus: &Environment| -> Result<Box<dyn crate::record::Recorder>> {
+            let dir = stops_dir.as_ref().expect("only with a recording");
+            output::create_dir(dir)?;
+            let id = format!("{}-stop-{name}", crate::record::id(&stem, scenario.seed));
+            // The object and the arm's base.
+            let eye = Eye::of(focus, &[[0.0; 3]]);
+            ctx.recordings.create(
+                &dir.join(format!("{name}.rrd")),
+                &id,
+                Layout::ClosedLoop { eye },
+            )
+        };
+    let stops: super::object_mode::StopRecorder = &record_stop;
     let run = terrain::run(
         scenario,
         file,
@@ -201,7 +221,7 @@ pub fn write(
         environment,
         config,
         ctx.reporter,
-        recording.as_mut(),
+        recording.as_mut().map(|r| (r, stops)),
     )?;
     if let Some(r) = &recording {
         let truth: Vec<_> = run.updates.iter().map(|u| u.truth).collect();

@@ -255,7 +255,8 @@ pub struct TerrainRun {
 
 /// Runs terrain mode over `config`'s route in `environment` (scenario `scenario`, read
 /// from `file`, its arm `plan`), with object mode's stops when `[navigate.object]` is
-/// given, its progress said to `reporter`.
+/// given, its progress said to `reporter`; with `recording`, each update into the office's
+/// recording and each stop's closed loops into recordings of their own.
 pub fn run(
     scenario: &Scenario,
     file: &Path,
@@ -263,8 +264,12 @@ pub fn run(
     environment: &Environment,
     config: &NavigateConfig,
     reporter: &dyn Reporter,
-    mut recording: Option<&mut RunRecording>,
+    recording: Option<(&mut RunRecording, object_mode::StopRecorder)>,
 ) -> Result<TerrainRun> {
+    let (mut recording, record) = match recording {
+        Some((run, stops)) => (Some(run), Some(stops)),
+        None => (None, None),
+    };
     let chain = crate::sensing::array::array_chain(scenario, file, plan)?;
     let posture = Posture::solve(&config.terrain, &chain, &plan.waypoints[0], file)?;
     let route = route::poses(config, 1.0 / UPDATE_HZ);
@@ -317,6 +322,7 @@ pub fn run(
         file,
         plan,
         environment,
+        record,
     };
     let mut clock = 0.0;
     for (k, b) in truth.iter().enumerate() {
@@ -428,14 +434,23 @@ pub fn run(
         });
         if let Some(r) = recording.as_deref() {
             let e = &episode;
+            let files: Vec<String> = [("recognise", &loops.recognise), ("map", &loops.map)]
+                .iter()
+                .filter(|(_, l)| l.is_some())
+                .map(|(task, _)| format!("stops/{k:06}-{task}.rrd"))
+                .collect();
             r.rec.event(&format!(
-                "update {k}: stop facing {}: identified {} ({}){}",
+                "update {k}: stop facing {}: identified {} ({}){}{}",
                 e.object.as_deref().unwrap_or("a wall"),
                 e.identified.as_deref().unwrap_or("nothing"),
                 e.outcome(),
                 match landmark {
                     Some((x, ev)) => format!(", landmark experience {x} ({ev:?})"),
                     None => String::new(),
+                },
+                match files.is_empty() {
+                    true => String::new(),
+                    false => format!("; its closed loops: {}", files.join(", ")),
                 }
             ))?;
             r.rec.marker(
