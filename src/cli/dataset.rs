@@ -36,8 +36,9 @@ pub enum Command {
 /// `whisker dataset SCENARIO --seed N --out DIR`.
 #[derive(clap::Args, Debug)]
 pub struct WriteArgs {
-    /// A maze scenario (`[maze]`, run as `whisker maze-slam` runs it) or a closed loop
-    /// (`[explore]`, run as `whisker run` runs it: the path it took).
+    /// A maze scenario (`[maze]`, run as `whisker maze-slam` runs it), a closed loop
+    /// (`[explore]`, run as `whisker run` runs it: the path it took) or an office run
+    /// (`[navigate]`, as `whisker run` runs it: whisks, odometry and the stops' loops).
     #[arg(required = true)]
     pub scenario: Option<PathBuf>,
     /// Seed [default: the scenario's `seed`].
