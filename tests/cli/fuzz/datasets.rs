@@ -11,10 +11,11 @@ use proptest::prelude::*;
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-/// The three kinds of dataset, written once per test process: a kinematic maze run, an
-/// object-SLAM run (the Mug) and a closed loop (the quickstart, with its object maps).
-fn datasets() -> &'static [PathBuf; 3] {
-    static DATASETS: OnceLock<[PathBuf; 3]> = OnceLock::new();
+/// The four kinds of dataset, written once per test process: a kinematic maze run, an
+/// object-SLAM run (the Mug), a closed loop (the quickstart, with its object maps) and an
+/// office run (one lap, short closed loops at its stops, one of them map building).
+fn datasets() -> &'static [PathBuf; 4] {
+    static DATASETS: OnceLock<[PathBuf; 4]> = OnceLock::new();
     DATASETS.get_or_init(|| {
         // Under cargo's scratch directory for tests, not the system's: a static is
         // never dropped, so the directory outlives the run.
@@ -23,10 +24,16 @@ fn datasets() -> &'static [PathBuf; 3] {
             .tempdir_in(env!("CARGO_TARGET_TMPDIR"))
             .unwrap()
             .keep();
-        let d = [tmp.join("maze"), tmp.join("object"), tmp.join("loop")];
+        let d = [
+            tmp.join("maze"),
+            tmp.join("object"),
+            tmp.join("loop"),
+            tmp.join("office"),
+        ];
         let maze = s(&repo("scenarios/maze_kinematic.toml"));
         let quick = s(&repo("scenarios/quickstart.toml"));
-        let runs: [Vec<String>; 3] = [
+        let office = s(&repo("scenarios/office.toml"));
+        let runs: [Vec<String>; 4] = [
             vec!["dataset".into(), maze],
             vec![
                 "dataset".into(),
@@ -35,6 +42,12 @@ fn datasets() -> &'static [PathBuf; 3] {
                 "mug".into(),
             ],
             vec!["dataset".into(), quick],
+            ["dataset", &office, "--set", "navigate.laps=1"]
+                .into_iter()
+                .chain(["--set", "navigate.object.explore.max_iterations=40"])
+                .chain(["--set", "navigate.object.map_whisks=40"])
+                .map(String::from)
+                .collect(),
         ];
         for (args, out) in runs.iter().zip(&d) {
             let o = std::process::Command::new(env!("CARGO_BIN_EXE_whisker"))
@@ -57,7 +70,7 @@ proptest! {
 
     #[test]
     fn fuzz_datasets(
-        kind in prop::sample::select(&[0usize, 0, 1, 1, 2][..]),
+        kind in prop::sample::select(&[0usize, 0, 1, 1, 2, 3, 3][..]),
         file in any::<usize>(),
         tree in tree_edits(),
         numbers in number_edits(),

@@ -313,6 +313,41 @@ pub struct NavigateInfo {
     pub object: Option<NavigateObjectInfo>,
 }
 
+impl NavigateInfo {
+    /// The numbers a replay needs sane: (field, what was expected).
+    fn check(&self) -> std::result::Result<(), (String, String)> {
+        let bad = |f: &str, e: &str| Err((f.to_string(), e.to_string()));
+        if self.updates == 0 {
+            return bad("updates", "expected at least 1");
+        }
+        if !(self.update_hz.is_finite() && self.update_hz > 0.0) {
+            return bad("update_hz", "expected a rate > 0 (Hz)");
+        }
+        let p = &self.posture;
+        let numbers = p.array_position_m.iter().chain(&p.array_quaternion);
+        if !(numbers.chain([&p.mount_height_m]).all(|v| v.is_finite())) {
+            return bad("posture", "expected finite numbers");
+        }
+        let norm = p.array_quaternion.iter().map(|q| q * q).sum::<f64>().sqrt();
+        if (norm - 1.0).abs() > 1e-9 {
+            return bad("posture.array_quaternion", "expected a unit quaternion");
+        }
+        if let Some(o) = &self.object {
+            for (f, v) in [
+                ("dock_distance_m", o.dock_distance_m),
+                ("revisit_m", o.revisit_m),
+                ("landmark_energy", o.landmark_energy),
+                ("landmark_gate_m", o.landmark_gate_m),
+            ] {
+                if !(v.is_finite() && v >= 0.0) {
+                    return bad(&format!("object.{f}"), "expected a number ≥ 0");
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
 /// `navigate.posture`: the arm's joints, the arm's base above the floor, the array in
 /// the arm's base frame.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -480,6 +515,8 @@ impl Manifest {
                 .map_err(|e| Error::field(path, "closed_loop.slam.pose_cells", e))?;
         }
         if let Some(n) = &self.navigate {
+            n.check()
+                .map_err(|(f, e)| Error::field(path, &format!("navigate.{f}"), e))?;
             n.ratslam
                 .validate()
                 .map_err(|e| Error::field(path, "navigate.ratslam", e))?;

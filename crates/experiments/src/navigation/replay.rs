@@ -80,8 +80,9 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<Report> {
         .ok_or_else(|| Error::field(&file, "navigate", "missing"))?;
     let n = info.updates;
     let whiskers = crate::dataset::rigid_whiskers(dir, &m.array)?;
-    let cycles = records::read_contacts(&m.file(dir, "log/contacts.csv")?, n, &m.array.labels)?;
+    // The odometry first: its rows must number the manifest's updates.
     let readings = read_readings(&m.file(dir, "log/odometry.csv")?, n)?;
+    let cycles = records::read_contacts(&m.file(dir, "log/contacts.csv")?, n, &m.array.labels)?;
     let log_poses = records::read_poses(&m.file(dir, "log/poses.csv")?)?;
     let logged = read_stops(&m.file(dir, "log/stops.csv")?)?;
     let truth = match m.has_truth(dir) {
@@ -335,8 +336,9 @@ fn read_loop(
     Vec<whisker_slam::sensor::Odometry>,
 )> {
     let at = |f: &str| m.file(dir, &format!("log/{}/{task}/{f}", stop_dir(k)));
-    let cycles = records::read_contacts(&at("contacts.csv")?, n, &m.array.labels)?;
+    // The odometry first: its rows must number the logged whisks.
     let odometry = read_odometry(&at("odometry.csv")?, n)?;
+    let cycles = records::read_contacts(&at("contacts.csv")?, n, &m.array.labels)?;
     records::read_poses(&at("poses.csv")?)?;
     Ok((cycles, odometry))
 }
