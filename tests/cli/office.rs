@@ -302,6 +302,7 @@ fn the_office_run_maps_the_route_closer_than_its_odometry() {
             "world/runs/office/estimated",
             "world/runs/office/odometry",
             "world/runs/office/stops",
+            "slam/office/map/landmarks",
             "events",
         ],
     );

@@ -268,6 +268,14 @@ pub trait Recorder {
     fn pose_cells(&self, entity: &str, grid: &PoseGrid) -> Result;
     /// An experience graph under `entity`, in map space.
     fn graph(&self, entity: &str, graph: &Graph) -> Result;
+    /// Points of a 2-D view (map space, m) at `entity`, their labels shown.
+    fn labelled_2d(
+        &self,
+        entity: &str,
+        points: &[[f64; 2]],
+        labels: &[String],
+        colour: [u8; 3],
+    ) -> Result;
     /// One scalar at `entity`.
     fn scalar(&self, entity: &str, value: f64) -> Result;
     /// Names the series of a whisker's stream at `entity` ([`SENSOR_SERIES`], static).

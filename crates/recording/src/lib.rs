@@ -364,6 +364,23 @@ impl Recorder for Recording {
     fn graph(&self, entity: &str, graph: &Graph) -> Result {
         Recording::graph(self, entity, graph)
     }
+    fn labelled_2d(
+        &self,
+        entity: &str,
+        points: &[[f64; 2]],
+        labels: &[String],
+        [r, g, b]: [u8; 3],
+    ) -> Result {
+        let point = |p: &[f64; 2]| [p[0] as f32, p[1] as f32];
+        self.log(
+            entity,
+            &rerun::Points2D::new(points.iter().map(point))
+                .with_labels(labels.iter().map(String::as_str))
+                .with_colors([rerun::Color::from_rgb(r, g, b)])
+                .with_radii([rerun::Radius::new_ui_points(6.0)])
+                .with_show_labels(true),
+        )
+    }
     fn scalar(&self, entity: &str, value: f64) -> Result {
         Recording::scalar(self, entity, value)
     }

@@ -155,7 +155,7 @@ impl Recording {
             entity,
             &rerun::LineStrips3D::new([strip])
                 .with_colors([rerun::Color::from_rgb(r, g, b)])
-                .with_radii([0.0015]),
+                .with_radii([rerun::Radius::new_ui_points(1.5)]),
         )
     }
 

@@ -471,6 +471,7 @@ pub fn slam_runs(
                     z: plane.z,
                     hz: geometry::UPDATE_HZ,
                     graph: Default::default(),
+                    landmarks: Vec::new(),
                 });
                 let run = Evaluation::of(
                     *params,

@@ -23,6 +23,9 @@ pub struct RunRecording<'a> {
     /// Updates per second (timeline `sim_time`).
     pub hz: f64,
     pub graph: GraphSchedule,
+    /// The office's object landmarks: each one's experience and label (`box#0`), drawn
+    /// over the map (`slam/<run>/map/landmarks`).
+    pub landmarks: Vec<(usize, String)>,
 }
 
 /// A run's name as an entity path segment.
@@ -70,6 +73,20 @@ impl RunRecording<'_> {
                     objects: None,
                 },
             )?;
+            if !self.landmarks.is_empty() {
+                let e = &slam.map.experiences;
+                let (points, labels): (Vec<[f64; 2]>, Vec<String>) = self
+                    .landmarks
+                    .iter()
+                    .map(|(x, l)| ([e[*x].pose.x, e[*x].pose.y], l.clone()))
+                    .unzip();
+                rec.labelled_2d(
+                    &format!("slam/{run}/map/landmarks"),
+                    &points,
+                    &labels,
+                    [40, 170, 60],
+                )?;
+            }
         }
         if let Some(t) = truth {
             let p = self.point(t);

@@ -180,7 +180,7 @@ pub fn write(
             runs: vec![RUN.into()],
             images: true,
             timeline: "update",
-            eye: Eye::of(environment, &[]),
+            eye: Eye::of(environment, &[]).map(steep),
         },
     )?;
     if let Some(rec) = &recorder {
@@ -192,6 +192,7 @@ pub fn write(
         z: config.terrain.mount_height_m + config.terrain.array_position_m[2],
         hz: terrain::UPDATE_HZ,
         graph: Default::default(),
+        landmarks: Vec::new(),
     });
     let start = std::time::Instant::now();
     // Each stop's closed loops, recorded as `whisker run` records an [explore] scenario,
@@ -289,6 +290,20 @@ pub fn console(summary: &serde_json::Value, wall: Option<f64>) -> String {
         + "\noffice     not in a dataset: collisions and the cue's verdicts scored against the \
            pieces are unknown (– = unknown; without truth/ also every metric judged against the \
            truth)"
+}
+
+/// `eye` moved to look down on its target from about 70° of elevation, at the same
+/// distance: the office's paths run 0.25 m above the floor beside 0.5 m walls, which hide
+/// them from the usual 40°.
+fn steep(eye: Eye) -> Eye {
+    let d: Vec<f64> = (0..3).map(|i| eye.position[i] - eye.target[i]).collect();
+    let distance = d.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let dir = [0.0, -0.35, 1.0];
+    let norm = dir.iter().map(|v: &f64| v * v).sum::<f64>().sqrt();
+    Eye {
+        position: [0, 1, 2].map(|i| eye.target[i] + dir[i] / norm * distance),
+        target: eye.target,
+    }
 }
 
 /// `path.csv`: per update the true, dead-reckoned and estimated base poses, the

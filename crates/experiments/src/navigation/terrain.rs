@@ -432,6 +432,12 @@ pub fn run(
             });
             (s.experience, s.event)
         });
+        if let (Some(r), Some((x, _)), Some(id)) =
+            (recording.as_deref_mut(), landmark, &episode.identified)
+            && r.landmarks.iter().all(|(at, _)| *at != x)
+        {
+            r.landmarks.push((x, id.clone()));
+        }
         if let Some(r) = recording.as_deref() {
             let e = &episode;
             let files: Vec<String> = [("recognise", &loops.recognise), ("map", &loops.map)]
