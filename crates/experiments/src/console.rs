@@ -124,11 +124,16 @@ pub fn outputs(written: &[PathBuf], missing: Option<NoRecording>) -> String {
             );
         }
         (many, _) => {
+            // The run's own recording first, when there is one among them.
+            let shown = many
+                .iter()
+                .find(|p| p.file_name().is_some_and(|n| n == "run.rrd"))
+                .unwrap_or(&many[0]);
             let _ = writeln!(
                 out,
                 "recording  {} recordings, e.g. {}  (open one: rerun FILE; docs/recording.md)",
                 many.len(),
-                many[0].display()
+                shown.display()
             );
         }
     }
