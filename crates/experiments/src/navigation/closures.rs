@@ -26,6 +26,26 @@ pub struct StepRecord {
     pub landmark: bool,
 }
 
+impl StepRecord {
+    /// The record of `step`, taken at update `update` and clock `time_s` with the base
+    /// truly at `truth`; `landmark` if a recognised object made it.
+    pub fn of(
+        step: &whisker_slam::ratslam::Step,
+        (update, time_s): (usize, f64),
+        truth: Pose2,
+        landmark: bool,
+    ) -> Self {
+        Self {
+            update,
+            time_s,
+            experience: step.experience,
+            event: step.event,
+            truth,
+            landmark,
+        }
+    }
+}
+
 /// The closures of a run.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Closures {

@@ -86,9 +86,7 @@ pub fn write(
         None => Vec::new(),
     };
     put_truth(&run, scenario, scenario_text, s)?;
-    let chain = crate::sensing::array::array_chain(scenario, file, &plan)?;
-    let posture =
-        super::posture::Posture::solve(&config.terrain, &chain, &plan.waypoints[0], file)?;
+    let posture = &run.posture;
     let (t, q) = (
         posture.array.translation.vector,
         posture.array.rotation.coords,

@@ -484,7 +484,7 @@ fn summary(
         "base_collisions": run.base_collisions.len(),
         "collisions": collisions,
         "switch": run.switch.json(),
-        "posture_joints_deg": run.posture.iter().map(|q| q.to_degrees()).collect::<Vec<f64>>(),
+        "posture_joints_deg": run.posture.q.iter().map(|q| q.to_degrees()).collect::<Vec<f64>>(),
     })
 }
 

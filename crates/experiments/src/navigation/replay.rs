@@ -23,7 +23,7 @@ use super::outputs::{self, Known};
 use super::posture::Posture;
 use super::terrain::{Stop, TerrainRun, Update};
 use crate::closed_loop::dataset::run_slam;
-use crate::dataset::manifest::{FILE, Manifest, NavigateInfo, NavigateObjectInfo};
+use crate::dataset::manifest::{FILE, Manifest, NavigateObjectInfo};
 use crate::dataset::records;
 use crate::dataset::table::{Table, columns};
 use crate::error::{Error, Result};
@@ -139,14 +139,7 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<Report> {
         let seen = robot.update(&start, &readings[k], cycle);
         dead_reckoned.push(seen.dead_reckoned);
         let step = seen.step;
-        steps.push(StepRecord {
-            update: k,
-            time_s: clock,
-            experience: step.experience,
-            event: step.event,
-            truth: truth_at,
-            landmark: false,
-        });
+        steps.push(StepRecord::of(&step, (k, clock), truth_at, false));
         updates.push(Update {
             truth: truth_at,
             time_s: clock,
@@ -166,12 +159,13 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<Report> {
             continue;
         };
         let stops_file = dir.join("log/stops.csv");
-        let &(at, duration, recognise, map) = stops_log.next().ok_or_else(|| {
+        let logged_stop = stops_log.next().ok_or_else(|| {
             Error::Input(format!(
                 "{}: the robot stops after update {k}, but the log lists no more stops",
                 stops_file.display()
             ))
         })?;
+        let &(at, duration, ..) = logged_stop;
         if at != k {
             return Err(Error::Input(format!(
                 "{}: the next stop is logged after update {at}, but the robot stops after \
@@ -180,18 +174,11 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<Report> {
             )));
         }
         let object = truth.as_ref().map(|t| t.objects.get(&k).cloned().flatten());
-        let stop_loops = (recognise, map);
-        let episode = replay_stop(dir, m, info, k, stop_loops, &known, &mut learned, object)?;
+        let maps = (known.as_slice(), &mut learned);
+        let episode = replay_stop((dir, m), info.object.as_ref(), logged_stop, maps, object)?;
         clock += duration;
         let landmark = robot.landmark(episode.identified.as_deref()).map(|s| {
-            steps.push(StepRecord {
-                update: k,
-                time_s: clock,
-                experience: s.experience,
-                event: s.event,
-                truth: truth_at,
-                landmark: true,
-            });
+            steps.push(StepRecord::of(&s, (k, clock), truth_at, true));
             (s.experience, s.event)
         });
         stops.push(Stop {
@@ -237,7 +224,7 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<Report> {
         first_lap_end,
         arm_collisions: Vec::new(),
         base_collisions: Vec::new(),
-        posture: posture.q,
+        posture,
         switch: Default::default(),
         closures: closures::judge(&steps, known_truth.and_then(|t| t.carried_at)),
         stops,
@@ -262,17 +249,14 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<Report> {
     Ok(Report(summary))
 }
 
-/// The stop after update `k`: its logged closed loops ((recognition, map-building)
-/// whisks) replayed; `object` the true object there (outer none: no ground truth).
-#[allow(clippy::too_many_arguments)]
+/// A logged stop of the dataset in `dir`: its closed loops replayed with object mode's
+/// parameters `o`, knowing the `known` maps and those `learned` so far (the map it builds
+/// is learned); `object` the true object there (outer none: no ground truth).
 fn replay_stop(
-    dir: &Path,
-    m: &Manifest,
-    info: &NavigateInfo,
-    k: usize,
-    (recognise, map): (usize, usize),
-    known: &[(String, ObjectMap)],
-    learned: &mut object_mode::Learned,
+    (dir, m): (&Path, &Manifest),
+    o: Option<&NavigateObjectInfo>,
+    &(k, _, recognise, map): &LoggedStop,
+    (known, learned): (&[(String, ObjectMap)], &mut object_mode::Learned),
     object: Option<Option<String>>,
 ) -> Result<Episode> {
     let mut episode = Episode {
@@ -280,7 +264,7 @@ fn replay_stop(
         whisks: recognise + map,
         ..Episode::default()
     };
-    let Some(o) = &info.object else {
+    let Some(o) = o else {
         return Ok(episode);
     };
     if recognise > 0 {

@@ -241,8 +241,8 @@ pub struct TerrainRun {
     /// (update, link or piece) of every collision: the arm's links, the base's disc.
     pub arm_collisions: Vec<(usize, String)>,
     pub base_collisions: Vec<(usize, String)>,
-    /// The arm's joints holding the array (rad).
-    pub posture: Vec<f64>,
+    /// The arm holding the array: its joints, the array over the base.
+    pub posture: Posture,
     /// The mode-switch cue's verdicts against the truth.
     pub switch: SwitchTally,
     /// Object mode's stops.
@@ -347,14 +347,7 @@ pub fn run(
             switch.add(k, decision.verdict, name, *piece < scenario.objects.len());
         }
         let step = seen.step;
-        steps.push(StepRecord {
-            update: k,
-            time_s: clock,
-            experience: step.experience,
-            event: step.event,
-            truth: *b,
-            landmark: false,
-        });
+        steps.push(StepRecord::of(&step, (k, clock), *b, false));
         if let Some(r) = recording.as_deref_mut() {
             r.update(
                 k,
@@ -422,14 +415,7 @@ pub fn run(
         let time_s = episode.time_s + dock_time(&dock, by_base, config, scenario);
         clock += time_s;
         let landmark = robot.landmark(episode.identified.as_deref()).map(|s| {
-            steps.push(StepRecord {
-                update: k,
-                time_s: clock,
-                experience: s.experience,
-                event: s.event,
-                truth: *b,
-                landmark: true,
-            });
+            steps.push(StepRecord::of(&s, (k, clock), *b, true));
             (s.experience, s.event)
         });
         if let (Some(r), Some((x, _)), Some(id)) =
@@ -491,7 +477,7 @@ pub fn run(
         first_lap_end,
         arm_collisions,
         base_collisions,
-        posture: posture.q,
+        posture,
         switch,
         closures: closures::judge(&steps, carried),
         stops,
