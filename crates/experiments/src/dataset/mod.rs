@@ -23,6 +23,7 @@
 
 pub mod manifest;
 pub mod records;
+pub mod sections;
 pub mod table;
 pub mod whisks;
 
