@@ -54,6 +54,10 @@ pub struct PhysicsArgs {
     /// `--features profiler`.
     #[arg(long)]
     pub stages: bool,
+    /// Time every path of a case this many times in turn and keep each one's fastest run
+    /// (steadier ratios on a shared machine).
+    #[arg(long, default_value_t = physics::Settings::default().repeat)]
+    pub repeat: usize,
     /// Print a JSON list of {case, threads, path, real_time_factor, …}.
     #[arg(long)]
     pub json: bool,
@@ -155,6 +159,7 @@ pub fn run(command: &Command, ctx: Context) -> Result {
                 no_scaling: a.no_scaling,
                 path: a.path,
                 stages: a.stages,
+                repeat: a.repeat,
             };
             let quiet = Context {
                 reporter: &Silent,

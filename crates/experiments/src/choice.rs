@@ -78,7 +78,7 @@ impl Choice for SolverPath {
         (
             SolverPath::OncePerStep,
             "once-per-step",
-            "Patches 1-3, 5: factorised once per step (the default)",
+            "Patches 1-3, 5: factorised once per step (the default until #34)",
         ),
         (
             SolverPath::ExplicitCoriolis,
@@ -88,7 +88,7 @@ impl Choice for SolverPath {
         (
             SolverPath::Articulated,
             "articulated",
-            "Patches 3, 6: articulated-body factorisation, O(n) in the DoFs",
+            "Patches 3, 6-9: articulated-body factorisation, O(n) in the DoFs (the default)",
         ),
     ];
 }

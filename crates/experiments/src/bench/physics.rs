@@ -19,8 +19,11 @@
 //! - `explicit-coriolis`: also patch 4 (explicit gyroscopic and Coriolis terms);
 //! - `articulated`: patches 3 and 6–8 (the articulated-body factorisation, O(n) in the
 //!   chain's DoFs, no dense matrix; the default, `SolverPath::Articulated`);
-//! - `articulated −<lever>`: the default with one of its bit-identical levers off
+//! - `articulated −<lever>`: the default with one of its levers off
 //!   (`SolverPath::levers`), so that each is measured on its own in the same run.
+//!
+//! `--repeat N` times every path of a case N times in turn and keeps each one's fastest
+//! run (the least disturbed on a shared machine; the table's columns are from it).
 //!
 //! `articulated` is the default; `SolverPath` says why `explicit-coriolis` is not.
 //!
@@ -66,6 +69,10 @@ pub struct Settings {
     pub path: Option<SolverPath>,
     /// Instead: Rapier's stage timers for the array against the Box on 1 thread.
     pub stages: bool,
+    /// Times every path of a case this many times, in turn (all paths once, then again),
+    /// and keeps each one's fastest run: on a shared machine the slow runs are the
+    /// disturbed ones, and taking turns spreads a slow spell over every path.
+    pub repeat: usize,
 }
 
 impl Default for Settings {
@@ -79,6 +86,7 @@ impl Default for Settings {
             no_scaling: false,
             path: None,
             stages: false,
+            repeat: 1,
         }
     }
 }
@@ -201,39 +209,43 @@ fn measure(
         .segments
         .or(o.segments)
         .unwrap_or(array::modules()[0].beam.segments);
+    let variants = variants(o);
     for &t in threads {
-        let mut released_wall = None;
+        let mut walls: Vec<_> = variants.iter().map(|&v| (v, f64::INFINITY)).collect();
+        for round in 1..=o.repeat {
+            for (variant, best) in &mut walls {
+                let (wall, _) = time_case(case, *variant, t, o).map_err(Error::Failure)?;
+                *best = best.min(wall);
+                let turn = match o.repeat {
+                    1 => String::new(),
+                    n => format!(" (run {round} of {n})"),
+                };
+                ctx.note(&format!(
+                    "  {:<26} {segments:>2} segments {t} thread(s) {:<9} {:.3}× real time{turn}",
+                    case.name,
+                    variant_name(*variant),
+                    o.duration / wall,
+                ));
+            }
+        }
         let first = rows.len();
-        let mut walls = Vec::new();
-        for (path, without) in variants(o) {
-            let (wall, _) = time_case(case, (path, without), t, o).map_err(Error::Failure)?;
-            let rtf = o.duration / wall;
-            let speedup = match path {
-                SolverPath::Released => {
-                    released_wall = Some(wall);
-                    None
-                }
-                _ => released_wall.map(|r| r / wall),
-            };
-            walls.push(((path, without), wall));
-            let name = match without {
-                Some(lever) => format!("{} −{}", path.name(), lever.name()),
-                None => path.name().to_string(),
-            };
-            ctx.note(&format!(
-                "  {:<26} {segments:>2} segments {t} thread(s) {name:<9} {rtf:.3}× real time",
-                case.name,
-            ));
+        let released_wall = walls
+            .iter()
+            .find(|((p, _), _)| *p == SolverPath::Released)
+            .map(|&(_, w)| w);
+        for &((path, without), wall) in &walls {
             let cpu = t as f64 * wall / o.duration / whiskers as f64;
             rows.push(Row {
                 case: case.name.to_string(),
                 whiskers,
                 segments,
                 threads: t,
-                path: name,
-                real_time_factor: rtf,
+                path: variant_name((path, without)),
+                real_time_factor: o.duration / wall,
                 cpu_s_per_sim_s_per_whisker: cpu,
-                speedup_vs_released: speedup,
+                speedup_vs_released: released_wall
+                    .filter(|_| path != SolverPath::Released)
+                    .map(|r| r / wall),
                 speedup_vs_default: None,
                 cpu_vs_whiskit: cpu / WHISKIT_CPU_S_PER_S,
             });
@@ -248,6 +260,14 @@ fn measure(
         }
     }
     Ok(())
+}
+
+/// A path's name in the table, or `"<path> −<lever>"` for the default with a lever off.
+fn variant_name((path, without): (SolverPath, Option<Lever>)) -> String {
+    match without {
+        Some(lever) => format!("{} −{}", path.name(), lever.name()),
+        None => path.name().to_string(),
+    }
 }
 
 /// What `measure` times: every path (or `--path`), and after the default the default with
@@ -279,6 +299,12 @@ pub fn physics(o: &Settings, ctx: Context) -> Result<Report> {
     {
         return Err(Error::Input(format!(
             "--segments: expected 2 to 200, got {n}"
+        )));
+    }
+    if !(1..=100).contains(&o.repeat) {
+        return Err(Error::Input(format!(
+            "--repeat: expected 1 to 100, got {}",
+            o.repeat
         )));
     }
     if !(o.duration.is_finite() && o.duration > 0.0) {
@@ -331,9 +357,13 @@ pub fn physics(o: &Settings, ctx: Context) -> Result<Report> {
         }
     }
     let heading = format!(
-        "physics sensing of the 18-whisker array, {} s simulated per case at 2 kHz, {:?} bending, {} substep(s); \
+        "physics sensing of the 18-whisker array, {} s simulated per case at 2 kHz{}, {:?} bending, {} substep(s); \
          {} whiskers touch the Box and {} the maze by the kinematic sweep",
         o.duration,
+        match o.repeat {
+            1 => String::new(),
+            n => format!(" (each path's fastest of {n} runs taken in turn)"),
+        },
         o.bending,
         o.substeps,
         boxed.touching.len(),
@@ -389,7 +419,7 @@ impl fmt::Display for Table {
             "released: Rapier 0.36.1 as released, a barrier per sample; exact: vendor/PATCHES.md 1-2 (bit-identical); \
              composite: 1-2, 5 (the same matrices up to rounding); once-per-step: 1-3, 5 (the default until #34); \
              explicit-coriolis: 1-5 (both went non-finite in nudged Mug soaks with fixed steps); articulated: 3, 6-8 (O(n) factorisation, the same inverses up to rounding; the default); \
-             articulated −<lever>: the default with one of its bit-identical levers off (−reuse-step-kinematics: patch 8); \
+             articulated −<lever>: the default with one of its levers off (−reuse-step-kinematics: patch 8, bit-identical; −lazy-jacobians: patch 9, equal up to rounding); \
              all but released one task per whisker and speed-adaptive steps. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
              (below 1: cheaper). Speed-up: released wall time / the path's; vs default: the default path's wall time / this path's; same case and threads."
         )

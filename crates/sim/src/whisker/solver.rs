@@ -46,22 +46,23 @@ pub enum SolverPath {
     /// default: 5 of 12 nudged Mug runs went non-finite (`Exact`: 6 of 140) with one world
     /// step per sample; with speed-adaptive steps 0 of 20.
     ExplicitCoriolis,
-    /// Patches 3 and 6–8: as `OncePerStep`, with the mass matrices factorised the
+    /// Patches 3 and 6–9: as `OncePerStep`, with the mass matrices factorised the
     /// articulated-body way (O(n) in the chain's DoFs, no dense matrix): the same
     /// matrices' inverses up to rounding (`tests/articulated.rs`: energy-norm error 2e-15
     /// on bent whiskers; free whisking within 2e-15 m of `OncePerStep` after 0.3 s), and
     /// the weld's root rows from kept columns of `M⁻¹`. **The default** (#34): ~1.7–2×
     /// faster than `OncePerStep` (`whisker bench physics`); with it the workspace suite
     /// passes and so do the 60-s soaks of the Box, Barrel and Mug and 20 nudged Mug runs.
-    /// Patch 8 ([`Lever::ReuseStepKinematics`]) changes no bit of its results.
+    /// Patch 8 ([`Lever::ReuseStepKinematics`]) changes no bit of its results; patch 9
+    /// ([`Lever::LazyJacobians`], ~1.1–1.2× faster) changes them by rounding.
     #[default]
     Articulated,
 }
 
-/// A speed-up of the default path that changes no bit of its results and can be switched
-/// off on its own, so that `whisker bench physics` measures what each one brings (after the
-/// default path, a row per lever with that lever off; #34: "each lever measured on its
-/// own, kept only if it pays").
+/// A speed-up of the default path that can be switched off on its own, so that `whisker
+/// bench physics` measures what each one brings (after the default path, a row per lever
+/// with that lever off; #34: "each lever measured on its own, kept only if it pays"). Each
+/// says whether it changes bits of the results, and how it is tested.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Lever {
     /// Patch 8: a step starts from the kinematics its predecessor's last substep left
@@ -69,16 +70,23 @@ pub enum Lever {
     /// something the kinematics depend on changed in between
     /// (`IntegrationParameters::multibody_reuse_step_kinematics`).
     ReuseStepKinematics,
+    /// Patch 9: forward kinematics without the dense body Jacobians (6 × 57 per link,
+    /// rebuilt three times a step); the generalised forces by one pass from the tips and a
+    /// constraint row by one pass up its link's branch
+    /// (`IntegrationParameters::multibody_lazy_jacobians`). The same sums in another order:
+    /// equal up to rounding (`tests/articulated.rs`).
+    LazyJacobians,
 }
 
 impl Lever {
     /// Every lever.
-    pub const ALL: [Lever; 1] = [Self::ReuseStepKinematics];
+    pub const ALL: [Lever; 2] = [Self::ReuseStepKinematics, Self::LazyJacobians];
 
     /// Its name in benchmarks.
     pub fn name(self) -> &'static str {
         match self {
             Self::ReuseStepKinematics => "reuse-step-kinematics",
+            Self::LazyJacobians => "lazy-jacobians",
         }
     }
 }
@@ -110,8 +118,9 @@ impl SolverPath {
     /// Sets the path's Rapier parameters with lever `off` switched off, to measure what it
     /// brings (the `articulated −<lever>` rows of `whisker bench physics`).
     pub fn apply_without(self, p: &mut IntegrationParameters, off: Option<Lever>) {
-        let lever = Lever::ReuseStepKinematics;
-        p.multibody_reuse_step_kinematics = self.levers().contains(&lever) && off != Some(lever);
+        let on = |lever: Lever| self.levers().contains(&lever) && off != Some(lever);
+        p.multibody_reuse_step_kinematics = on(Lever::ReuseStepKinematics);
+        p.multibody_lazy_jacobians = on(Lever::LazyJacobians);
         p.multibody_mass_matrix = match self {
             Self::Released => MultibodyMassMatrix::Dense,
             Self::Exact => MultibodyMassMatrix::Truncated,

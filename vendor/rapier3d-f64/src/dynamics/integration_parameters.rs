@@ -380,6 +380,13 @@ pub struct IntegrationParameters {
     /// [`MultibodyJointSet::get_mut`]: crate::dynamics::MultibodyJointSet::get_mut
     /// [`MultibodyJointSet::get_multibody_mut`]: crate::dynamics::MultibodyJointSet::get_multibody_mut
     pub multibody_reuse_step_kinematics: bool,
+    /// If enabled, on the articulated path ([`MultibodyMassMatrix::Articulated`]) forward
+    /// kinematics writes only each link's own Jacobian columns, not the dense body
+    /// Jacobians: the generalised forces are summed by one pass from the tips and a
+    /// constraint row by one pass up its link's branch (the same sums in another order, so
+    /// equal up to rounding; default: `false`, as released). `Multibody::body_jacobian` is
+    /// then stale. whisker-slam patch 9 (`vendor/PATCHES.md`).
+    pub multibody_lazy_jacobians: bool,
 }
 
 impl IntegrationParameters {
@@ -488,6 +495,7 @@ impl Default for IntegrationParameters {
             multibody_mass_matrix_once_per_step: false,
             multibody_semi_implicit_coriolis: true,
             multibody_reuse_step_kinematics: false,
+            multibody_lazy_jacobians: false,
         }
     }
 }

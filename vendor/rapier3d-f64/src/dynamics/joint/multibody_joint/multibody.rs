@@ -26,6 +26,9 @@ use crate::prelude::{GenericJoint, RigidBody};
 // whisker-slam patch 6: `Multibody::update_articulated`.
 #[path = "multibody_articulated.rs"]
 mod articulated_terms;
+// whisker-slam patch 9: forward kinematics without the dense body Jacobians.
+#[path = "multibody_lazy.rs"]
+mod lazy_jacobians;
 
 #[repr(C)]
 #[derive(Copy, Clone, Debug, Default)]
@@ -162,6 +165,23 @@ pub struct Multibody {
     // it (a mutable borrow through the joint set) or before the first step.
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub(crate) kinematics_current_at: Option<u32>,
+    // whisker-slam patch 9: the next forward kinematics writes each link's own Jacobian
+    // columns (`own_jacobians`) instead of the dense body Jacobians (set by
+    // `update_mass_matrix` on the articulated path when asked).
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    lazy_jacobians: bool,
+    // whisker-slam patch 9: the last forward kinematics was lazy: `body_jacobians` are stale
+    // and `own_jacobians` current.
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    jacobians_stale: bool,
+    // whisker-slam patch 9: per link, its own joint's columns of its body Jacobian (6 × its
+    // DoFs, padded to 6 columns), at its centre of mass.
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    own_jacobians: Vec<SMatrix<Real, SPATIAL_DIM, SPATIAL_DIM>>,
+    // whisker-slam patch 9: per link, the wrenches whose generalised forces
+    // `update_acceleration` sums (the applied ones after the first `links.len()`).
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    wrenches: Vec<lazy_jacobians::Wrench>,
 }
 impl Default for Multibody {
     fn default() -> Self {
@@ -201,6 +221,10 @@ impl Multibody {
             truncated_jacobians: false,
             jacobian_extents: Vec::new(),
             kinematics_current_at: None,
+            lazy_jacobians: false,
+            jacobians_stale: false,
+            own_jacobians: Vec::new(),
+            wrenches: Vec::new(),
             root_is_dynamic: false,
             self_contacts_enabled,
             couplings: Vec::new(),
@@ -497,9 +521,24 @@ impl Multibody {
         mode: MultibodyMassMatrix,
         semi_implicit_coriolis: bool,
     ) -> DVector {
-        self.update_mass_matrix(dt, bodies, mode, semi_implicit_coriolis);
+        let lazy = self.lazy_jacobians;
+        self.update_mass_matrix(dt, bodies, mode, semi_implicit_coriolis, lazy);
         self.update_acceleration(dt, bodies, semi_implicit_coriolis);
         self.accelerations.clone()
+    }
+
+    /// whisker-slam patch 9: whether the next [`Self::forward_kinematics`] writes only each
+    /// link's own Jacobian columns instead of the dense body Jacobians (for tests and
+    /// benchmarks; in a simulation `IntegrationParameters::multibody_lazy_jacobians` sets
+    /// it on the articulated path).
+    pub fn set_lazy_jacobians(&mut self, lazy: bool) {
+        self.lazy_jacobians = lazy;
+    }
+
+    /// whisker-slam patch 9: whether [`Self::body_jacobian`] holds the last forward
+    /// kinematics' Jacobians (`false` after a lazy one).
+    pub fn has_dense_jacobians(&self) -> bool {
+        !self.jacobians_stale
     }
 
     /// whisker-slam patch 6: a unit wrench on link `link_id` as a constraint row: its
@@ -706,6 +745,15 @@ impl Multibody {
             0
         });
 
+        // whisker-slam patch 9: without the dense Jacobians, the links' wrenches are kept
+        // and summed by one pass from the tips after the loop.
+        let lazy = self.jacobians_stale;
+        if lazy {
+            let nlinks = self.links.len();
+            self.wrenches.clear();
+            self.wrenches.resize(2 * nlinks, lazy_jacobians::Wrench::zeros());
+        }
+
         // Eqn 42 to 45
         for i in 0..self.links.len() {
             let link = &self.links[i];
@@ -760,6 +808,15 @@ impl Multibody {
                 rb.forces.force - rb_mass * acc.linvel,
                 rb.forces.torque - gyroscopic - rb_inertia * acc.angvel,
             );
+            if lazy {
+                let nlinks = self.links.len();
+                self.wrenches[i] = *external_forces.as_vector();
+                if check_implicit_coriolis_divergence {
+                    self.wrenches[nlinks + i] =
+                        *Force::new(rb.forces.force, rb.forces.torque).as_vector();
+                }
+                continue;
+            }
             // whisker-slam patch 7: the link's Jacobian is zero past its own columns.
             let k = if self.truncated_jacobians {
                 link.assembly_id + link.joint.ndofs()
@@ -783,6 +840,18 @@ impl Multibody {
                     1.0,
                 );
             }
+        }
+
+        if lazy {
+            let nlinks = self.links.len();
+            let mut wrenches = core::mem::take(&mut self.wrenches);
+            let mut accelerations = core::mem::take(&mut self.accelerations);
+            self.add_tree_forces(&mut wrenches[..nlinks], &mut accelerations);
+            if check_implicit_coriolis_divergence {
+                self.add_tree_forces(&mut wrenches[nlinks..], &mut pos_forces);
+            }
+            self.accelerations = accelerations;
+            self.wrenches = wrenches;
         }
 
         self.accelerations
@@ -940,6 +1009,8 @@ impl Multibody {
     }
 
     fn update_body_jacobians(&mut self) {
+        // whisker-slam patch 9: the dense Jacobians are current again.
+        self.jacobians_stale = false;
         // whisker-slam patch 7: unknown extents are the whole width.
         self.jacobian_extents.resize(self.links.len(), self.ndofs);
         for i in 0..self.links.len() {
@@ -1044,6 +1115,7 @@ impl Multibody {
         bodies: &RigidBodySet,
         mode: MultibodyMassMatrix,
         semi_implicit_coriolis: bool,
+        lazy_jacobians: bool,
     ) {
         if self.ndofs == 0 {
             return; // Nothing to do.
@@ -1057,7 +1129,14 @@ impl Multibody {
         if mode == MultibodyMassMatrix::Articulated
             && self.update_articulated(dt, bodies, semi_implicit_coriolis)
         {
+            // whisker-slam patch 9: the next kinematics may skip the dense Jacobians.
+            self.lazy_jacobians = lazy_jacobians;
             return;
+        }
+        // whisker-slam patch 9: the dense assembly reads the body Jacobians.
+        self.lazy_jacobians = false;
+        if self.jacobians_stale {
+            self.update_body_jacobians();
         }
 
         if self.augmented_mass.ncols() != self.ndofs {
@@ -1418,7 +1497,7 @@ impl Multibody {
         // `dt²·stiffness` diagonal terms, leaving exactly `M + armature`.
         self.forward_kinematics(bodies, false);
         // whisker-slam patch 1: the assembly mode.
-        self.update_mass_matrix(0.0, bodies, MultibodyMassMatrix::default(), true);
+        self.update_mass_matrix(0.0, bodies, MultibodyMassMatrix::default(), true, false);
 
         let n = self.ndofs;
         let mut out = DVector::zeros(n);
@@ -1581,6 +1660,9 @@ impl Multibody {
 
     /// The body jacobian for link `link_id` calculated by the last call to [`Multibody::forward_kinematics`].
     #[inline]
+    ///
+    /// whisker-slam patch 9: stale after a lazy forward kinematics
+    /// ([`Self::has_dense_jacobians`] is then `false`).
     pub fn body_jacobian(&self, link_id: usize) -> &Jacobian<Real> {
         &self.body_jacobians[link_id]
     }
@@ -1818,7 +1900,12 @@ impl Multibody {
         /*
          * Compute body jacobians.
          */
-        self.update_body_jacobians();
+        // whisker-slam patch 9: on the lazy path, each link's own columns only.
+        if self.lazy_jacobians {
+            self.update_own_jacobians();
+        } else {
+            self.update_body_jacobians();
+        }
     }
 
     /// Computes the ids of all the links between the root and the link identified by `link_id`.
@@ -1986,7 +2073,13 @@ impl Multibody {
 
         let link = &self.links[link_id];
         let mut out_j = jacobians.rows_mut(*j_id, self.ndofs);
-        self.body_jacobians[link.internal_id].tr_mul_to(force.as_vector(), &mut out_j);
+        // whisker-slam patch 9: without the dense Jacobians, by one pass up the branch.
+        if self.jacobians_stale {
+            out_j.fill(0.0);
+            self.add_branch_forces(link.internal_id, *force.as_vector(), &mut out_j);
+        } else {
+            self.body_jacobians[link.internal_id].tr_mul_to(force.as_vector(), &mut out_j);
+        }
 
         // TODO: Optimize with a copy_nonoverlapping?
         for i in 0..self.ndofs {
@@ -2046,8 +2139,20 @@ impl Multibody {
         let link2 = &self.links[link_id2];
 
         {
-            let jb1 = &self.body_jacobians[link1.internal_id];
-            let jb2 = &self.body_jacobians[link2.internal_id];
+            // whisker-slam patch 9: without the dense Jacobians, the two built here.
+            let lazy = self.jacobians_stale.then(|| {
+                (
+                    self.dense_body_jacobian(link1.internal_id),
+                    self.dense_body_jacobian(link2.internal_id),
+                )
+            });
+            let (jb1, jb2) = match &lazy {
+                Some((jb1, jb2)) => (jb1, jb2),
+                None => (
+                    &self.body_jacobians[link1.internal_id],
+                    &self.body_jacobians[link2.internal_id],
+                ),
+            };
 
             // Use the (overwritten below) W·J slot as workspace for J1ᵀ·f1.
             let (mut out_j, mut workspace) =

@@ -114,6 +114,7 @@ impl VelocitySolver {
                 bodies,
                 params.multibody_mass_matrix,
                 semi_implicit,
+                params.multibody_lazy_jacobians,
             );
             multibody.update_acceleration(params.dt, bodies, semi_implicit);
 
@@ -164,6 +165,7 @@ impl VelocitySolver {
                         bodies,
                         params.multibody_mass_matrix,
                         semi_implicit,
+                        params.multibody_lazy_jacobians,
                     );
                 }
                 multibody.update_acceleration(params.dt, bodies, semi_implicit);
