@@ -88,7 +88,7 @@ impl Choice for SolverPath {
         (
             SolverPath::Articulated,
             "articulated",
-            "Patches 3, 6-9: articulated-body factorisation, O(n) in the DoFs (the default)",
+            "Patches 3, 4, 6-9: articulated-body factorisation, O(n) in the DoFs (the default)",
         ),
     ];
 }

@@ -6,7 +6,9 @@ mod common;
 
 use nalgebra::{DMatrix, DVector, Isometry3, Vector3};
 use rapier3d_f64::prelude::{Multibody, MultibodyMassMatrix};
-use whisker_sim::sensing::physics::{DT, PhysicsArray, SolverPath, WhiskerConfig, WhiskerUnit};
+use whisker_sim::sensing::physics::{
+    DT, Lever, PhysicsArray, SolverPath, WhiskerConfig, WhiskerUnit,
+};
 use whisker_sim::whisker::array;
 
 /// The short, a middle and the longest whisker whisking at `frequency` by `path`, bent
@@ -182,10 +184,12 @@ fn articulated_factorisation_inverts_the_dense_matrices() {
 }
 
 /// Whole steps of free whisking at 10 Hz (the largest inertial terms), 0.3 s,
-/// articulated against the once-per-step dense path it replaces: every body within
-/// 1e-11 m. In contact, rounding differences grow as any perturbation does (stick-slip), so
-/// whisks into poles are compared per whisk against Rapier as released, with the other
-/// fast paths, in `solver_paths.rs`.
+/// articulated against the dense path with the same integrator: every body within
+/// 1e-11 m — with semi-implicit Coriolis terms against `OncePerStep`, with explicit ones
+/// (the default, [`Lever::ExplicitCoriolis`]) against `ExplicitCoriolis`. In contact,
+/// rounding differences grow as any perturbation does (stick-slip), so whisks into poles
+/// are compared per whisk against Rapier as released, with the other fast paths, in
+/// `solver_paths.rs`.
 #[test]
 fn articulated_free_whisking_follows_the_dense_path() {
     let poses = vec![Isometry3::identity(); 600];
@@ -196,16 +200,35 @@ fn articulated_free_whisking_follows_the_dense_path() {
             .map(|t| Vector3::new(t.x, t.y, t.z))
             .collect()
     };
-    let mut dense = array_of(10.0, SolverPath::OncePerStep, false);
-    let mut articulated = array_of(10.0, SolverPath::Articulated, false);
-    dense.run(&poses);
-    articulated.run(&poses);
-    let mut worst: f64 = 0.0;
-    for (p, q) in position(&dense).iter().zip(position(&articulated)) {
-        worst = worst.max((p - q).norm());
+    for (dense_path, without) in [
+        (SolverPath::OncePerStep, Some(Lever::ExplicitCoriolis)),
+        (SolverPath::ExplicitCoriolis, None),
+    ] {
+        let mut dense = array_of(10.0, dense_path, false);
+        let mut articulated = array_of(10.0, SolverPath::Articulated, false);
+        for u in &mut articulated.units {
+            let p = &mut u.world.integration_parameters;
+            SolverPath::Articulated.apply_without(p, without);
+            assert_eq!(
+                p.multibody_semi_implicit_coriolis,
+                dense.units[0]
+                    .world
+                    .integration_parameters
+                    .multibody_semi_implicit_coriolis
+            );
+        }
+        dense.run(&poses);
+        articulated.run(&poses);
+        let mut worst: f64 = 0.0;
+        for (p, q) in position(&dense).iter().zip(position(&articulated)) {
+            worst = worst.max((p - q).norm());
+        }
+        println!("free whisking against {dense_path:?}, largest body difference: {worst:e} m");
+        assert!(
+            worst < 1e-11,
+            "free whisking against {dense_path:?}: {worst:e} m"
+        );
     }
-    println!("free whisking, largest body difference: {worst:e} m");
-    assert!(worst < 1e-11, "free whisking: {worst:e} m");
 }
 
 /// Forward kinematics without the dense body Jacobians (patch 9), on three whiskers bent
@@ -294,7 +317,7 @@ fn lazy_jacobians_follow_the_dense_path_in_free_whisking() {
     for u in &mut dense.units {
         SolverPath::Articulated.apply_without(
             &mut u.world.integration_parameters,
-            Some(whisker_sim::whisker::solver::Lever::LazyJacobians),
+            Some(Lever::LazyJacobians),
         );
         assert!(!u.world.integration_parameters.multibody_lazy_jacobians);
     }

@@ -17,8 +17,9 @@
 //! - `once-per-step`: also patch 3 (the mass matrix factorised once per step; the default
 //!   until #34);
 //! - `explicit-coriolis`: also patch 4 (explicit gyroscopic and Coriolis terms);
-//! - `articulated`: patches 3 and 6–8 (the articulated-body factorisation, O(n) in the
-//!   chain's DoFs, no dense matrix; the default, `SolverPath::Articulated`);
+//! - `articulated`: patches 3, 4 and 6–9 (the articulated-body factorisation, O(n) in the
+//!   chain's DoFs, no dense matrix, explicit gyroscopic and Coriolis terms; the default,
+//!   `SolverPath::Articulated`);
 //! - `articulated −<lever>`: the default with one of its levers off
 //!   (`SolverPath::levers`), so that each is measured on its own in the same run.
 //!
@@ -418,8 +419,8 @@ impl fmt::Display for Table {
             f,
             "released: Rapier 0.36.1 as released, a barrier per sample; exact: vendor/PATCHES.md 1-2 (bit-identical); \
              composite: 1-2, 5 (the same matrices up to rounding); once-per-step: 1-3, 5 (the default until #34); \
-             explicit-coriolis: 1-5 (both went non-finite in nudged Mug soaks with fixed steps); articulated: 3, 6-8 (O(n) factorisation, the same inverses up to rounding; the default); \
-             articulated −<lever>: the default with one of its levers off (−reuse-step-kinematics: patch 8, bit-identical; −lazy-jacobians: patch 9, equal up to rounding); \
+             explicit-coriolis: 1-5 (both went non-finite in nudged Mug soaks with fixed steps); articulated: 3, 4, 6-9 (O(n) factorisation, explicit gyroscopic and Coriolis terms; the default); \
+             articulated −<lever>: the default with one of its levers off (−reuse-step-kinematics: patch 8, bit-identical; −lazy-jacobians: patch 9, equal up to rounding; −explicit-coriolis: patch 4, the semi-implicit terms back); \
              all but released one task per whisker and speed-adaptive steps. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
              (below 1: cheaper). Speed-up: released wall time / the path's; vs default: the default path's wall time / this path's; same case and threads."
         )

@@ -42,9 +42,10 @@ pub enum SolverPath {
     /// Mug (0.0 mm, finite; 1,513 CPU-s against 2,673 with `Composite`, 1.77× less).
     OncePerStep,
     /// Patches 1–5: as `OncePerStep`, the gyroscopic and Coriolis terms explicit, so one
-    /// mass matrix and one factorisation instead of two (~1.6× faster again). Not the
-    /// default: 5 of 12 nudged Mug runs went non-finite (`Exact`: 6 of 140) with one world
-    /// step per sample; with speed-adaptive steps 0 of 20.
+    /// mass matrix and one factorisation instead of two (~1.6× faster again). 5 of 12
+    /// nudged Mug runs went non-finite (`Exact`: 6 of 140) with one world step per sample;
+    /// with speed-adaptive steps 0 of 20. The articulated default uses the same explicit
+    /// terms ([`Lever::ExplicitCoriolis`]).
     ExplicitCoriolis,
     /// Patches 3 and 6–9: as `OncePerStep`, with the mass matrices factorised the
     /// articulated-body way (O(n) in the chain's DoFs, no dense matrix): the same
@@ -54,7 +55,9 @@ pub enum SolverPath {
     /// faster than `OncePerStep` (`whisker bench physics`); with it the workspace suite
     /// passes and so do the 60-s soaks of the Box, Barrel and Mug and 20 nudged Mug runs.
     /// Patch 8 ([`Lever::ReuseStepKinematics`]) changes no bit of its results; patch 9
-    /// ([`Lever::LazyJacobians`], ~1.1–1.2× faster) changes them by rounding.
+    /// ([`Lever::LazyJacobians`], ~1.1–1.2× faster) changes them by rounding; explicit
+    /// gyroscopic and Coriolis terms ([`Lever::ExplicitCoriolis`], patch 4, ~1.2–1.6×
+    /// faster) change the integrator (the soaks and nudged runs pass with it).
     #[default]
     Articulated,
 }
@@ -76,17 +79,28 @@ pub enum Lever {
     /// (`IntegrationParameters::multibody_lazy_jacobians`). The same sums in another order:
     /// equal up to rounding (`tests/articulated.rs`).
     LazyJacobians,
+    /// Patch 4 on the articulated path: the gyroscopic and Coriolis terms as explicit
+    /// forces, so only the plain matrix is factorised (one 6-wide factorisation a step
+    /// instead of a 6- and a 12-wide one) and the energy guard is not needed
+    /// (`IntegrationParameters::multibody_semi_implicit_coriolis` false). Changes the
+    /// integrator, not only rounding.
+    ExplicitCoriolis,
 }
 
 impl Lever {
     /// Every lever.
-    pub const ALL: [Lever; 2] = [Self::ReuseStepKinematics, Self::LazyJacobians];
+    pub const ALL: [Lever; 3] = [
+        Self::ReuseStepKinematics,
+        Self::LazyJacobians,
+        Self::ExplicitCoriolis,
+    ];
 
     /// Its name in benchmarks.
     pub fn name(self) -> &'static str {
         match self {
             Self::ReuseStepKinematics => "reuse-step-kinematics",
             Self::LazyJacobians => "lazy-jacobians",
+            Self::ExplicitCoriolis => "explicit-coriolis",
         }
     }
 }
@@ -131,7 +145,8 @@ impl SolverPath {
             self,
             Self::OncePerStep | Self::ExplicitCoriolis | Self::Articulated
         );
-        p.multibody_semi_implicit_coriolis = self != Self::ExplicitCoriolis;
+        p.multibody_semi_implicit_coriolis =
+            self != Self::ExplicitCoriolis && !on(Lever::ExplicitCoriolis);
     }
 
     /// Its name in benchmarks.
