@@ -346,6 +346,10 @@ fn bad_command_lines_exit_2() {
         ),
         (vec!["soak", "--whiskers", "A1,Z9"], "no whisker \"Z9\""),
         (
+            vec!["bench", "physics", "--repeat", "0"],
+            "--repeat: expected 1 to 100, got 0",
+        ),
+        (
             vec!["characterize", "--length", "1.5"],
             "first mode is about 0.312 Hz",
         ),
