@@ -67,6 +67,20 @@ fn vectors(n: usize, count: usize) -> Vec<DVector<f64>> {
         .collect()
 }
 
+/// A constraint row's unit wrenches on every link: per link and axis, a unit force along the
+/// axis and a unit torque about the next one, as `(link, axis, force, torque)`.
+fn unit_wrenches(links: usize) -> impl Iterator<Item = (usize, usize, Vector3<f64>, Vector3<f64>)> {
+    (0..links).flat_map(|link| {
+        (0..3).map(move |axis| {
+            let mut f = Vector3::zeros();
+            f[axis] = 1.0;
+            let mut t = Vector3::zeros();
+            t[(axis + 1) % 3] = 1.0;
+            (link, axis, f, t)
+        })
+    })
+}
+
 /// `‖x − y‖_H / ‖y‖_H` in the energy norm of the (symmetric positive definite) plain
 /// matrix `h`.
 fn energy_error(h: &DMatrix<f64>, x: &DVector<f64>, y: &DVector<f64>) -> f64 {
@@ -161,19 +175,13 @@ fn articulated_factorisation_inverts_the_dense_matrices() {
         assert!(e < 1e-12, "whisker {w}: accelerations, energy error {e:e}");
         assert!(acc_dense.norm() > 0.0);
 
-        for link in 0..dense.num_links() {
-            for axis in 0..3 {
-                let mut f = Vector3::zeros();
-                f[axis] = 1.0;
-                let mut t = Vector3::zeros();
-                t[(axis + 1) % 3] = 1.0;
-                let (ja, ra) = articulated.constraint_response(link, f.into(), t.into());
-                let (jd, rd) = dense.constraint_response(link, f.into(), t.into());
-                assert_eq!(ja, jd, "the row itself is the same code");
-                let e = energy_error(&h, &ra, &rd);
-                note(5, e);
-                assert!(e < 1e-12, "whisker {w} link {link} axis {axis}: {e:e}");
-            }
+        for (link, axis, f, t) in unit_wrenches(dense.num_links()) {
+            let (ja, ra) = articulated.constraint_response(link, f.into(), t.into());
+            let (jd, rd) = dense.constraint_response(link, f.into(), t.into());
+            assert_eq!(ja, jd, "the row itself is the same code");
+            let e = energy_error(&h, &ra, &rd);
+            note(5, e);
+            assert!(e < 1e-12, "whisker {w} link {link} axis {axis}: {e:e}");
         }
     }
     println!(
@@ -281,24 +289,18 @@ fn lazy_jacobians_give_the_dense_forces_and_rows() {
         assert!(e < 1e-12, "whisker {w}: accelerations, energy error {e:e}");
         assert!(acc_dense.norm() > 0.0);
 
-        for link in 0..dense.num_links() {
-            for axis in 0..3 {
-                let mut f = Vector3::zeros();
-                f[axis] = 1.0;
-                let mut t = Vector3::zeros();
-                t[(axis + 1) % 3] = 1.0;
-                let (jl, rl) = lazy.constraint_response(link, f.into(), t.into());
-                let (jd, rd) = dense.constraint_response(link, f.into(), t.into());
-                let e = (&jl - &jd).norm() / jd.norm();
-                worst[1] = worst[1].max(e);
-                assert!(e < 1e-12, "whisker {w} link {link} axis {axis}: row {e:e}");
-                let e = energy_error(&h, &rl, &rd);
-                worst[2] = worst[2].max(e);
-                assert!(
-                    e < 1e-12,
-                    "whisker {w} link {link} axis {axis}: response {e:e}"
-                );
-            }
+        for (link, axis, f, t) in unit_wrenches(dense.num_links()) {
+            let (jl, rl) = lazy.constraint_response(link, f.into(), t.into());
+            let (jd, rd) = dense.constraint_response(link, f.into(), t.into());
+            let e = (&jl - &jd).norm() / jd.norm();
+            worst[1] = worst[1].max(e);
+            assert!(e < 1e-12, "whisker {w} link {link} axis {axis}: row {e:e}");
+            let e = energy_error(&h, &rl, &rd);
+            worst[2] = worst[2].max(e);
+            assert!(
+                e < 1e-12,
+                "whisker {w} link {link} axis {axis}: response {e:e}"
+            );
         }
     }
     println!(

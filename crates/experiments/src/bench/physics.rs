@@ -26,7 +26,7 @@
 //! `--repeat N` times every path of a case N times in turn and keeps each one's fastest
 //! run (the least disturbed on a shared machine; the table's columns are from it).
 //!
-//! `articulated` is the default; `SolverPath` says why `explicit-coriolis` is not.
+//! `articulated` is the default; `SolverPath` says why each earlier path was or was not.
 //!
 //! Then the scaling with segment count (8, 12, 16, 24) against the Box on 2 threads by
 //! every path. Reported: the real-time factor (simulated seconds per wall-clock second),

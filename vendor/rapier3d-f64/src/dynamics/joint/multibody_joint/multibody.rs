@@ -1659,10 +1659,10 @@ impl Multibody {
     }
 
     /// The body jacobian for link `link_id` calculated by the last call to [`Multibody::forward_kinematics`].
-    #[inline]
     ///
     /// whisker-slam patch 9: stale after a lazy forward kinematics
     /// ([`Self::has_dense_jacobians`] is then `false`).
+    #[inline]
     pub fn body_jacobian(&self, link_id: usize) -> &Jacobian<Real> {
         &self.body_jacobians[link_id]
     }
