@@ -6,7 +6,7 @@ use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use rapier3d_f64::prelude::SharedShape;
 use whisker_sim::sensing::calibration::calibrate_rcp;
 use whisker_sim::sensing::physics::{
-    DEFAULT_SUBSTEPS, EnvironmentPiece, PhysicsArray, WhiskerConfig, WhiskerUnit,
+    DEFAULT_SUBSTEPS, EnvironmentPiece, Lever, PhysicsArray, WhiskerConfig, WhiskerUnit,
 };
 use whisker_sim::whisker::array::{self, Module};
 use whisker_sim::whisker::control::RcpThreshold;
@@ -14,6 +14,7 @@ use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_sim::whisker::follicle::FollicleDesign;
 use whisker_sim::whisker::sensor::SensorModel;
 use whisker_sim::whisker::strategies::WhiskingControl;
+use whisker_slam::sensor::Sample;
 
 const POLE_RADIUS: f64 = 0.003;
 
@@ -267,6 +268,63 @@ fn streams_are_bit_identical_with_one_and_two_threads() {
             .collect()
     };
     assert_eq!(bits(&one), bits(&two));
+}
+
+/// `PhysicsArray::run` (chunks of steps, the dearest whiskers first) gives bit for bit
+/// the samples of one `step` per pose on one thread, on two threads and with the
+/// balancing lever off, while the array moves and some whiskers touch a pole and others
+/// do not (so the whiskers' costs, and the order of their tasks, differ).
+#[test]
+fn balanced_runs_equal_step_by_step() {
+    let modules = array::modules();
+    let (piece, _, _) = pole(&modules[6], 0.05, 120f64.to_radians());
+    let poses: Vec<Isometry3<f64>> = (0..1050)
+        .map(|k| Isometry3::translation(0.0, 0.0, -2e-6 * k as f64))
+        .collect();
+    let array = |without: Option<Lever>| {
+        let configs = [0, 6, 7, 12, 17]
+            .iter()
+            .map(|&i| WhiskerConfig {
+                without,
+                ..config(modules[i].clone(), 2.0, Some(40.0))
+            })
+            .collect();
+        PhysicsArray::new(configs, std::slice::from_ref(&piece), &poses[0], 11, 5e-4)
+    };
+    let on = |threads: usize, f: &(dyn Fn() -> Vec<Vec<Sample>> + Sync)| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(f)
+    };
+    let stepped = on(1, &|| {
+        let mut a = array(None);
+        let mut out = vec![Vec::new(); 5];
+        for pose in &poses {
+            for (o, s) in out.iter_mut().zip(a.step(pose)) {
+                o.push(s);
+            }
+        }
+        out
+    });
+    let bits = |v: &Vec<Vec<Sample>>| -> Vec<u64> {
+        v.iter()
+            .flatten()
+            .flat_map(|s| [s.angle_rad.to_bits(), s.x.to_bits(), s.y.to_bits()])
+            .collect()
+    };
+    let touched = |o: &Vec<Sample>| o.iter().any(|s| s.y > 40.0);
+    assert!(stepped.iter().any(touched), "some whisker touched the pole");
+    assert!(!stepped.iter().all(touched), "some whisker did not");
+    for (threads, without) in [(1, None), (2, None), (2, Some(Lever::LoadBalance))] {
+        let run = on(threads, &|| array(without).run(&poses));
+        assert_eq!(
+            bits(&run),
+            bits(&stepped),
+            "{threads} thread(s), without {without:?}"
+        );
+    }
 }
 
 /// The threshold calibrated from free whisking (20 σ, §3.2.2) never fires while whisking

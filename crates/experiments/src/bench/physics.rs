@@ -420,7 +420,7 @@ impl fmt::Display for Table {
             "released: Rapier 0.36.1 as released, a barrier per sample; exact: vendor/PATCHES.md 1-2 (bit-identical); \
              composite: 1-2, 5 (the same matrices up to rounding); once-per-step: 1-3, 5 (the default until #34); \
              explicit-coriolis: 1-5 (both went non-finite in nudged Mug soaks with fixed steps); articulated: 3, 4, 6-9 (O(n) factorisation, explicit gyroscopic and Coriolis terms; the default); \
-             articulated −<lever>: the default with one of its levers off (−reuse-step-kinematics: patch 8, bit-identical; −lazy-jacobians: patch 9, equal up to rounding; −explicit-coriolis: patch 4, the semi-implicit terms back); \
+             articulated −<lever>: the default with one of its levers off (−reuse-step-kinematics: patch 8, bit-identical; −lazy-jacobians: patch 9, equal up to rounding; −explicit-coriolis: patch 4, the semi-implicit terms back; −load-balance: each whisker's steps in one task in rayon's split, not chunks dearest first); \
              all but released one task per whisker and speed-adaptive steps. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
              (below 1: cheaper). Speed-up: released wall time / the path's; vs default: the default path's wall time / this path's; same case and threads."
         )

@@ -14,6 +14,7 @@
 //! 10 µm, penetration corrected at up to 1 m/s, and contacts predicted 0.5 mm ahead.
 
 use super::adaptive_step;
+use super::schedule::Balancer;
 use crate::environment::solids::Solids;
 use crate::sensing::kinematic::RigidWhisker;
 use crate::whisker::array::Module;
@@ -416,6 +417,8 @@ pub struct PhysicsArray {
     /// asymmetry), if any: then every sample's contacts reach every controller before the
     /// next.
     coupling: Option<ArrayController>,
+    /// Orders the whiskers' tasks by cost ([`Balancer`]).
+    balancer: Balancer,
 }
 
 impl PhysicsArray {
@@ -434,11 +437,20 @@ impl PhysicsArray {
                 let columns: Vec<usize> = configs.iter().map(|c| c.module.column).collect();
                 ArrayController::new(first.control, &columns, first.pattern, dt)
             });
+        // The balancer is a lever of the path (as the whiskers are built alike, the first
+        // one's path stands for all).
+        let balancer = Balancer::new(configs.first().is_none_or(|c| {
+            c.solver.levers().contains(&Lever::LoadBalance) && c.without != Some(Lever::LoadBalance)
+        }));
         let units = configs
             .into_par_iter()
             .map(|c| WhiskerUnit::new(c, environment, array_pose, seed, dt))
             .collect();
-        Self { units, coupling }
+        Self {
+            units,
+            coupling,
+            balancer,
+        }
     }
 
     /// Advances every whisker one step; one sample per whisker, in module order.
@@ -466,10 +478,11 @@ impl PhysicsArray {
     /// Advances every whisker one step per pose of `poses`, the array frame at `poses[k]`
     /// at the end of step k; per whisker (module order), its samples.
     ///
-    /// Each whisker runs all its steps in one task: the whiskers share nothing (RCP is
-    /// per whisker and the poses are known in advance), so the samples are the same as
-    /// from one [`Self::step`] per pose, without a barrier per sample (§2 L6 of the
-    /// physics-speed note: a whisker in contact costs many times a free one) — unless a
+    /// Each whisker runs a chunk of steps in one task, the dearest whiskers first
+    /// ([`Balancer`]): the whiskers share nothing (RCP is per whisker and the poses are
+    /// known in advance), so the samples are the same as from one [`Self::step`] per
+    /// pose, without a barrier per sample (§2 L6 of the physics-speed note: a whisker in
+    /// contact costs many times a free one) — unless a
     /// strategy couples the whiskers (spread reduction, asymmetry): then one
     /// [`Self::step`] per pose.
     pub fn run(&mut self, poses: &[Isometry3<f64>]) -> Vec<Vec<Sample>> {
@@ -492,9 +505,9 @@ impl PhysicsArray {
         self.run_each(poses, keep)
     }
 
-    /// Steps every whisker through `poses` in one task each, keeping `keep(unit, sample)`
-    /// after every step; with coupling strategies, all whiskers a sample at a time
-    /// ([`Self::step`]).
+    /// Steps every whisker through `poses` in one task each per chunk of steps, the
+    /// dearest first ([`Balancer`]), keeping `keep(unit, sample)` after every step; with
+    /// coupling strategies, all whiskers a sample at a time ([`Self::step`]).
     fn run_each<T: Send>(
         &mut self,
         poses: &[Isometry3<f64>],
@@ -514,18 +527,10 @@ impl PhysicsArray {
             }
             return out;
         }
-        self.units
-            .par_iter_mut()
-            .map(|u| {
-                poses
-                    .iter()
-                    .map(|pose| {
-                        let s = u.step(pose);
-                        keep(u, s)
-                    })
-                    .collect()
-            })
-            .collect()
+        self.balancer.run(&mut self.units, poses.len(), |u, k| {
+            let s = u.step(&poses[k]);
+            keep(u, s)
+        })
     }
 
     /// Simulates one whisk cycle of the first whisker's pattern (1/f seconds; the

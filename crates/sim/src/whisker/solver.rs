@@ -85,14 +85,20 @@ pub enum Lever {
     /// (`IntegrationParameters::multibody_semi_implicit_coriolis` false). Changes the
     /// integrator, not only rounding.
     ExplicitCoriolis,
+    /// The array's whiskers run in chunks of steps, the dearest (by their last chunk)
+    /// first, one at a time from a queue ([`crate::sensing::schedule`]); without it, each
+    /// whisker runs all its steps in one task in rayon's split. Changes only which thread
+    /// runs what: the samples are identical.
+    LoadBalance,
 }
 
 impl Lever {
     /// Every lever.
-    pub const ALL: [Lever; 3] = [
+    pub const ALL: [Lever; 4] = [
         Self::ReuseStepKinematics,
         Self::LazyJacobians,
         Self::ExplicitCoriolis,
+        Self::LoadBalance,
     ];
 
     /// Its name in benchmarks.
@@ -101,6 +107,7 @@ impl Lever {
             Self::ReuseStepKinematics => "reuse-step-kinematics",
             Self::LazyJacobians => "lazy-jacobians",
             Self::ExplicitCoriolis => "explicit-coriolis",
+            Self::LoadBalance => "load-balance",
         }
     }
 }
