@@ -11,8 +11,8 @@ use whisker_sim::sensing::physics::{
 };
 use whisker_sim::whisker::array;
 
-/// The short, a middle and the longest whisker whisking at `frequency` by `path`, bent
-/// around poles at half their length when `poles`.
+/// The short, a middle and the longest whisker whisking at `frequency` by `path`, their
+/// roots welded to the drivers, bent around poles at half their length when `poles`.
 fn array_of(frequency: f64, path: SolverPath, poles: bool) -> PhysicsArray {
     let modules = array::modules();
     let whiskers = [0, 6, 12];
@@ -22,6 +22,9 @@ fn array_of(frequency: f64, path: SolverPath, poles: bool) -> PhysicsArray {
             let mut c = WhiskerConfig::with_defaults(modules[i].clone());
             c.pattern.frequency = frequency;
             c.solver = path;
+            // The older paths' model, so that free whisking compares like with like: the
+            // root welded to the driver.
+            c.without = Some(Lever::DrivenRoot);
             c
         })
         .collect();

@@ -19,7 +19,8 @@
 //! - `explicit-coriolis`: also patch 4 (explicit gyroscopic and Coriolis terms);
 //! - `articulated`: patches 3, 4 and 6–9 (the articulated-body factorisation, O(n) in the
 //!   chain's DoFs, no dense matrix, explicit gyroscopic and Coriolis terms; the default,
-//!   `SolverPath::Articulated`);
+//!   `SolverPath::Articulated`), the follicle's root driven onto the driver's pose instead
+//!   of welded to it (`RootDrive::Driven`);
 //! - `articulated −<lever>`: the default with one of its levers off
 //!   (`SolverPath::levers`), so that each is measured on its own in the same run.
 //!
@@ -420,7 +421,7 @@ impl fmt::Display for Table {
             "released: Rapier 0.36.1 as released, a barrier per sample; exact: vendor/PATCHES.md 1-2 (bit-identical); \
              composite: 1-2, 5 (the same matrices up to rounding); once-per-step: 1-3, 5 (the default until #34); \
              explicit-coriolis: 1-5 (both went non-finite in nudged Mug soaks with fixed steps); articulated: 3, 4, 6-9 (O(n) factorisation, explicit gyroscopic and Coriolis terms; the default); \
-             articulated −<lever>: the default with one of its levers off (−reuse-step-kinematics: patch 8, bit-identical; −lazy-jacobians: patch 9, equal up to rounding; −explicit-coriolis: patch 4, the semi-implicit terms back; −load-balance: each whisker's steps in one task in rayon's split, not chunks dearest first); \
+             articulated −<lever>: the default with one of its levers off (−reuse-step-kinematics: patch 8, bit-identical; −lazy-jacobians: patch 9, equal up to rounding; −explicit-coriolis: patch 4, the semi-implicit terms back; −load-balance: each whisker's steps in one task in rayon's split, not chunks dearest first; −driven-root: the follicle's root welded to the driver, 6 constraint rows a substep); \
              all but released one task per whisker and speed-adaptive steps. vs WHISKiT: CPU cost / its {WHISKIT_CPU_S_PER_S} CPU-s per simulated s per whisker \
              (below 1: cheaper). Speed-up: released wall time / the path's; vs default: the default path's wall time / this path's; same case and threads."
         )

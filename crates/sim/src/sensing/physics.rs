@@ -19,7 +19,7 @@ use crate::environment::solids::Solids;
 use crate::sensing::kinematic::RigidWhisker;
 use crate::whisker::array::Module;
 use crate::whisker::beam::Bending;
-use crate::whisker::body::Whisker;
+use crate::whisker::body::{RootDrive, Whisker};
 use crate::whisker::control::{ControlState, Controller, WhiskingPattern};
 use crate::whisker::follicle::FollicleDesign;
 use crate::whisker::sensor::SensorModel;
@@ -278,6 +278,10 @@ impl WhiskerUnit {
             config.module.beam,
             config.follicle,
             groups,
+            match config.solver.uses(Lever::DrivenRoot, config.without) {
+                true => RootDrive::Driven,
+                false => RootDrive::Welded,
+            },
         );
         let rng = rng::substream(seed, &format!("sensor/whisker/{:02}", config.module.index));
         Self {
@@ -326,9 +330,9 @@ impl WhiskerUnit {
                 self.whisker.drive(&mut self.world, pose);
             } else {
                 let f = (1.0 - (left - h) / dt).min(1.0);
+                self.world.integration_parameters.dt = h;
                 self.whisker
                     .drive(&mut self.world, from.lerp_slerp(&pose, f));
-                self.world.integration_parameters.dt = h;
             }
             self.world.step();
             self.world_steps += 1;
@@ -439,9 +443,11 @@ impl PhysicsArray {
             });
         // The balancer is a lever of the path (as the whiskers are built alike, the first
         // one's path stands for all).
-        let balancer = Balancer::new(configs.first().is_none_or(|c| {
-            c.solver.levers().contains(&Lever::LoadBalance) && c.without != Some(Lever::LoadBalance)
-        }));
+        let balancer = Balancer::new(
+            configs
+                .first()
+                .is_none_or(|c| c.solver.uses(Lever::LoadBalance, c.without)),
+        );
         let units = configs
             .into_par_iter()
             .map(|c| WhiskerUnit::new(c, environment, array_pose, seed, dt))

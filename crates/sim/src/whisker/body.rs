@@ -7,8 +7,9 @@
 //! Bodies (`shared/notes/physics.md`, "Whisker chains"):
 //! - the **driver**, a kinematic position-based body posed at the module mount turned by
 //!   the whisk angle (a kinematic body cannot be a multibody root),
-//! - the **follicle**, a light dynamic body welded to the driver by an impulse fixed
-//!   joint, root of the whisker's multibody,
+//! - the **follicle**, root of the whisker's multibody: a light dynamic body welded to
+//!   the driver by an impulse fixed joint ([`RootDrive::Welded`]), or a heavy one pushed
+//!   onto the driver's pose by a force held over each step ([`RootDrive::Driven`]),
 //! - the **bulb**, joined to the follicle by a spherical joint at the pivot with the
 //!   follicle's rotational spring (omitted for a rigid follicle, `follicle = None`),
 //! - the **segments**, joined by spherical joints with implicit bending springs
@@ -24,8 +25,31 @@ use super::follicle::FollicleDesign;
 use nalgebra::{Isometry3, Point3, Vector3};
 use rapier3d_f64::prelude::*;
 
-/// Mass of the follicle body (kg): light, it only carries the weld.
+/// Mass of the welded follicle body (kg): light, it only carries the weld.
 const FOLLICLE_MASS: f64 = 1.0e-3;
+
+/// Mass (kg) and isotropic rotational inertia (kg·m²) of the driven follicle body: ~10⁵
+/// times the bulb's (0.3 g) and the shaft's, so that their reactions within a step move it
+/// by ~0.2 nm and ~1e-7 rad (1 kg: 12 nm and 1e-6 rad; `tests/root_drive.rs`), and
+/// isotropic, so that it has no gyroscopic torque. A numerical device for a prescribed
+/// motion, not a model of tissue.
+const DRIVEN_ROOT_MASS: f64 = 100.0;
+const DRIVEN_ROOT_INERTIA: f64 = 100.0;
+
+/// How the follicle's root follows the whisking driver (#34, deliverable 2: "the follicle's
+/// root driven along its prescribed path, no 6-row weld").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RootDrive {
+    /// A light root welded to the kinematic driver by an impulse fixed joint: six
+    /// constraint rows, solved at every substep with the shaft's contacts.
+    #[default]
+    Welded,
+    /// A heavy root without a weld ([`DRIVEN_ROOT_MASS`]), pushed by a force and torque
+    /// held over the step that land it on the driver's pose at the step's end
+    /// ([`Whisker::drive`]). The root's free motion still carries the shaft's inertia, so
+    /// the base's acceleration loads the shaft as it does through the weld.
+    Driven,
+}
 
 /// A whisker in a Rapier world.
 #[derive(Debug, Clone)]
@@ -44,6 +68,8 @@ pub struct Whisker {
     pub segments: Vec<RigidBodyHandle>,
     /// Multibody joints: follicle→bulb (if any), then the shaft joints, base first.
     pub joints: Vec<MultibodyJointHandle>,
+    /// How the root follows the driver.
+    pub root_drive: RootDrive,
     /// Current damping scale (1 = the design's damping).
     damping_scale: f64,
 }
@@ -61,28 +87,47 @@ fn mass_props(com_z: f64, mass: f64, transverse: f64, axial: f64) -> MassPropert
 }
 
 impl Whisker {
-    /// Builds a whisker whose frame F is at `pose` (world), colliding as `groups`.
+    /// Builds a whisker whose frame F is at `pose` (world), colliding as `groups`, its
+    /// root following the driver as `root_drive` says.
     pub fn build(
         world: &mut PhysicsWorld,
         pose: Isometry3<f64>,
         beam: BeamDesign,
         follicle: Option<FollicleDesign>,
         groups: InteractionGroups,
+        root_drive: RootDrive,
     ) -> Self {
         let at = |offset: f64| -> Pose { (pose * Isometry3::translation(0.0, 0.0, offset)).into() };
         let driver =
             world.insert_body(RigidBodyBuilder::kinematic_position_based().pose(pose.into()));
-        let root = world.insert_body(
-            RigidBodyBuilder::dynamic()
-                .pose(pose.into())
-                .additional_mass_properties(mass_props(0.0, FOLLICLE_MASS, 1e-8, 1e-8))
-                .can_sleep(false),
-        );
-        world.insert_impulse_joint(
-            driver,
-            root,
-            FixedJointBuilder::new().contacts_enabled(false),
-        );
+        let root = match root_drive {
+            RootDrive::Welded => {
+                let root = world.insert_body(
+                    RigidBodyBuilder::dynamic()
+                        .pose(pose.into())
+                        .additional_mass_properties(mass_props(0.0, FOLLICLE_MASS, 1e-8, 1e-8))
+                        .can_sleep(false),
+                );
+                world.insert_impulse_joint(
+                    driver,
+                    root,
+                    FixedJointBuilder::new().contacts_enabled(false),
+                );
+                root
+            }
+            RootDrive::Driven => world.insert_body(
+                RigidBodyBuilder::dynamic()
+                    .pose(pose.into())
+                    .additional_mass_properties(mass_props(
+                        0.0,
+                        DRIVEN_ROOT_MASS,
+                        DRIVEN_ROOT_INERTIA,
+                        DRIVEN_ROOT_INERTIA,
+                    ))
+                    .gravity_scale(0.0)
+                    .can_sleep(false),
+            ),
+        };
 
         let mut joints = Vec::new();
         let spherical = |anchor1: f64| -> GenericJoint {
@@ -165,6 +210,7 @@ impl Whisker {
             bulb,
             segments,
             joints,
+            root_drive,
             damping_scale: 1.0,
         };
         whisker.set_springs(world);
@@ -313,8 +359,49 @@ impl Whisker {
         }
     }
 
-    /// Poses the driver (and so the follicle) at `pose` for the next step.
+    /// Poses the driver (and so the follicle) at `pose` for the next step, of
+    /// `world.integration_parameters.dt` (set it first).
+    ///
+    /// A [`RootDrive::Driven`] root gets the force and torque, held over the step's n
+    /// substeps of h, that land it on `pose`: Rapier's substeps integrate v ← v + a·h,
+    /// x ← x + v·h, so after n of them x = x₀ + n·h·v₀ + n(n+1)/2·h²·a, solved for a, per
+    /// axis, with the rotation's error as a rotation vector (world frame, as the free
+    /// root's angular DoFs). The position lands exactly but for the shaft's reaction; the
+    /// velocity's error e becomes −e·(n−1)/(n+1) (−e/2 at n = 3), so it dies out within
+    /// a few steps of any jerk in the path.
     pub fn drive(&self, world: &mut PhysicsWorld, pose: Isometry3<f64>) {
         crate::kinematic_body::set_next_kinematic_pose(&mut world.bodies[self.driver], pose);
+        if self.root_drive == RootDrive::Driven {
+            self.push_root(world, pose);
+        }
+    }
+
+    /// The force and torque of [`Self::drive`] for a driven root.
+    fn push_root(&self, world: &mut PhysicsWorld, target: Isometry3<f64>) {
+        let params = &world.integration_parameters;
+        let n = params.num_solver_iterations.max(1) as f64;
+        let h = params.dt / n;
+        let (multibody, _) = world
+            .multibody_joints
+            .get(self.joints[0])
+            .expect("joint exists");
+        let v = multibody.generalized_velocity();
+        let (linvel, angvel) = (
+            Vector3::new(v[0], v[1], v[2]),
+            Vector3::new(v[3], v[4], v[5]),
+        );
+        let now = Self::pose(world, self.root);
+        let mut turn = target.rotation * now.rotation.inverse();
+        if turn.w < 0.0 {
+            turn = nalgebra::UnitQuaternion::new_unchecked(-turn.into_inner());
+        }
+        let gain = 1.0 / (n * (n + 1.0) / 2.0 * h * h);
+        let a_lin = (target.translation.vector - now.translation.vector - n * h * linvel) * gain;
+        let a_ang = (turn.scaled_axis() - n * h * angvel) * gain;
+        let root = &mut world.bodies[self.root];
+        root.reset_forces(true);
+        root.reset_torques(true);
+        root.add_force(glam(a_lin * DRIVEN_ROOT_MASS), true);
+        root.add_torque(glam(a_ang * DRIVEN_ROOT_INERTIA), true);
     }
 }

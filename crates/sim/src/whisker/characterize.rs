@@ -16,7 +16,7 @@
 //! (ω·dt)²/3 (0.03 %).
 
 use super::beam::BeamDesign;
-use super::body::Whisker;
+use super::body::{RootDrive, Whisker};
 use super::follicle::FollicleDesign;
 use super::solver::SolverPath;
 use nalgebra::{Isometry3, Vector3};
@@ -71,7 +71,15 @@ fn test_rig(
     // The multibody path physics sensing uses (patches of vendor/PATCHES.md).
     SolverPath::default().apply(&mut world.integration_parameters);
     let groups = InteractionGroups::new(Group::GROUP_3, Group::NONE, InteractionTestMode::And);
-    let whisker = Whisker::build(&mut world, Isometry3::identity(), beam, follicle, groups);
+    // Welded: the rig's driver never moves, and the statics want the root held.
+    let whisker = Whisker::build(
+        &mut world,
+        Isometry3::identity(),
+        beam,
+        follicle,
+        groups,
+        RootDrive::Welded,
+    );
     (world, whisker)
 }
 

@@ -16,7 +16,7 @@ pub mod solver;
 pub mod strategies;
 
 pub use beam::BeamDesign;
-pub use body::Whisker;
+pub use body::{RootDrive, Whisker};
 pub use follicle::FollicleDesign;
 
 /// Checks that every `(name, value)` is a positive finite number; the error names the

@@ -51,9 +51,10 @@ pub enum SolverPath {
     /// articulated-body way (O(n) in the chain's DoFs, no dense matrix): the same
     /// matrices' inverses up to rounding (`tests/articulated.rs`: energy-norm error 2e-15
     /// on bent whiskers; free whisking within 2e-15 m of `OncePerStep` after 0.3 s), and
-    /// the weld's root rows from kept columns of `M⁻¹`. **The default** (#34): ~1.7–2×
-    /// faster than `OncePerStep` (`whisker bench physics`); with it the workspace suite
-    /// passes and so do the 60-s soaks of the Box, Barrel and Mug and 20 nudged Mug runs.
+    /// the weld's root rows (with [`Lever::DrivenRoot`] off) from kept columns of `M⁻¹`.
+    /// **The default** (#34): ~1.7–2× faster than `OncePerStep` (`whisker bench physics`);
+    /// with it the workspace suite passes and so do the 60-s soaks of the Box, Barrel and
+    /// Mug and 20 nudged Mug runs, with and without the driven root.
     /// Patch 8 ([`Lever::ReuseStepKinematics`]) changes no bit of its results; patch 9
     /// ([`Lever::LazyJacobians`], ~1.1–1.2× faster) changes them by rounding; explicit
     /// gyroscopic and Coriolis terms ([`Lever::ExplicitCoriolis`], patch 4, ~1.2–1.6×
@@ -90,15 +91,28 @@ pub enum Lever {
     /// whisker runs all its steps in one task in rayon's split. Changes only which thread
     /// runs what: the samples are identical.
     LoadBalance,
+    /// The follicle's root, a heavy body, pushed onto the driver's pose by a force held over
+    /// each step ([`crate::whisker::body::RootDrive::Driven`]) instead of welded to it by an
+    /// impulse fixed joint: six constraint rows fewer at every substep, ~1.15–1.2× faster
+    /// (`whisker bench physics`). Changes how the base's motion is discretised within a
+    /// step (a constant force over it, not the weld's velocity jump at its start), so not
+    /// bits only: in free whisking at 10 Hz the follicle's stream moves by ~3 % RMS, less
+    /// than either root's own discretisation error (13 % and 8 % RMS for the shortest and
+    /// longest whisker against an eighth of the step, where the two roots agree within
+    /// 0.04 %; `tests/root_drive.rs`); against poles contacts start at the same samples as
+    /// with Rapier as released and the mean deflection per whisk agrees within 1 %
+    /// (`tests/solver_paths.rs`).
+    DrivenRoot,
 }
 
 impl Lever {
     /// Every lever.
-    pub const ALL: [Lever; 4] = [
+    pub const ALL: [Lever; 5] = [
         Self::ReuseStepKinematics,
         Self::LazyJacobians,
         Self::ExplicitCoriolis,
         Self::LoadBalance,
+        Self::DrivenRoot,
     ];
 
     /// Its name in benchmarks.
@@ -108,6 +122,7 @@ impl Lever {
             Self::LazyJacobians => "lazy-jacobians",
             Self::ExplicitCoriolis => "explicit-coriolis",
             Self::LoadBalance => "load-balance",
+            Self::DrivenRoot => "driven-root",
         }
     }
 }
@@ -136,10 +151,15 @@ impl SolverPath {
         }
     }
 
+    /// Whether `lever` is on for this path with lever `off` switched off.
+    pub fn uses(self, lever: Lever, off: Option<Lever>) -> bool {
+        self.levers().contains(&lever) && off != Some(lever)
+    }
+
     /// Sets the path's Rapier parameters with lever `off` switched off, to measure what it
     /// brings (the `articulated −<lever>` rows of `whisker bench physics`).
     pub fn apply_without(self, p: &mut IntegrationParameters, off: Option<Lever>) {
-        let on = |lever: Lever| self.levers().contains(&lever) && off != Some(lever);
+        let on = |lever: Lever| self.uses(lever, off);
         p.multibody_reuse_step_kinematics = on(Lever::ReuseStepKinematics);
         p.multibody_lazy_jacobians = on(Lever::LazyJacobians);
         p.multibody_mass_matrix = match self {
