@@ -93,8 +93,8 @@ pub enum Lever {
     LoadBalance,
     /// The follicle's root, a heavy body, pushed onto the driver's pose by a force held over
     /// each step ([`crate::whisker::body::RootDrive::Driven`]) instead of welded to it by an
-    /// impulse fixed joint: six constraint rows fewer at every substep, ~1.15–1.2× faster
-    /// (`whisker bench physics`). Changes how the base's motion is discretised within a
+    /// impulse fixed joint: six constraint rows fewer at every substep and no root columns
+    /// of `M⁻¹` to keep (patch 10), ~1.2–1.4× faster (`whisker bench physics`). Changes how the base's motion is discretised within a
     /// step (a constant force over it, not the weld's velocity jump at its start), so not
     /// bits only: in free whisking at 10 Hz the follicle's stream moves by ~3 % RMS, less
     /// than either root's own discretisation error (13 % and 8 % RMS for the shortest and

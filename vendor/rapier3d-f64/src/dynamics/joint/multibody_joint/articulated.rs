@@ -160,8 +160,10 @@ pub(crate) struct ArticulatedFactor<const D: usize> {
     factors: Vec<LinkFactor<D>>,
     /// `Δ` per DoF.
     delta: Vec<Real>,
-    /// `H⁻¹`'s columns for the root's DoFs (`with_root_response`), in DoF order.
-    root_response: Vec<Real>,
+    /// `H⁻¹`'s columns for the root's DoFs, in DoF order, computed on the first
+    /// [`Self::solve_root_mut`] that needs them (whisker-slam patch 10: a root driven by
+    /// forces, with no weld, never does).
+    root_response: std::sync::OnceLock<Vec<Real>>,
 }
 
 impl<const D: usize> LinkFactor<D> {
@@ -273,14 +275,14 @@ impl<const D: usize> ArticulatedFactor<D> {
             links,
             factors,
             delta,
-            root_response: Vec::new(),
+            root_response: std::sync::OnceLock::new(),
         })
     }
 
-    /// Keeps `H⁻¹`'s columns for the root's DoFs (one solve each), so that a row acting on
-    /// the root alone (e.g. a weld of the root to another body, rebuilt every substep) is
+    /// `H⁻¹`'s columns for the root's DoFs (one solve each), so that a row acting on the
+    /// root alone (e.g. a weld of the root to another body, rebuilt every substep) is
     /// solved by [`Self::solve_root_mut`] in one pass over them.
-    pub fn with_root_response(mut self) -> Self {
+    fn root_columns(&self) -> Vec<Real> {
         let n = self.delta.len();
         let root_dofs = self.links.first().map_or(0, |l| l.ndofs);
         let mut response = vec![0.0; n * root_dofs];
@@ -288,22 +290,21 @@ impl<const D: usize> ArticulatedFactor<D> {
             column[j] = 1.0;
             self.solve_mut(&mut SliceIndex(column));
         }
-        self.root_response = response;
-        self
+        response
     }
 
-    /// Solves `H·x = b` in place when `b` is zero outside the root's DoFs and
-    /// [`Self::with_root_response`] kept the columns; `false` (nothing done) otherwise.
+    /// Solves `H·x = b` in place when `b` is zero outside the root's DoFs, from `H⁻¹`'s
+    /// root columns (computed on the first call for this factorisation); `false` (nothing
+    /// done) otherwise.
     pub fn solve_root_mut(&self, b: &mut impl core::ops::IndexMut<usize, Output = Real>) -> bool {
         let n = self.delta.len();
         let Some(root) = self.links.first() else {
             return false;
         };
-        if self.root_response.len() != n * root.ndofs
-            || (root.ndofs..n).any(|k| b[k] != 0.0)
-        {
+        if (root.ndofs..n).any(|k| b[k] != 0.0) {
             return false;
         }
+        let root_response = self.root_response.get_or_init(|| self.root_columns());
         let mut coefficients = [0.0; PAD];
         for (j, c) in coefficients.iter_mut().enumerate().take(root.ndofs) {
             *c = b[j];
@@ -311,7 +312,7 @@ impl<const D: usize> ArticulatedFactor<D> {
         for k in 0..n {
             b[k] = 0.0;
         }
-        for (j, column) in self.root_response.chunks(n).enumerate() {
+        for (j, column) in root_response.chunks(n).enumerate() {
             let c = coefficients[j];
             if c != 0.0 {
                 for k in 0..n {

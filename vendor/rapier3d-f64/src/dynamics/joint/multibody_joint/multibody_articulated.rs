@@ -162,7 +162,8 @@ impl Multibody {
         let Some(plain) = ArticulatedFactor::new(plain, delta.clone()) else {
             return false;
         };
-        let plain = plain.with_root_response();
+        // whisker-slam patch 10: the root's columns of `M⁻¹` are computed on first use
+        // (`solve_root_mut`), not here.
         let acc = if semi_implicit_coriolis {
             match ArticulatedFactor::new(acc, delta) {
                 Some(f) => Some(f),
