@@ -34,12 +34,6 @@ pub struct Balancer {
     enabled: bool,
 }
 
-impl Default for Balancer {
-    fn default() -> Self {
-        Self::new(true)
-    }
-}
-
 impl Balancer {
     /// A balancer, or (`enabled` false) one task per unit for the whole run in rayon's
     /// split, to measure what balancing brings.

@@ -100,34 +100,25 @@ impl Whisker {
         let at = |offset: f64| -> Pose { (pose * Isometry3::translation(0.0, 0.0, offset)).into() };
         let driver =
             world.insert_body(RigidBodyBuilder::kinematic_position_based().pose(pose.into()));
-        let root = match root_drive {
-            RootDrive::Welded => {
-                let root = world.insert_body(
-                    RigidBodyBuilder::dynamic()
-                        .pose(pose.into())
-                        .additional_mass_properties(mass_props(0.0, FOLLICLE_MASS, 1e-8, 1e-8))
-                        .can_sleep(false),
-                );
-                world.insert_impulse_joint(
-                    driver,
-                    root,
-                    FixedJointBuilder::new().contacts_enabled(false),
-                );
-                root
-            }
-            RootDrive::Driven => world.insert_body(
-                RigidBodyBuilder::dynamic()
-                    .pose(pose.into())
-                    .additional_mass_properties(mass_props(
-                        0.0,
-                        DRIVEN_ROOT_MASS,
-                        DRIVEN_ROOT_INERTIA,
-                        DRIVEN_ROOT_INERTIA,
-                    ))
-                    .gravity_scale(0.0)
-                    .can_sleep(false),
-            ),
+        // The root: light and welded to the driver, or heavy, unweighted and driven.
+        let (mass, inertia, gravity_scale) = match root_drive {
+            RootDrive::Welded => (FOLLICLE_MASS, 1e-8, 1.0),
+            RootDrive::Driven => (DRIVEN_ROOT_MASS, DRIVEN_ROOT_INERTIA, 0.0),
         };
+        let root = world.insert_body(
+            RigidBodyBuilder::dynamic()
+                .pose(pose.into())
+                .additional_mass_properties(mass_props(0.0, mass, inertia, inertia))
+                .gravity_scale(gravity_scale)
+                .can_sleep(false),
+        );
+        if root_drive == RootDrive::Welded {
+            world.insert_impulse_joint(
+                driver,
+                root,
+                FixedJointBuilder::new().contacts_enabled(false),
+            );
+        }
 
         let mut joints = Vec::new();
         let spherical = |anchor1: f64| -> GenericJoint {

@@ -87,7 +87,7 @@ pub enum Lever {
     /// integrator, not only rounding.
     ExplicitCoriolis,
     /// The array's whiskers run in chunks of steps, the dearest (by their last chunk)
-    /// first, one at a time from a queue ([`crate::sensing::schedule`]); without it, each
+    /// first, one at a time from a queue (`sensing::schedule`); without it, each
     /// whisker runs all its steps in one task in rayon's split. Changes only which thread
     /// runs what: the samples are identical.
     LoadBalance,
