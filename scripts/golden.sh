@@ -10,7 +10,7 @@
 # The commands: the quickstart (closed loop); object-slam --seed 0 --json; a kinematic
 # maze-slam seed; a physics `run` of scenarios/whisking.toml; datasets of the three
 # experiments (a kinematic and a physics maze, object walks, a closed loop), `dataset
-# noise` and `slam` on each; a 6-trial batch (scripts/golden/trials6.toml) and its report;
+# noise` and `slam` on each; the office (seed 0) run, its dataset and its replay; a 6-trial batch (scripts/golden/trials6.toml) and its report;
 # radial generate/train/eval on small sets; characterize, urdf info/fk and `check` of every
 # scenario. Console output is kept with wall-clock times masked (stderr sorted: parallel work
 # prints in no fixed order). Unless --no-suite, `cargo test --release --test cli` also runs
@@ -77,6 +77,9 @@ record() {
     step slam-object slam "$D/dataset-object" --out "$D/slam-object" --json
     step dataset-loop dataset scenarios/quickstart.toml --set explore.max_iterations=100 --out "$D/dataset-loop"
     step slam-loop slam "$D/dataset-loop" --out "$D/slam-loop" --json
+    step office run scenarios/office.toml --seed 0 --out "$D/office"
+    step dataset-office dataset scenarios/office.toml --seed 0 --out "$D/dataset-office"
+    step slam-office slam "$D/dataset-office" --out "$D/slam-office" --json
     step trials trials scripts/golden/trials6.toml --out "$D/trials" --jobs 2
     step radial-training radial generate --set training --lengths 65,94 --frequencies 1 --seed 0 --out "$D/radial/training.csv"
     step radial-validation radial generate --set validation --waypoints 2 --whisks 1 --seed 0 --out "$D/radial/validation.csv"
