@@ -6,10 +6,10 @@ mod cli;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
-use whisker_experiments::console::NoRecording;
-use whisker_experiments::error::Error;
 use whisker_experiments::record::Context;
 use whisker_recording::Rerun;
+use whisker_scenario::console::NoRecording;
+use whisker_scenario::error::Error;
 
 /// Tactile SLAM and object recognition testbed for an actively whisked artificial
 /// whisker array on a UR5 arm.
@@ -87,7 +87,7 @@ fn main() -> ExitCode {
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| dispatch(command, ctx)));
     let failed = !matches!(result, Ok(Ok(())));
     if failed && !keep_on_failure {
-        whisker_experiments::output::discard_created();
+        whisker_scenario::output::discard_created();
     }
     match result {
         Ok(Ok(())) => {
@@ -126,7 +126,7 @@ fn missing_recording(command: &Command) -> Option<NoRecording> {
 }
 
 /// Runs one command.
-fn dispatch(command: Command, ctx: Context) -> whisker_experiments::error::Result {
+fn dispatch(command: Command, ctx: Context) -> whisker_scenario::error::Result {
     match command {
         Command::Run(a) => cli::run::run(&a, ctx),
         Command::Check(a) => cli::run::check(&a, ctx),

@@ -2,12 +2,12 @@
 
 use super::{choice, print_json, trials::Lines};
 use std::path::PathBuf;
-use whisker_experiments::bench::{physics, recording, sensing, slam, trials};
-use whisker_experiments::error::Result;
 use whisker_experiments::record::{Context, Silent};
-use whisker_experiments::scenario::overrides::Override;
+use whisker_scenario::error::Result;
+use whisker_scenario::overrides::Override;
 use whisker_sim::sensing::physics::SolverPath;
 use whisker_sim::whisker::beam::Bending;
+use whisker_trials::bench::{physics, recording, sensing, slam, trials};
 
 /// The benchmarks.
 #[derive(clap::Subcommand)]
@@ -129,7 +129,7 @@ fn show<R: serde::Serialize + std::fmt::Display>(report: &R, json: Option<bool>)
         Some(pretty) => print_json(report, pretty),
         None => print!(
             "{report}{}",
-            whisker_experiments::console::legend(
+            whisker_scenario::console::legend(
                 "how to read it",
                 &[
                     (
@@ -197,7 +197,7 @@ pub fn run(command: &Command, ctx: Context) -> Result {
             let report = trials::run(&settings, ctx, &Lines::new())?;
             show(&report, None);
             if !report.identical {
-                return Err(whisker_experiments::error::Error::Failure(
+                return Err(whisker_scenario::error::Error::Failure(
                     "trials.csv differs between 1 and 2 jobs".into(),
                 ));
             }

@@ -7,8 +7,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::sync::Mutex;
 use std::time::Instant;
-use whisker_experiments::console::{self, NoRecording};
 use whisker_experiments::record::Reporter;
+use whisker_scenario::console::{self, NoRecording};
 
 /// The progress being shown: what, since when, the last tenth printed and the bar.
 struct Shown {
@@ -137,7 +137,7 @@ pub fn header(root: &clap::Command, matches: &ArgMatches) -> String {
 
 /// The closing lines: the files written (those still there) and the recording.
 pub fn closing(missing: Option<NoRecording>) -> String {
-    let written: Vec<_> = whisker_experiments::output::written()
+    let written: Vec<_> = whisker_scenario::output::written()
         .into_iter()
         .filter(|p| p.exists())
         .collect();

@@ -4,12 +4,12 @@ use super::{choice, print_json};
 use std::path::PathBuf;
 use whisker_experiments::datasets::noise::Settings as NoiseSettings;
 use whisker_experiments::datasets::{self, ScenarioDataset};
-use whisker_experiments::error::{Error, Result};
 use whisker_experiments::object_slam::Placement;
 use whisker_experiments::object_slam::dataset::ObjectDataset;
 use whisker_experiments::record::Context;
-use whisker_experiments::scenario::SensingMode;
-use whisker_experiments::scenario::overrides::Override;
+use whisker_scenario::SensingMode;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::overrides::Override;
 use whisker_sim::sensing::noise::PointNoise;
 
 /// Write a seeded dataset in the lab's log layout with ground truth beside it

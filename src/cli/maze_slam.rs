@@ -3,11 +3,11 @@
 use super::{RrdArgs, choice, print_json};
 use std::path::PathBuf;
 use whisker_experiments::dataset::manifest::Manifest;
-use whisker_experiments::error::Result;
 use whisker_experiments::maze_slam::{self, Settings};
 use whisker_experiments::record::Context;
-use whisker_experiments::scenario::SensingMode;
-use whisker_experiments::scenario::overrides::Override;
+use whisker_scenario::SensingMode;
+use whisker_scenario::error::Result;
+use whisker_scenario::overrides::Override;
 use whisker_sim::whisker::beam::Bending;
 
 /// Planar RatSLAM on the maze with tactile images (thesis Ch 3): ARR, ARCR, EM. Every

@@ -16,8 +16,8 @@ pub mod trials;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use serde::Serialize;
 use std::path::PathBuf;
-use whisker_experiments::choice::Choice;
 use whisker_experiments::record::Target;
+use whisker_scenario::choice::Choice;
 
 /// `--rrd FILE` / `--no-rrd`: where a command writes its recording.
 #[derive(clap::Args, Debug, Clone, Default)]

@@ -2,11 +2,11 @@
 
 use super::{RrdArgs, choice, print_json};
 use std::path::PathBuf;
-use whisker_experiments::error::Result;
 use whisker_experiments::radial::eval::{self, EvalSettings};
 use whisker_experiments::radial::generate::{self, GenerateSettings, Set};
 use whisker_experiments::radial::train::{self, TrainSettings};
 use whisker_experiments::record::Context;
+use whisker_scenario::error::Result;
 use whisker_sim::sensing::physics::DEFAULT_SUBSTEPS;
 
 /// The subcommands.

@@ -2,9 +2,9 @@
 
 use super::RrdArgs;
 use std::path::PathBuf;
-use whisker_experiments::error::Result;
 use whisker_experiments::record::Context;
-use whisker_experiments::scenario::overrides::Override;
+use whisker_scenario::error::Result;
+use whisker_scenario::overrides::Override;
 
 /// Run a scenario: simulate it and write its results and Rerun recording.
 #[derive(clap::Args, Debug)]

@@ -2,11 +2,11 @@
 
 use super::{choice, print_json};
 use std::path::PathBuf;
-use whisker_experiments::error::{Error, Result};
 use whisker_experiments::record::{Context, Silent};
-use whisker_experiments::soak::{self, Settings};
+use whisker_scenario::error::{Error, Result};
 use whisker_sim::sensing::physics::{DEFAULT_SUBSTEPS, SolverPath};
 use whisker_sim::whisker::beam::Bending;
+use whisker_trials::soak::{self, Settings};
 
 /// Long physics runs against every object and the maze: no tunnelling, no NaN.
 #[derive(clap::Args, Debug)]

@@ -2,8 +2,8 @@
 
 use super::print_json;
 use std::path::PathBuf;
-use whisker_experiments::error::Result;
 use whisker_experiments::record::Context;
+use whisker_scenario::error::Result;
 
 /// `whisker assets …`.
 #[derive(clap::Subcommand)]

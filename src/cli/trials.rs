@@ -6,11 +6,12 @@ use std::path::PathBuf;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
-use whisker_experiments::error::{Error, Result};
 use whisker_experiments::record::Context;
-use whisker_experiments::trials::batch::{self, Progress};
-use whisker_experiments::trials::journal::{self, Entry, Status};
-use whisker_experiments::trials::{Batch, Shard, merge, report, slurm};
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::grid::{Batch, Shard};
+use whisker_trials::batch::{self, Progress};
+use whisker_trials::journal::{self, Entry, Status};
+use whisker_trials::{merge, report, slurm};
 
 /// `whisker trials`.
 #[derive(clap::Args, Debug)]
@@ -162,7 +163,7 @@ pub fn run(args: &Args, ctx: Context) -> Result {
 
 /// What a batch's files hold.
 fn report_legend() -> String {
-    whisker_experiments::console::legend(
+    whisker_scenario::console::legend(
         "what the files hold",
         &[
             (

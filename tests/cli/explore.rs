@@ -5,8 +5,8 @@
 
 use super::*;
 use nalgebra::Isometry3;
-use whisker_experiments::plan::Plan;
-use whisker_experiments::scenario::Scenario;
+use whisker_scenario::Scenario;
+use whisker_scenario::plan::Plan;
 use whisker_sim::world::World;
 use whisker_slam::exploration::odometry_noise::OdometryNoise;
 
@@ -144,7 +144,7 @@ fn map_building_of_the_box_reaches_or_counts_every_goal_and_never_collides() {
 fn a_map_built_at_reach_has_experiences_on_every_side_it_whisked_within_reach() {
     let (mut scenario, file) = load("explore_map_box.toml");
     let explore = scenario.explore.as_mut().unwrap();
-    explore.map_goals = whisker_experiments::scenario::explore::MapGoals::Reach;
+    explore.map_goals = whisker_scenario::explore::MapGoals::Reach;
     explore.slam.min_contacts = 4;
     let out = run(&scenario, &file);
     let (created, contacts) = (column(&out.csv, "created"), column(&out.csv, "contacts"));

@@ -254,7 +254,7 @@ fn bad_offices_and_routes_exit_2_naming_the_field_and_write_nothing() {
 #[test]
 fn the_default_route_is_collision_free_by_an_independent_check() {
     use whisker_experiments::navigation::{footprint, route};
-    use whisker_experiments::scenario::Scenario;
+    use whisker_scenario::Scenario;
     let tmp = tempfile::tempdir().unwrap();
     for (name, moved) in [("as_is", false), ("box_on_route", true)] {
         let path = office(tmp.path(), name, |s| match moved {

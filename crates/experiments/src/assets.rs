@@ -1,10 +1,10 @@
 //! `whisker assets generate`: writes the generated object catalogue
 //! (`whisker_sim::environment::assets`) as OBJ files.
 
-use crate::error::Result;
-use crate::output::{create_dir, write_atomic};
 use crate::record::Context;
 use std::path::Path;
+use whisker_scenario::error::Result;
+use whisker_scenario::output::{create_dir, write_atomic};
 use whisker_sim::environment::assets::{CATALOGUE, obj};
 
 /// Writes every catalogued asset to `out/<name>.obj`.

@@ -1,9 +1,9 @@
 //! `whisker characterize`: a static point load on one held whisker, then its ring-down
 //! (see `whisker_sim::whisker::characterize`).
 
-use crate::error::{Error, Result};
 use serde::Serialize;
 use std::fmt;
+use whisker_scenario::error::{Error, Result};
 use whisker_sim::whisker::beam::Bending;
 use whisker_sim::whisker::characterize::{Characterization, characterize, check_first_mode};
 use whisker_sim::whisker::follicle::{MAX_STIFFNESS_NM_PER_RAD, MIN_STIFFNESS_NM_PER_RAD};
@@ -188,7 +188,7 @@ impl fmt::Display for Report {
             self.first_frequency_hz
         )?;
         writeln!(f, "damping ratio          {:>12.4}", self.damping_ratio)?;
-        f.write_str(&crate::console::legend(
+        f.write_str(&whisker_scenario::console::legend(
             "what the lines mean",
             &[
                 ("deflections", "static: the shaft's displacement under the point load, at the load and at the tip (Euler–Bernoulli for the tapered beam gives the reference; `cargo test` holds them within 1 %)"),

@@ -2,11 +2,11 @@
 //! waypoint, the array, the environment, the maps, the batch) and what would run, saying
 //! it and writing nothing (but `--meshes`).
 
-use crate::error::Result;
-use crate::plan::Plan;
 use crate::record::Context;
-use crate::scenario::{Scenario, Sensing};
 use std::path::Path;
+use whisker_scenario::error::Result;
+use whisker_scenario::plan::Plan;
+use whisker_scenario::{Scenario, Sensing};
 use whisker_sim::environment::Environment;
 
 /// `whisker check`: validates and describes; with `meshes`, writes each object's mesh as
@@ -59,7 +59,7 @@ pub fn check(file: &Path, meshes: Option<&Path>, ctx: Context) -> Result {
             dir.display(),
             crate::closed_loop::CSV_NAME,
             crate::closed_loop::SUMMARY_NAME,
-            if e.task == crate::scenario::explore::Task::Map {
+            if e.task == whisker_scenario::explore::Task::Map {
                 ", map.json"
             } else {
                 ""
@@ -73,7 +73,7 @@ pub fn check(file: &Path, meshes: Option<&Path>, ctx: Context) -> Result {
         ));
     }
     if scenario.trials.is_some() {
-        ctx.say(&crate::trials::Batch::load(file)?.describe());
+        ctx.say(&whisker_scenario::grid::Batch::load(file)?.describe());
     }
     let skipped = whisker_sim::arm::links_without_colliders(&plan.model);
     if !skipped.is_empty() {
@@ -88,7 +88,7 @@ pub fn check(file: &Path, meshes: Option<&Path>, ctx: Context) -> Result {
 /// Writes each `[[objects]]` mesh of `scenario` (read from `file`) as loaded into
 /// `environment` to `dir/NAME.obj`.
 fn write_meshes(file: &Path, scenario: &Scenario, environment: &Environment, dir: &Path) -> Result {
-    crate::output::create_dir(dir)?;
+    whisker_scenario::output::create_dir(dir)?;
     let names = scenario.object_names();
     for (i, (name, piece)) in names.iter().zip(&environment.pieces).enumerate() {
         // A file name per object: separators replaced, and the index added to a name
@@ -112,7 +112,7 @@ fn write_meshes(file: &Path, scenario: &Scenario, environment: &Environment, dir
                 file.display()
             ),
         );
-        crate::output::write_atomic(&path, text.as_bytes())?;
+        whisker_scenario::output::write_atomic(&path, text.as_bytes())?;
     }
     Ok(())
 }

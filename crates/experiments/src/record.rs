@@ -13,9 +13,9 @@
 //! [`Recorder::step_done`]), so that one seed gives the same content whatever the thread
 //! count.
 
-use crate::error::{Error, Result};
 use nalgebra::Isometry3;
 use std::path::{Path, PathBuf};
+use whisker_scenario::error::{Error, Result};
 use whisker_sim::environment::{Environment, Mesh};
 use whisker_sim::whisker::control::ControlState;
 use whisker_slam::pose_grid::PoseGrid;

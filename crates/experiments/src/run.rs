@@ -7,12 +7,7 @@
 //! - `whiskers.csv` (physics sensing), `contacts.csv` (kinematic sensing) or
 //!   `anticipated.csv` (the anticipated contacts of a physics run with an environment).
 
-use crate::error::Result;
-use crate::output;
-use crate::plan::Plan;
 use crate::record::{Context, Layout, Recorder, Target};
-use crate::scenario::overrides::Override;
-use crate::scenario::{Scenario, Sensing};
 use crate::sensing::array_run::ArraySimulation;
 use crate::sensing::sweep::ContactSensing;
 use crate::sensing::whisking_metrics::WhiskingSummary;
@@ -20,6 +15,11 @@ use nalgebra::Isometry3;
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use whisker_scenario::error::Result;
+use whisker_scenario::output;
+use whisker_scenario::overrides::Override;
+use whisker_scenario::plan::Plan;
+use whisker_scenario::{Scenario, Sensing};
 use whisker_sim::environment::Environment;
 use whisker_sim::kinematics::Chain;
 use whisker_sim::sensing::noise::ContactNoise;
@@ -302,7 +302,10 @@ impl Sensed {
         if self.whisking.is_some() {
             legend.push(("whisking", "what the whisking strategy did (§2.3.1), first whisk left out: touching = |deflection| above 20 × the free-whisking noise; spread = range of first-contact times across the array (SR narrows it); curvature = the shafts' bending at contact (SR lowers it)"));
         }
-        out.push_str(&crate::console::legend("what the lines mean", &legend));
+        out.push_str(&whisker_scenario::console::legend(
+            "what the lines mean",
+            &legend,
+        ));
         out
     }
 }

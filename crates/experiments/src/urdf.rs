@@ -1,11 +1,11 @@
 //! `whisker urdf info URDF` and `whisker urdf fk URDF --joints …`: a robot description
 //! looked at from the command line.
 
-use crate::error::{Error, Result};
 use crate::record::Context;
 use serde::Serialize;
 use std::fmt;
 use std::path::{Path, PathBuf};
+use whisker_scenario::error::{Error, Result};
 use whisker_sim::kinematics::urdf::Geometry;
 use whisker_sim::kinematics::{Chain, PackagePaths, RobotModel};
 use whisker_slam::pose;

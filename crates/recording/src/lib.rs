@@ -23,8 +23,8 @@ pub mod slam;
 pub mod world;
 
 use std::path::{Path, PathBuf};
-use whisker_experiments::error::{Error, Result};
-use whisker_experiments::output;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::output;
 
 use nalgebra::Isometry3;
 pub use whisker_experiments::record::SIM_TIME;

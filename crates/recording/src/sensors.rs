@@ -5,8 +5,8 @@
 //! not a call per sample.
 
 use super::{Recording, SIM_TIME};
-use whisker_experiments::error::Result;
 use whisker_experiments::record::{SENSOR_SERIES, SENSOR_VALUES};
+use whisker_scenario::error::Result;
 
 impl Recording {
     /// Names the series of the stream at `entity` (static).

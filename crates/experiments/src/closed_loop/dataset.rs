@@ -21,16 +21,16 @@ use crate::dataset::manifest::{
 };
 use crate::dataset::whisks::{WhiskFiles, put_model, replay_sensing};
 use crate::dataset::{Staging, array_info, records};
-use crate::error::{Error, Result};
 use crate::object_slam::dataset::{odometry_csv, pose_log, read_odometry};
-use crate::scenario::Scenario;
-use crate::scenario::explore::Task;
 use nalgebra::Point3;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::path::Path;
+use whisker_scenario::Scenario;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::explore::Task;
 use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker};
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::whisker::control::WhiskingPattern;
@@ -51,12 +51,12 @@ pub fn write(
     reporter: &dyn crate::record::Reporter,
 ) -> Result<Manifest> {
     let config = scenario.explore.as_ref().expect("checked by the caller");
-    let plan = crate::plan::Plan::new(scenario, file)?;
+    let plan = whisker_scenario::plan::Plan::new(scenario, file)?;
     let environment = scenario.environment(file)?.environment;
     let configs = scenario.whisker_configs(file)?;
     let whiskers: Vec<RigidWhisker> = configs.iter().map(|c| c.rigid()).collect();
     let array = array_info(&whiskers);
-    let physics = scenario.sensing == crate::scenario::Sensing::Physics;
+    let physics = scenario.sensing == whisker_scenario::Sensing::Physics;
     // Physics: each whisk's samples to its whisk file as the loop runs.
     let files = physics.then(|| {
         let dir = s.path("log/whisks");
@@ -120,7 +120,7 @@ fn manifest(
     array: crate::dataset::manifest::ArrayInfo,
 ) -> Result<Manifest> {
     let config = scenario.explore.as_ref().expect("checked by the caller");
-    let physics = scenario.sensing == crate::scenario::Sensing::Physics;
+    let physics = scenario.sensing == whisker_scenario::Sensing::Physics;
     let noise = scenario.kinematic.noise(file)?;
     let sensor = configs[0].sensor;
     Ok(Manifest {
@@ -171,7 +171,7 @@ fn manifest(
 /// The known object maps (the robot's prior knowledge) copied to `log/maps/`; their names.
 pub(crate) fn put_maps(
     file: &Path,
-    config: &crate::scenario::explore::ExploreConfig,
+    config: &whisker_scenario::explore::ExploreConfig,
     s: &mut Staging,
 ) -> Result<Vec<String>> {
     let mut maps = Vec::new();
@@ -458,13 +458,13 @@ fn write_replay(
     slam: &WhiskerRatSlam,
     info: &ClosedLoopInfo,
 ) -> Result {
-    crate::output::create_dir(out)?;
-    crate::output::write_atomic(&out.join("replay.csv"), csv.as_bytes())?;
+    whisker_scenario::output::create_dir(out)?;
+    whisker_scenario::output::write_atomic(&out.join("replay.csv"), csv.as_bytes())?;
     let value = serde_json::to_value(summary).expect("plain data");
     let text = serde_json::to_string_pretty(&value).expect("plain JSON") + "\n";
-    crate::output::write_atomic(&out.join("summary.json"), text.as_bytes())?;
+    whisker_scenario::output::write_atomic(&out.join("summary.json"), text.as_bytes())?;
     if info.task == "map" {
-        crate::output::write_json(&out.join("map.json"), &slam.map.rested())?;
+        whisker_scenario::output::write_json(&out.join("map.json"), &slam.map.rested())?;
     }
     Ok(())
 }

@@ -7,9 +7,9 @@ use super::map_accuracy;
 use super::robot::Motion;
 use super::state::Whisk;
 use super::state::{Loop, Outcome, Sensor, Tally, Whisked, relocalised_into};
-use crate::error::Result;
-use crate::scenario::explore::{Strategy, Task};
 use nalgebra::{Isometry3, Point3, Translation3, Vector3};
+use whisker_scenario::error::Result;
+use whisker_scenario::explore::{Strategy, Task};
 use whisker_slam::exploration::placement::{self, Placement};
 use whisker_slam::rng::substream;
 

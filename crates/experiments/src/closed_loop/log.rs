@@ -1,11 +1,11 @@
 //! What a closed-loop run writes: `explore.csv`, one row per iteration, and
 //! `summary.json` (both documented in `scenarios/README.md`).
 
-use crate::scenario::explore::{Strategy, Task};
 use nalgebra::Isometry3;
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
+use whisker_scenario::explore::{Strategy, Task};
 use whisker_slam::pose;
 use whisker_slam::recognition::Recognition;
 use whisker_slam::whisker_ratslam::slam::Step;

@@ -2,12 +2,12 @@
 
 use super::log::{CSV_NAME, SUMMARY_NAME};
 use super::session::run_logged;
-use crate::error::{Error, Result};
-use crate::plan::Plan;
 use crate::record::Context;
-use crate::scenario::Scenario;
-use crate::scenario::explore::{ExploreConfig, Task};
 use std::path::Path;
+use whisker_scenario::Scenario;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::explore::{ExploreConfig, Task};
+use whisker_scenario::plan::Plan;
 use whisker_sim::environment::Environment;
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 
@@ -85,12 +85,12 @@ pub fn write(
         ctx.reporter,
     )?;
     let wall = started.elapsed().as_secs_f64();
-    crate::output::write_atomic(&dir.join(CSV_NAME), out.csv.as_bytes())?;
-    crate::output::write_atomic(&dir.join("contacts.csv"), out.contacts_csv.as_bytes())?;
+    whisker_scenario::output::write_atomic(&dir.join(CSV_NAME), out.csv.as_bytes())?;
+    whisker_scenario::output::write_atomic(&dir.join("contacts.csv"), out.contacts_csv.as_bytes())?;
     let text = serde_json::to_string_pretty(&out.summary).expect("plain JSON") + "\n";
-    crate::output::write_atomic(&dir.join(SUMMARY_NAME), text.as_bytes())?;
+    whisker_scenario::output::write_atomic(&dir.join(SUMMARY_NAME), text.as_bytes())?;
     if let Some(map) = &out.map {
-        crate::output::write_json(&dir.join("map.json"), map)?;
+        whisker_scenario::output::write_json(&dir.join("map.json"), map)?;
     }
     if let Some(rec) = recording {
         record_arm(rec.as_ref(), &frames, &out)?;
@@ -206,6 +206,9 @@ fn results(s: &serde_json::Value, wall: f64) -> String {
         legend.push(("map error", "how far each experience of this run sits in the map from where the array truly was (§6.1.3), laid on the truth at the first experience, then by the best rigid fit; a metric map keeps this within a few cm. Ch 6 judges recognition, not this: errors larger than the object mean the map joins views topologically (re-localisations pull distant views together), not metrically"));
         legend.push(("revisits", "true = the experience re-localised into was made within 2 cm and 10° of where the array is; gap = how far apart they are"));
     }
-    out.push_str(&crate::console::legend("what the lines mean", &legend));
+    out.push_str(&whisker_scenario::console::legend(
+        "what the lines mean",
+        &legend,
+    ));
     out
 }

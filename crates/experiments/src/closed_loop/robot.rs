@@ -6,9 +6,9 @@
 //! A goal the IK cannot reach, or whose move would touch the object, is refused: the arm
 //! stays where it is and the caller counts the fallback.
 
-use crate::error::{Error, Result};
-use crate::plan::Plan;
 use nalgebra::Isometry3;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::plan::Plan;
 use whisker_sim::arm::LinkShapes;
 use whisker_sim::environment::Environment;
 use whisker_sim::environment::solids::Solids;

@@ -4,12 +4,12 @@
 
 use super::setup::{self, Outlets};
 use super::state::Outcome;
-use crate::error::Result;
-use crate::plan::Plan;
 use crate::record::{Recorder, Reporter, Silent};
-use crate::scenario::Scenario;
 use crate::sensing::held::WhiskLog;
 use std::path::Path;
+use whisker_scenario::Scenario;
+use whisker_scenario::error::Result;
+use whisker_scenario::plan::Plan;
 use whisker_sim::environment::Environment;
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 

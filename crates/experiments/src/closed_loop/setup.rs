@@ -4,17 +4,17 @@
 
 use super::robot::Robot;
 use super::state::{Heading, Loop, LsrTally, Sensor};
-use crate::error::{Error, Result};
-use crate::plan::Plan;
 use crate::record::{GraphSchedule, Recorder, Reporter, SensorColumns};
-use crate::scenario::explore::{ExploreConfig, MapGoals, Task};
-use crate::scenario::{Scenario, Sensing};
 use crate::sensing::held::{PhysicsSensing, WhiskLog};
 use crate::surface::MeshSurface;
 use nalgebra::{Point3, Vector3};
 use rand::RngExt;
 use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::explore::{ExploreConfig, MapGoals, Task};
+use whisker_scenario::plan::Plan;
+use whisker_scenario::{Scenario, Sensing};
 use whisker_sim::environment::Environment;
 use whisker_sim::sensing::kinematic::{KinematicArray, SweepTarget};
 use whisker_slam::exploration::goal_mesh::GoalMesh;

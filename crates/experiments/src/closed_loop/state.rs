@@ -3,11 +3,11 @@
 
 use super::robot::Robot;
 use crate::record::{Contact, GraphSchedule, Recorder, Reporter, SensorColumns};
-use crate::scenario::explore::ExploreConfig;
 use crate::sensing::held::PhysicsSensing;
 use nalgebra::Isometry3;
 use nalgebra::Point3;
 use std::collections::{BTreeMap, VecDeque};
+use whisker_scenario::explore::ExploreConfig;
 use whisker_sim::sensing::kinematic::{KinematicArray, SweepTarget};
 use whisker_slam::contact::ContactCycle;
 use whisker_slam::exploration::feh::Follower;

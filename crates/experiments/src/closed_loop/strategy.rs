@@ -4,9 +4,9 @@
 //! each step to an experience cut into segments (`whisker_slam::exploration::tour::segments`).
 
 use super::state::{Heading, Loop};
-use crate::scenario::explore::Strategy;
 use nalgebra::Isometry3;
 use std::collections::VecDeque;
+use whisker_scenario::explore::Strategy;
 use whisker_slam::exploration::feh::Follower;
 use whisker_slam::exploration::lsr::{self, Replan, Scope};
 use whisker_slam::exploration::tour;

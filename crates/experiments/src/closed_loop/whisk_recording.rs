@@ -5,9 +5,9 @@
 //! confidence in each object (§6.2).
 
 use super::state::{Loop, Sensor, Whisk};
-use crate::error::Result;
 use crate::record::ContactKind;
 use crate::record::Recorder;
+use whisker_scenario::error::Result;
 
 /// Instants per whisk at which the shafts are drawn.
 const SHAFT_FRAMES: usize = 10;

@@ -3,10 +3,10 @@
 //! every file with its size and SHA-256. Read strictly: unknown fields, a newer version,
 //! a missing log file or a checksum mismatch exit with code 2 naming the file.
 
-use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
+use whisker_scenario::error::{Error, Result};
 
 pub use super::sections::{
     ClosedLoopInfo, MazeInfo, NavigateInfo, NavigateObjectInfo, ObjectSlamInfo, PostureInfo,

@@ -3,10 +3,10 @@
 //! files (the contacts of every whisk) and the 1 Hz pose log (§3.1.2).
 
 use super::table::{Row, Table, columns};
-use crate::error::{Error, Result};
 use nalgebra::{Isometry3, Point3};
 use std::fmt::Write;
 use std::path::Path;
+use whisker_scenario::error::{Error, Result};
 use whisker_slam::contact::{Contact, ContactCycle};
 use whisker_slam::sensor::Sample as Reading;
 

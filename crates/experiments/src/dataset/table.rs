@@ -2,8 +2,8 @@
 //! on every line, numbers that parse; every error names the file, the line (1-based, the
 //! header is line 1) and what was expected, and exits with code 2.
 
-use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
+use whisker_scenario::error::{Error, Result};
 
 /// A CSV file of a dataset, read whole, its header checked.
 pub struct Table {

@@ -5,10 +5,10 @@
 
 use super::manifest::{Manifest, Role};
 use super::{Staging, records};
-use crate::error::{Error, Result};
 use crate::sensing::held::{PhysicsSensing, WhiskLog};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
+use whisker_scenario::error::{Error, Result};
 use whisker_slam::radial::RadialEstimator;
 use whisker_slam::sensor::Sample as Reading;
 
@@ -67,7 +67,7 @@ pub fn put_model(s: &mut Staging, model: &RadialEstimator) -> Result {
 /// The front end of held-still physics whisks as the dataset in `dir` (manifest `m`) was
 /// sensed: its radial-distance model, its array's shafts, the default detection levels.
 pub fn replay_sensing(dir: &Path, m: &Manifest) -> Result<PhysicsSensing> {
-    let model = crate::radial_model::load_or_default(Some(&m.file(dir, MODEL)?))?;
+    let model = whisker_scenario::radial_model::load_or_default(Some(&m.file(dir, MODEL)?))?;
     let configs = whisker_sim::whisker::array::modules()
         .into_iter()
         .map(whisker_sim::sensing::physics::WhiskerConfig::with_defaults)

@@ -9,9 +9,9 @@ pub mod noise;
 
 use crate::dataset::manifest::{Experiment, Manifest};
 use crate::dataset::{self, Written};
-use crate::error::{Error, Result};
-use crate::scenario::Scenario;
 use std::path::{Path, PathBuf};
+use whisker_scenario::Scenario;
+use whisker_scenario::error::{Error, Result};
 
 /// What `whisker dataset SCENARIO --seed N --out DIR` writes.
 #[derive(Debug, Clone)]
@@ -28,7 +28,7 @@ pub struct ScenarioDataset {
     /// later by [`noise::run`].
     pub clean: bool,
     /// Changes to scenario fields, as `whisker run --set`.
-    pub set: Vec<crate::scenario::overrides::Override>,
+    pub set: Vec<whisker_scenario::overrides::Override>,
 }
 
 /// `whisker dataset SCENARIO`: a maze run or a closed loop written as a dataset.

@@ -17,10 +17,10 @@ use crate::dataset::manifest::{
     ContactNoiseInfo, Experiment, Level, Manifest, NoiseInfo, Odometry6Noise, Role, SensorNoise,
 };
 use crate::dataset::records;
-use crate::error::{Error, Result};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 use std::path::PathBuf;
+use whisker_scenario::error::{Error, Result};
 use whisker_sim::sensing::noise::{ContactNoise, PointNoise};
 use whisker_slam::ratslam::odometry::OdometryNoise;
 use whisker_slam::ratslam::odometry::noisy_steps;

@@ -20,19 +20,19 @@ use crate::dataset::manifest::{
 use crate::dataset::records::{self, POSE_COLUMNS};
 use crate::dataset::table::{Table, columns};
 use crate::dataset::{Staging, array_info, rigid_whiskers};
-use crate::error::{Error, Result};
 use crate::maze_slam::path::Sample;
 use crate::maze_slam::{
     Geometry, Sensed, Settings, Setup, UPDATE_HZ, kinematic_contacts, kinematic_whiskers,
     physics_sets,
 };
 use crate::record::Reporter;
-use crate::scenario::Scenario;
-use crate::scenario::maze_slam::AngleEstimate;
 use nalgebra::UnitQuaternion;
 use rayon::prelude::*;
 use std::fmt::Write;
 use std::path::Path;
+use whisker_scenario::Scenario;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::maze_slam::AngleEstimate;
 use whisker_sim::sensing::kinematic::KinematicArray;
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::sensing::physics::DT;

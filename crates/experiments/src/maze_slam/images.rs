@@ -3,8 +3,8 @@
 //! intensity 0–255, 0 = no contact; thesis §3.1.1, Fig 3.2). Written by `--out`, read
 //! back by `--images` to re-run RatSLAM on recorded images without sensing again.
 
-use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
+use whisker_scenario::error::{Error, Result};
 use whisker_slam::ratslam::local_view::{COLUMNS, ROWS, TactileImage};
 
 /// The file of image set `name` (e.g. `open-loop/contact_angle`) and `seed` in `dir`.

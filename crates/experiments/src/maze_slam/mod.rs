@@ -25,15 +25,15 @@
 //! `--dataset DIR` runs RatSLAM from a dataset (`whisker dataset`, docs/dataset.md) instead
 //! of sensing: the same [`Sensed`] input, so the same bytes out.
 
-use crate::error::{Error, Result};
 use crate::record::{Context, Layout, Recorder, Target};
-use crate::scenario::Scenario;
 use path::Sample;
 use run_recording::RunRecording;
 use serde::Serialize;
 use serde_json::json;
 use std::fmt;
 use std::path::Path;
+use whisker_scenario::Scenario;
+use whisker_scenario::error::{Error, Result};
 use whisker_slam::ratslam::experience_map::Pose2;
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::ratslam::metrics::{
@@ -368,7 +368,7 @@ pub fn trial(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: Co
         summary.insert(name, serde_json::Value::Object(figures));
     }
     let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
-    crate::output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
+    whisker_scenario::output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
     let line = serde_json::to_value(&report).map_err(|e| Error::Failure(e.to_string()))?;
     ctx.say(&line.to_string());
     Ok(())
@@ -423,9 +423,9 @@ fn run_sensed(
     ctx: Context,
 ) -> Result<Vec<RunResult>> {
     if let Some(dir) = out {
-        crate::output::create_dir(dir)?;
+        whisker_scenario::output::create_dir(dir)?;
         for (images_name, images) in &sensed.image_sets {
-            crate::output::write_atomic(
+            whisker_scenario::output::write_atomic(
                 &images::path(dir, images_name, sensed.seed),
                 images::to_csv(images).as_bytes(),
             )?;
@@ -484,7 +484,7 @@ pub fn slam_runs(
                 )?;
                 if let Some(dir) = out {
                     let tag = images_name.replace('/', "-") + &tuning;
-                    crate::output::write_atomic(
+                    whisker_scenario::output::write_atomic(
                         &dir.join(format!("trajectory-{tag}-{name}-{seed}.csv")),
                         run.trajectory_csv(truth.as_deref()).as_bytes(),
                     )?;
@@ -552,7 +552,7 @@ impl fmt::Display for Report {
                 metric(r.energy_metric, 9),
             )?;
         }
-        f.write_str(&crate::console::legend(
+        f.write_str(&whisker_scenario::console::legend(
             "columns",
             &[
                 ("variant", "normal, or kidnapped (carried ahead mid-run, §3.3.1)"),

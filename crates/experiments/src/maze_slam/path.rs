@@ -45,7 +45,7 @@ fn circuit(corners: &[(f64, f64)], reverse: bool, from: &mut Sample) -> Vec<Samp
     out
 }
 
-use crate::scenario::maze_slam::CIRCUITS;
+use whisker_scenario::maze_slam::CIRCUITS;
 
 /// The whole run: the first `circuits` of [`CIRCUITS`] (all 8 by default, §3.2); the
 /// index where each circuit starts.

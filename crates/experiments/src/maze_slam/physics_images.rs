@@ -221,8 +221,8 @@ pub fn images(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scenario::Scenario;
     use std::path::Path;
+    use whisker_scenario::Scenario;
     use whisker_sim::sensing::noise::ContactNoise;
 
     /// Held still 6 cm beside the maze's tallest post, the physics whiskers light the

@@ -6,9 +6,9 @@
 //! 1.5 Hz, the office's 1 Hz).
 
 use super::path::Sample;
-use crate::error::Result;
 use crate::record::{Graph, GraphSchedule, Recorder};
 use nalgebra::{Isometry3, Translation3};
+use whisker_scenario::error::Result;
 use whisker_slam::ratslam::experience_map::{MapEvent, Pose2};
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::ratslam::{RatSlam, Step};

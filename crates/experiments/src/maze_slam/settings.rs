@@ -1,9 +1,9 @@
 //! The settings of `whisker maze-slam`.
 
 use crate::record::Target;
-use crate::scenario::SensingMode;
-use crate::scenario::overrides::Override;
 use std::path::{Path, PathBuf};
+use whisker_scenario::SensingMode;
+use whisker_scenario::overrides::Override;
 use whisker_sim::whisker::beam::Bending;
 
 /// What `whisker maze-slam` runs; every setting but the scenario overrides the scenario.

@@ -25,13 +25,13 @@ use crate::dataset::manifest::{
     PostureInfo, Role,
 };
 use crate::dataset::{Staging, array_info, records};
-use crate::error::{Error, Result};
 use crate::object_slam::dataset::{odometry_csv, pose_log};
-use crate::scenario::Scenario;
-use crate::scenario::object_mode::DockBy;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use std::fmt::Write;
 use std::path::Path;
+use whisker_scenario::Scenario;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::object_mode::DockBy;
 use whisker_slam::ratslam::experience_map::Pose2;
 
 /// The header of `log/odometry.csv`.
@@ -66,7 +66,7 @@ pub fn write(
     reporter: &dyn crate::record::Reporter,
 ) -> Result<Manifest> {
     let config = scenario.navigate.as_ref().expect("checked by the caller");
-    if scenario.sensing != crate::scenario::Sensing::Kinematic {
+    if scenario.sensing != whisker_scenario::Sensing::Kinematic {
         return Err(Error::field(
             file,
             "sensing",
@@ -74,7 +74,7 @@ pub fn write(
              sensing on the moving base is not written as whisk streams yet",
         ));
     }
-    let plan = crate::plan::Plan::new(scenario, file)?;
+    let plan = whisker_scenario::plan::Plan::new(scenario, file)?;
     let environment = scenario.environment(file)?.environment;
     outputs::check(file, scenario, &plan, &environment)?;
     let run = terrain::run(scenario, file, &plan, &environment, config, reporter, None)?;

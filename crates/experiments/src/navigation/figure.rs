@@ -4,9 +4,9 @@
 //! the whisks that touched and object mode's stops marked on the true path.
 
 use super::terrain::TerrainRun;
-use crate::error::{Error, Result};
 use plotters::prelude::*;
 use std::path::Path;
+use whisker_scenario::error::{Error, Result};
 use whisker_sim::environment::floor_plan::FloorPlan;
 use whisker_slam::ratslam::experience_map::Pose2;
 

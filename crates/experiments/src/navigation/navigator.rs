@@ -15,9 +15,9 @@
 use super::object_mode::{self, Dock, Landmarks};
 use super::plan_view::PlanView;
 use super::posture::Posture;
-use crate::scenario::navigate::NavigateConfig;
-use crate::scenario::object_mode::{DockBy, ObjectModeConfig};
 use nalgebra::Point2;
+use whisker_scenario::navigate::NavigateConfig;
+use whisker_scenario::object_mode::{DockBy, ObjectModeConfig};
 use whisker_sim::sensing::kinematic::RigidWhisker;
 use whisker_slam::contact::ContactCycle;
 use whisker_slam::navigation::base_odometry::BaseMotion;

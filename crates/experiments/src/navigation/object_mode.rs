@@ -28,15 +28,15 @@
 //!   first recognition makes its template, the next closes the loop there.
 
 use crate::closed_loop;
-use crate::error::{Error, Result};
-use crate::plan::Plan;
 use crate::record::Recorder;
-use crate::scenario::Scenario;
-use crate::scenario::explore::{ExploreConfig, Task};
-use crate::scenario::object_mode::ObjectModeConfig;
 use nalgebra::{Isometry3, Point2};
 use std::collections::BTreeMap;
 use std::path::Path;
+use whisker_scenario::Scenario;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::explore::{ExploreConfig, Task};
+use whisker_scenario::object_mode::ObjectModeConfig;
+use whisker_scenario::plan::Plan;
 use whisker_sim::environment::Environment;
 use whisker_slam::navigation::base_odometry::{BaseMotion, BaseOdometryNoise};
 use whisker_slam::ratslam::experience_map::{Pose2, wrap};
@@ -459,7 +459,7 @@ mod tests {
     /// 3.5 m away (beyond the gate) is a second box, a new landmark, not a closure.
     #[test]
     fn a_landmark_is_the_same_only_within_the_gate() {
-        let mut slam = RatSlam::new(crate::scenario::navigate::office_ratslam());
+        let mut slam = RatSlam::new(whisker_scenario::navigate::office_ratslam());
         let mut marks = Landmarks::new(1.5);
         let blank = whisker_slam::ratslam::local_view::TactileImage::default();
         let first = marks.observe(&mut slam, "box", 1.0);

@@ -5,14 +5,14 @@
 
 use super::closures::Closures;
 use super::terrain::{self, TerrainRun};
-use crate::error::{Error, Result};
 use crate::maze_slam::run_recording::RunRecording;
-use crate::output;
-use crate::plan::Plan;
 use crate::record::{Context, Eye, Layout, Target};
-use crate::scenario::Scenario;
 use serde_json::json;
 use std::path::Path;
+use whisker_scenario::Scenario;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::output;
+use whisker_scenario::plan::Plan;
 use whisker_sim::environment::Environment;
 use whisker_slam::navigation::map_error::MapError;
 use whisker_slam::navigation::mode_switch::Verdict;
@@ -249,7 +249,7 @@ pub fn write(
     let objects: Vec<(String, [f64; 2], [f64; 2])> = environment.pieces[..scenario.objects.len()]
         .iter()
         .map(|p| {
-            let (lo, hi) = crate::scenario::navigate::plan_rectangle(p);
+            let (lo, hi) = whisker_scenario::navigate::plan_rectangle(p);
             (p.name.clone(), [lo.x, lo.y], [hi.x, hi.y])
         })
         .collect();

@@ -3,10 +3,10 @@
 //! in the world at any pose of the base, the arm's base link `mount_height_m` above the
 //! floor at the base's centre.
 
-use crate::error::{Error, Result};
-use crate::scenario::navigate::TerrainConfig;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use std::path::Path;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::navigate::TerrainConfig;
 use whisker_sim::kinematics::Chain;
 use whisker_sim::kinematics::ik::{self, IkOptions};
 use whisker_slam::pose;

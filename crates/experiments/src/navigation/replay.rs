@@ -26,11 +26,11 @@ use crate::closed_loop::dataset::run_slam;
 use crate::dataset::manifest::{FILE, Manifest, NavigateObjectInfo};
 use crate::dataset::records;
 use crate::dataset::table::{Table, columns};
-use crate::error::{Error, Result};
 use crate::object_slam::dataset::read_odometry;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use std::collections::BTreeMap;
 use std::path::Path;
+use whisker_scenario::error::{Error, Result};
 use whisker_slam::navigation::base_odometry::BaseMotion;
 use whisker_slam::navigation::map_error;
 use whisker_slam::ratslam::experience_map::Pose2;
@@ -241,10 +241,10 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<Report> {
     let flags = (info.object.is_some(), info.fusion, info.kidnap);
     let (path, stops, summary) = outputs::tables(&run, m.seed, flags, known);
     if let Some(out) = out {
-        crate::output::create_dir(out)?;
-        crate::output::write_atomic(&out.join("path.csv"), path.as_bytes())?;
-        crate::output::write_atomic(&out.join("stops.csv"), stops.as_bytes())?;
-        crate::output::write_json(&out.join("summary.json"), &summary)?;
+        whisker_scenario::output::create_dir(out)?;
+        whisker_scenario::output::write_atomic(&out.join("path.csv"), path.as_bytes())?;
+        whisker_scenario::output::write_atomic(&out.join("stops.csv"), stops.as_bytes())?;
+        whisker_scenario::output::write_json(&out.join("summary.json"), &summary)?;
     }
     Ok(Report(summary))
 }

@@ -10,7 +10,7 @@
 //! (`whisker_slam::navigation::base_odometry`), drawn from the sub-stream
 //! `navigate/odometry` of the seed.
 
-use crate::scenario::navigate::NavigateConfig;
+use whisker_scenario::navigate::NavigateConfig;
 use whisker_slam::navigation::base_odometry::{BaseMotion, BaseOdometryNoise};
 use whisker_slam::ratslam::experience_map::{Pose2, wrap};
 use whisker_slam::rng::substream;
@@ -102,7 +102,7 @@ pub fn dead_reckon(start: Pose2, motions: &[BaseMotion]) -> Vec<Pose2> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scenario::navigate::BaseConfig;
+    use whisker_scenario::navigate::BaseConfig;
 
     fn square(laps: usize) -> NavigateConfig {
         NavigateConfig {
@@ -116,7 +116,7 @@ mod tests {
             odometry: BaseOdometryNoise::default(),
             switch: Default::default(),
             terrain: Default::default(),
-            ratslam: crate::scenario::navigate::office_ratslam(),
+            ratslam: whisker_scenario::navigate::office_ratslam(),
             object: None,
             fusion: true,
             kidnap: false,

@@ -10,7 +10,6 @@
 //! `truth/<object>/<A|B>/poses.csv`, `odometry.csv` (noise-free) and `contacts.csv` (the
 //! rigid sweep without noise).
 
-use crate::choice::Choice;
 use crate::dataset::manifest::{
     ContactNoiseInfo, Experiment, Level, Manifest, NoiseInfo, ObjectSlamInfo, Odometry6Noise, Role,
     SensorInfo, SensorNoise, WalkInfo,
@@ -19,15 +18,16 @@ use crate::dataset::records::{self, POSE_COLUMNS};
 use crate::dataset::table::{Row, Table, columns};
 use crate::dataset::whisks::{WhiskFiles, put_model, replay_sensing};
 use crate::dataset::{Staging, array_info};
-use crate::error::{Error, Result};
 use crate::object_slam::{self, Sensed, Walk};
 use crate::record::Context;
-use crate::scenario::SensingMode;
 use crate::sensing::held::PhysicsSensing;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use rayon::prelude::*;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
+use whisker_scenario::SensingMode;
+use whisker_scenario::choice::Choice;
+use whisker_scenario::error::{Error, Result};
 use whisker_sim::environment::assets::{CATALOGUE, generate};
 use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
 use whisker_sim::sensing::noise::ContactNoise;
@@ -108,7 +108,7 @@ pub fn write(o: &ObjectDataset, s: &mut Staging, ctx: Context) -> Result<Manifes
         files.finish()?;
         put_model(
             s,
-            &crate::radial_model::load_or_default(o.radial_model.as_deref())?,
+            &whisker_scenario::radial_model::load_or_default(o.radial_model.as_deref())?,
         )?;
     }
     let mut walks = Vec::new();

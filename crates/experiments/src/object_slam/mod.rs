@@ -45,15 +45,15 @@ pub use settings::{Settings, SlamVersion};
 pub use trajectory::{Placement, Trajectory, mean_step};
 pub use walk::{Object, Sensed, Walk, WalkSensing, anticipated, stream, walk};
 
-use crate::error::{Error, Result};
 use crate::record::Context;
-use crate::scenario::SensingMode;
 use crate::sensing::held::{self as physics, PhysicsSensing};
 use nalgebra::Isometry3;
 use rayon::prelude::*;
 use settings::{Combo, DECAY, UNMAPPED, params};
 use std::path::Path;
 use walk::explore;
+use whisker_scenario::SensingMode;
+use whisker_scenario::error::{Error, Result};
 use whisker_sim::environment::assets::{Asset, CATALOGUE, generate};
 use whisker_sim::sensing::kinematic::SweepTarget;
 use whisker_sim::whisker::array::{self};
@@ -115,9 +115,9 @@ pub fn sense(
                 "--radial-model: only used with --sensing physics".into(),
             ));
         }
-        (SensingMode::Physics, path) => {
-            Some(crate::radial_model::load_or_default(path.as_deref())?)
-        }
+        (SensingMode::Physics, path) => Some(whisker_scenario::radial_model::load_or_default(
+            path.as_deref(),
+        )?),
     };
     assets
         .par_iter()
@@ -166,7 +166,7 @@ pub fn sense(
 /// Localisation and identification on sensed walks (§5.2.2): reports and `--out` files.
 pub fn analyse(o: &Settings, data: &[Sensed], ctx: Context) -> Result<Report> {
     if let Some(dir) = &o.out {
-        crate::output::create_dir(dir)?;
+        whisker_scenario::output::create_dir(dir)?;
     }
     let modules = array::modules();
     // Localisation: every object × every parameter set.

@@ -4,10 +4,10 @@
 use super::settings::{Combo, Settings};
 use super::trajectory::Trajectory;
 use super::walk::{Event, Sensed};
-use crate::error::Result;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt;
+use whisker_scenario::error::Result;
 use whisker_slam::stats::median;
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 
@@ -179,12 +179,12 @@ pub fn localisation(
             && *combo == Combo::BEST
         {
             let maps = dir.join("maps");
-            crate::output::create_dir(&maps)?;
-            crate::output::write_json(&maps.join(format!("{}.json", asset.name)), &map)?;
+            whisker_scenario::output::create_dir(&maps)?;
+            whisker_scenario::output::write_json(&maps.join(format!("{}.json", asset.name)), &map)?;
         }
     }
     if let Some(dir) = &o.out {
-        crate::output::write_atomic(&dir.join("localisation.csv"), csv.as_bytes())?;
+        whisker_scenario::output::write_atomic(&dir.join("localisation.csv"), csv.as_bytes())?;
     }
     Ok(rows)
 }
@@ -230,7 +230,7 @@ pub fn identification(
         });
     }
     if let Some(dir) = &o.out {
-        crate::output::write_atomic(&dir.join("identification.csv"), csv.as_bytes())?;
+        whisker_scenario::output::write_atomic(&dir.join("identification.csv"), csv.as_bytes())?;
     }
     Ok(rows)
 }
@@ -315,7 +315,7 @@ impl fmt::Display for Report {
             }
             writeln!(f)?;
         }
-        f.write_str(&crate::console::legend(
+        f.write_str(&whisker_scenario::console::legend(
             "columns",
             &[
                 ("parameters", "features / merging / contact points (Table 5.1): pfh = point feature histogram, sda = slope distribution array, both; merged = a re-localisation averages the matched experience's features with the observed ones (Table 5.1 \"feature update\"); tip = the whisker tip at the contact angle, svr = the radial-distance estimate"),

@@ -1,10 +1,10 @@
 //! The settings of `whisker object-slam` and Table 5.1's parameter sets.
 
 use super::trajectory::Placement;
-use crate::choice::Choice;
 use crate::record::Target;
-use crate::scenario::SensingMode;
 use std::path::PathBuf;
+use whisker_scenario::SensingMode;
+use whisker_scenario::choice::Choice;
 use whisker_sim::sensing::noise::PointNoise;
 use whisker_slam::features::similarity::FeatureSet;
 use whisker_slam::whisker_ratslam::slam::Params;

@@ -16,10 +16,10 @@
 //! and the Mug did not suffer from their symmetry "due to their position in space relative
 //! to their associated exploration trajectories"), or every object centred.
 
-use crate::choice::Choice;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::shape::SharedShape;
+use whisker_scenario::choice::Choice;
 
 /// Which trajectory.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -14,9 +14,9 @@
 use super::results::IdentificationRun;
 use super::settings::{Combo, Settings, params};
 use super::walk::{Sensed, Walk, anticipated, features};
-use crate::error::Result;
 use crate::record::{Contact, ContactKind, Context, GraphSchedule, Layout, Recorder};
 use nalgebra::Isometry3;
+use whisker_scenario::error::Result;
 use whisker_sim::environment::assets::generate;
 use whisker_sim::sensing::kinematic::SweepTarget;
 use whisker_sim::whisker::array::{self, Module};

@@ -10,14 +10,14 @@
 //!   random guess's.
 
 use super::{Label, feature_names, read_set};
-use crate::error::{Error, Result};
-use crate::radial_model::load as load_model;
 use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::shape::SharedShape;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::PathBuf;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::radial_model::load as load_model;
 use whisker_sim::environment::assets::{CATALOGUE, generate};
 use whisker_slam::radial::RadialEstimator;
 use whisker_slam::radial::dataset::RadialSample;
@@ -236,7 +236,7 @@ impl fmt::Display for EvalReport {
                 r.face_distance_p_vs_random,
             )?;
         }
-        f.write_str(&crate::console::legend(
+        f.write_str(&whisker_scenario::console::legend(
             "columns",
             &[
                 ("model", "a Table 4.1 regressor (svr = support vector regression, poly = polynomial, mlp = perceptron; the number is its feature set), tip = assume the contact at the tip, random = a uniform guess"),

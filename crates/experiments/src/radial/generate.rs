@@ -18,8 +18,6 @@
 //! of its own with sensor noise from the sub-stream `radial/<case>` of the seed, so the
 //! file does not depend on the number of threads.
 
-use crate::error::{Error, Result};
-use crate::output::write_atomic;
 use crate::record::Context;
 use crate::sensing::contact::detect_on;
 use nalgebra::{Isometry3, Point3, Vector3};
@@ -30,6 +28,8 @@ use std::fmt;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::output::write_atomic;
 use whisker_sim::environment::assets::{CATALOGUE, placed};
 use whisker_sim::environment::{Environment, Piece};
 use whisker_sim::sensing::kinematic::{Intersect, RigidWhisker, SweepTarget};
@@ -63,7 +63,7 @@ pub enum Set {
     Validation,
 }
 
-impl crate::choice::Choice for Set {
+impl whisker_scenario::choice::Choice for Set {
     const ALL: &'static [(Self, &'static str, &'static str)] = &[
         (
             Set::Training,

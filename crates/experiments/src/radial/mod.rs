@@ -6,8 +6,8 @@ pub mod eval;
 pub mod generate;
 pub mod train;
 
-use crate::error::{Error, Result};
 use std::path::Path;
+use whisker_scenario::error::{Error, Result};
 use whisker_slam::frontend::features::Feature;
 use whisker_slam::radial::dataset::{RadialSample, from_csv};
 use whisker_slam::radial::table_4_1_features;

@@ -11,13 +11,13 @@
 //! γ over [`Svr::default_grid`].
 
 use super::{Label, read_set};
-use crate::error::{Error, Result};
-use crate::output::{create_dir, write_atomic};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::output::{create_dir, write_atomic};
 use whisker_slam::frontend::features::Feature;
 use whisker_slam::radial::RadialEstimator;
 use whisker_slam::radial::cross_validation::{mse, r2};
@@ -199,7 +199,7 @@ impl fmt::Display for TrainReport {
                 loadings.join(" ")
             )?;
         }
-        f.write_str(&crate::console::legend(
+        f.write_str(&whisker_scenario::console::legend(
             "PCA",
             &[("PC1…", "principal components of the whitened contact features (§2.7, Fig 4.6): CP CA = contact period and amplitude, DV DA = deflection velocity and acceleration, AV AA = angular velocity and acceleration, WL = whisker length")],
         ))?;
@@ -215,7 +215,7 @@ impl fmt::Display for TrainReport {
                 m.model, m.features, m.r2_train, m.rmse_mm, m.chosen
             )?;
         }
-        f.write_str(&crate::console::legend(
+        f.write_str(&whisker_scenario::console::legend(
             "columns",
             &[
                 ("model, features", "the Table 4.1 regressors and the contact features each uses"),

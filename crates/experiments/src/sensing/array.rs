@@ -1,11 +1,11 @@
 //! The scenario's whisker array on its arm: what `whisker check` says of it, and the
 //! chain that places it.
 
-use crate::error::{Error, Result};
-use crate::plan::Plan;
-use crate::scenario::Scenario;
 use std::fmt::Write as _;
 use std::path::Path;
+use whisker_scenario::Scenario;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::plan::Plan;
 use whisker_sim::kinematics::Chain;
 use whisker_sim::whisker::control::{RcpThreshold, WhiskingPattern};
 use whisker_sim::whisker::strategies::WhiskingControl;

@@ -3,14 +3,14 @@
 //! `whiskers.csv` (columns documented in `scenarios/README.md`).
 
 use super::whisking_metrics::{WhiskingMetrics, WhiskingSummary};
-use crate::error::Result;
-use crate::output;
-use crate::plan::Plan;
 use crate::record::SensorColumns;
 use crate::record::{Recorder, Reporter};
-use crate::scenario::Scenario;
 use std::fmt::Write as _;
 use std::path::Path;
+use whisker_scenario::Scenario;
+use whisker_scenario::error::Result;
+use whisker_scenario::output;
+use whisker_scenario::plan::Plan;
 use whisker_sim::environment::Environment;
 use whisker_sim::kinematics::Chain;
 use whisker_sim::sensing::calibration::calibrate_array_rcp;

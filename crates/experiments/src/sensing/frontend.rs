@@ -11,13 +11,13 @@
 //! off by the end of the run is not processed.
 
 use super::contact::{HEADER, estimate, write_row};
-use crate::error::Result;
-use crate::output;
 use crate::record::Recorder;
 use crate::record::{Contact, ContactKind};
-use crate::scenario::Scenario;
 use nalgebra::Isometry3;
 use std::path::Path;
+use whisker_scenario::Scenario;
+use whisker_scenario::error::Result;
+use whisker_scenario::output;
 use whisker_sim::sensing::kinematic::RigidWhisker;
 use whisker_sim::sensing::physics::WhiskerConfig;
 use whisker_sim::whisker::control::WhiskingPattern;

@@ -258,7 +258,7 @@ mod tests {
         let (near, _) = viewpoints::busiest(&environment, &shape, asset.size).unwrap();
         let far = Isometry3::from_parts(Translation3::new(2.0, 0.0, 0.2), near.rotation);
         let target = SweepTarget::of(&environment);
-        let model = crate::radial_model::load_or_default(None).unwrap();
+        let model = whisker_scenario::radial_model::load_or_default(None).unwrap();
         let sensing = PhysicsSensing::new(vec![(shape, Isometry3::identity())], model);
         let cycles = sensing.sense(&target, &[far, near], 0, "test", &crate::record::Silent);
         assert!(cycles[0].contacts.is_empty());
@@ -292,7 +292,7 @@ mod tests {
         let (environment, shape) = placed(asset).unwrap();
         let (near, _) = viewpoints::busiest(&environment, &shape, asset.size).unwrap();
         let target = SweepTarget::of(&environment);
-        let model = crate::radial_model::load_or_default(None).unwrap();
+        let model = whisker_scenario::radial_model::load_or_default(None).unwrap();
         let sensing = PhysicsSensing::new(vec![(shape, Isometry3::identity())], model);
         let live = sensing.whisk(&target, 3, &near, 7, "t/physics/3");
         let streams = sensing.streams(&target, &near, 7, "t/physics/3");

@@ -8,13 +8,13 @@
 //! start (the thesis' simulation moved the array between whisks, §6.1.3).
 
 use super::contact::{HEADER, append_cycle, intersects, rigid_shafts};
-use crate::error::Result;
-use crate::output;
-use crate::plan::Plan;
 use crate::record::ContactKind;
 use crate::record::Recorder;
-use crate::scenario::Scenario;
 use std::path::Path;
+use whisker_scenario::Scenario;
+use whisker_scenario::error::Result;
+use whisker_scenario::output;
+use whisker_scenario::plan::Plan;
 use whisker_sim::environment::Environment;
 use whisker_sim::kinematics::Chain;
 use whisker_sim::sensing::kinematic::{KinematicArray, SweepTarget};

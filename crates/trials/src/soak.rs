@@ -10,16 +10,16 @@
 //! whether any body went non-finite. Exit code 1 if a case tunnels (centre line deeper
 //! than the shaft's base radius, 1 mm) or breaks.
 
-use crate::error::{Error, Result};
-use crate::record::SensorColumns;
-use crate::record::{Context, Layout, Recorder};
-use crate::scenario::Scenario;
 use nalgebra::{Isometry3, Vector3};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use whisker_experiments::record::SensorColumns;
+use whisker_experiments::record::{Context, Layout, Recorder};
+use whisker_scenario::Scenario;
+use whisker_scenario::error::{Error, Result};
 use whisker_sim::environment::Environment;
 use whisker_sim::environment::assets::{CATALOGUE, placed};
 use whisker_sim::environment::solids::Solids;
@@ -148,7 +148,10 @@ impl<'a> CaseRecording<'a> {
         environment: &Environment,
         array: &PhysicsArray,
     ) -> Result<Self> {
-        let frame = format!("world/cases/{}", crate::record::entity_name(name));
+        let frame = format!(
+            "world/cases/{}",
+            whisker_experiments::record::entity_name(name)
+        );
         rec.frame(&frame, [0.0, CASE_SPACING_M * k as f64, 0.0])?;
         rec.environment_in(&format!("{frame}/environment"), environment)?;
         let labels: Vec<String> = array
@@ -158,7 +161,7 @@ impl<'a> CaseRecording<'a> {
             .collect();
         let columns = SensorColumns::new(
             rec,
-            &format!("sensors/{}", crate::record::entity_name(name)),
+            &format!("sensors/{}", whisker_experiments::record::entity_name(name)),
             &labels,
         )?;
         let open_loop = array
@@ -208,10 +211,13 @@ fn cases_layout(cases: &[(String, Case)]) -> Layout {
     Layout::Cases {
         cases: cases
             .iter()
-            .map(|(n, _)| crate::record::entity_name(n))
+            .map(|(n, _)| whisker_experiments::record::entity_name(n))
             .collect(),
         eye: cases.first().and_then(|(_, c)| {
-            crate::record::Eye::of(&c.environment, &crate::record::Eye::reach(&c.pose))
+            whisker_experiments::record::Eye::of(
+                &c.environment,
+                &whisker_experiments::record::Eye::reach(&c.pose),
+            )
         }),
     }
 }
@@ -454,7 +460,7 @@ pub fn soak(o: &Settings, ctx: Context) -> Result<Vec<CaseReport>> {
     let recording = match &o.rrd {
         Some(path) => Some(ctx.recordings.create(
             path,
-            &crate::record::id("soak", 0),
+            &whisker_experiments::record::id("soak", 0),
             cases_layout(&cases),
         )?),
         None => None,
@@ -494,7 +500,7 @@ pub fn soak(o: &Settings, ctx: Context) -> Result<Vec<CaseReport>> {
     if let Some(rec) = recording {
         rec.finish()?;
     }
-    ctx.say(&crate::console::legend(
+    ctx.say(&whisker_scenario::console::legend(
         "what the columns mean",
         &[
             ("whiskers touching", "whiskers the kinematic sweep says reach the object (those simulated unless --all-whiskers)"),

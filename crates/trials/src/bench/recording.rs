@@ -4,14 +4,14 @@
 //! repeats), their ratio, and the recording's size per simulated second. Timing is a
 //! benchmark, never a test.
 
-use crate::error::Result;
-use crate::record::{Context, Target};
-use crate::scenario::Scenario;
-use crate::scenario::overrides::Override;
 use serde::Serialize;
 use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
+use whisker_experiments::record::{Context, Target};
+use whisker_scenario::Scenario;
+use whisker_scenario::error::Result;
+use whisker_scenario::overrides::Override;
 
 /// What `whisker bench recording` times.
 #[derive(Debug, Clone)]
@@ -46,7 +46,7 @@ pub fn recording(o: &Settings, ctx: Context) -> Result<Report> {
     let (without_dir, with_dir) = (o.out.join("without"), o.out.join("with"));
     let mut best = [f64::INFINITY; 2];
     let quiet = Context {
-        reporter: &crate::record::Silent,
+        reporter: &whisker_experiments::record::Silent,
         ..ctx
     };
     for _ in 0..o.repeats.max(1) {
@@ -60,7 +60,7 @@ pub fn recording(o: &Settings, ctx: Context) -> Result<Report> {
                 ..Default::default()
             };
             let start = Instant::now();
-            crate::run::execute(&o.scenario, &scenario, dir, &rrd, quiet)?;
+            whisker_experiments::run::execute(&o.scenario, &scenario, dir, &rrd, quiet)?;
             best[k] = best[k].min(start.elapsed().as_secs_f64());
         }
     }

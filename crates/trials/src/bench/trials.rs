@@ -1,14 +1,15 @@
 //! `whisker bench trials`: the first trials of a batch on 1 and then on 2 workers, side by
 //! side in one process; both must give the same `trials.csv`.
 
-use crate::error::{Error, Result};
-use crate::record::Context;
-use crate::trials::batch::{self, Progress};
-use crate::trials::{Batch, journal};
+use crate::batch::{self, Progress};
+use crate::journal;
 use serde::Serialize;
 use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
+use whisker_experiments::record::Context;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::grid::Batch;
 
 /// What `whisker bench trials` runs.
 #[derive(Debug, Clone)]

@@ -4,8 +4,8 @@
 //! closed loop (`[navigate.object.explore]`, the `[explore]` fields) identifies it against
 //! the known object maps within a whisk budget; what it cannot identify it maps.
 
-use super::explore::{ExploreConfig, Task};
 use crate::error::{Error, Result};
+use crate::explore::{ExploreConfig, Task};
 use serde::Deserialize;
 use std::path::Path;
 
@@ -99,13 +99,13 @@ impl ObjectModeConfig {
                 return bad(name, format!("{v}: expected a number > 0"));
             }
         }
-        if !(1..=super::explore::MAX_ITERATIONS).contains(&self.map_whisks) {
+        if !(1..=crate::explore::MAX_ITERATIONS).contains(&self.map_whisks) {
             return bad(
                 "map_whisks",
                 format!(
                     "{}: expected 1 to {}",
                     self.map_whisks,
-                    super::explore::MAX_ITERATIONS
+                    crate::explore::MAX_ITERATIONS
                 ),
             );
         }

@@ -3,7 +3,7 @@
 //! solved by IK from the previous waypoint's configuration, §2.2.1).
 
 use crate::error::{Error, Result};
-use crate::scenario::{Scenario, Target};
+use crate::{Scenario, Target};
 use std::fmt::Write as _;
 use std::path::Path;
 use whisker_sim::kinematics::ik::{self, IkOptions};

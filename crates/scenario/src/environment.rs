@@ -5,8 +5,8 @@
 //! to the scenario file. Every problem names the scenario field and, for mesh files, the
 //! mesh file and the line or record in it.
 
-use super::paths::relative_to;
 use crate::error::{Error, Result};
+use crate::paths::relative_to;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use whisker_sim::environment::maze::{Deformities, MazeLayout, Post, Wall};
@@ -227,7 +227,7 @@ pub fn load(
     file: &Path,
     objects: &[ObjectConfig],
     maze: Option<&MazeConfig>,
-    office: Option<&super::office::OfficeConfig>,
+    office: Option<&crate::office::OfficeConfig>,
     seed: u64,
 ) -> Result<LoadedEnvironment> {
     let mut environment = Environment::default();
@@ -243,7 +243,7 @@ pub fn load(
         report.push(line);
     }
     if let Some(o) = office {
-        let (pieces, line) = super::office::load(file, o)?;
+        let (pieces, line) = crate::office::load(file, o)?;
         environment.pieces.extend(pieces);
         report.push(line);
     }

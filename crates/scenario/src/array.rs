@@ -211,7 +211,7 @@ impl ArrayConfig {
     }
 
     /// The 18 whiskers' configurations (contact thresholds not yet calibrated), checking every
-    /// value and naming the offending field. [`crate::scenario::Scenario`] checks them once
+    /// value and naming the offending field. [`crate::Scenario`] checks them once
     /// when it is loaded and keeps them.
     pub fn whisker_configs(&self, file: &Path) -> Result<Vec<WhiskerConfig>> {
         let modules = array::modules();

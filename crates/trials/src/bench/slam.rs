@@ -13,12 +13,12 @@
 //! Timing is a benchmark, never a test.
 
 use super::pose_cells::{self, PHASES, Profile};
-use crate::error::{Error, Result};
 use nalgebra::Point3;
 use rand::RngExt;
 use serde::Serialize;
 use std::fmt;
 use std::time::Instant;
+use whisker_scenario::error::{Error, Result};
 use whisker_slam::features::pfh::{PfhParams, histogram};
 use whisker_slam::pose_grid::{Evaluation, gaussian_kernel};
 use whisker_slam::rng::substream;

@@ -13,12 +13,12 @@
 mod confidence;
 
 use super::journal::{self, Entry, Meta, RUNS, Status};
-use super::plots::{BoxGroup, Reference, notched_boxes};
-use crate::error::{Error, Result};
+use crate::plots::{BoxGroup, Reference, notched_boxes};
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use whisker_scenario::error::{Error, Result};
 use whisker_slam::stats::boxplot::BoxStats;
 use whisker_slam::stats::rank_tests::{holm, kruskal_wallis, mann_whitney};
 
@@ -55,7 +55,7 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         std::fs::remove_dir_all(&figures)
             .map_err(|e| Error::Failure(format!("cannot clear {}: {e}", figures.display())))?;
     }
-    crate::output::create_dir(&figures)?;
+    whisker_scenario::output::create_dir(&figures)?;
     let mut md = String::new();
     let _ = writeln!(md, "# Batch report: {}\n", meta.scenario);
     let failed: Vec<&Entry> = entries
@@ -148,7 +148,7 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         confidence::curves(&mut md, dir, &figures, name, &groups)?;
     }
     let path = dir.join(REPORT);
-    crate::output::write_atomic(&path, md.as_bytes())?;
+    whisker_scenario::output::write_atomic(&path, md.as_bytes())?;
     Ok(path)
 }
 

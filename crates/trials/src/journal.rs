@@ -6,14 +6,14 @@
 //! - `trials.csv`: the rows, rewritten from the journal (atomically) after every trial;
 //! - `log.txt`: one line as each trial starts and ends (how resume is audited).
 
-use super::{Batch, Shard};
-use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 use std::collections::BTreeSet;
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::Path;
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::grid::{Batch, Shard};
 
 /// The metadata file.
 pub const META: &str = "trials.json";
@@ -97,7 +97,7 @@ impl Meta {
     /// Writes `dir/trials.json` (atomically).
     pub fn write(&self, dir: &Path) -> Result {
         let text = serde_json::to_string_pretty(self).expect("plain JSON") + "\n";
-        crate::output::write_atomic(&dir.join(META), text.as_bytes())
+        whisker_scenario::output::write_atomic(&dir.join(META), text.as_bytes())
     }
 }
 
@@ -155,7 +155,7 @@ impl Entry {
     /// The entry of a finished trial of `batch`.
     pub fn new(
         batch: &Batch,
-        trial: &super::Trial,
+        trial: &whisker_scenario::grid::Trial,
         result: Result<Value, String>,
         wall_s: f64,
     ) -> Self {
@@ -240,7 +240,7 @@ pub fn read(dir: &Path) -> Result<Vec<Entry>> {
 /// Replaces `dir/journal.jsonl` with `entries` (atomically).
 pub fn rewrite(dir: &Path, entries: &[Entry]) -> Result {
     let text: String = entries.iter().map(line).collect();
-    crate::output::write_atomic(&dir.join(JOURNAL), text.as_bytes())
+    whisker_scenario::output::write_atomic(&dir.join(JOURNAL), text.as_bytes())
 }
 
 /// An entry as one journal line.
@@ -274,7 +274,7 @@ impl Journal {
     pub fn open(dir: &Path) -> Result<Self> {
         let open = |name: &str| {
             // Appended line by line (each line complete), so listed as written at once.
-            crate::output::wrote(&dir.join(name));
+            whisker_scenario::output::wrote(&dir.join(name));
             OpenOptions::new()
                 .create(true)
                 .append(true)

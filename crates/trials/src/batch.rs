@@ -9,15 +9,15 @@
 //! half-written outputs of trials that were running when the process died, and runs each
 //! missing trial once.
 
-use super::journal::{self, CSV, Entry, Journal, Meta, RUNS, Status};
-use super::{Batch, Shard, Trial};
-use crate::error::{Error, Result};
-use crate::record::{Context, Reporter};
-use crate::scenario::trials::{Experiment, HEAVY, Outputs};
+use crate::journal::{self, CSV, Entry, Journal, Meta, RUNS, Status};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
+use whisker_experiments::record::{Context, Reporter};
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::grid::{Batch, Shard, Trial};
+use whisker_scenario::trials::{Experiment, HEAVY, Outputs};
 
 /// How a batch runs (`whisker trials SCENARIO …`).
 #[derive(Debug, Clone)]
@@ -64,7 +64,7 @@ pub struct Outcome {
 /// Runs (or resumes) `batch` into `o.out`.
 pub fn run(batch: &Batch, o: &Settings, ctx: Context, progress: &dyn Progress) -> Result<Outcome> {
     let dir = &o.out;
-    crate::output::create_dir(dir)?;
+    whisker_scenario::output::create_dir(dir)?;
     let meta = Meta::of(batch, o.shard);
     prepare(dir, &meta, o)?;
     let mut entries = journal::read(dir)?;
@@ -140,7 +140,7 @@ pub fn run(batch: &Batch, o: &Settings, ctx: Context, progress: &dyn Progress) -
         .filter(|e| e.status == Status::Failed)
         .count();
     if !o.no_report {
-        let written = super::report::write(dir)?;
+        let written = crate::report::write(dir)?;
         ctx.note(&format!("report     {}", written.display()));
     }
     Ok(Outcome {
@@ -213,7 +213,7 @@ fn one(
     journal.log(entry.status.name(), &trial.key)?;
     progress.trial(&entry);
     entries.push(entry);
-    crate::output::write_atomic(
+    whisker_scenario::output::write_atomic(
         &dir.join(CSV),
         journal::csv(&meta.factors, entries).as_bytes(),
     )
@@ -228,9 +228,9 @@ pub fn run_trial(
 ) -> Result<serde_json::Value, String> {
     let work = || -> Result<serde_json::Value> {
         let scenario = batch.scenario(trial)?;
-        crate::output::create_dir(dir)?;
+        whisker_scenario::output::create_dir(dir)?;
         let path = dir.join("stdout.txt");
-        crate::output::wrote(&path);
+        whisker_scenario::output::wrote(&path);
         let mut file = std::fs::File::create(&path)
             .map_err(|e| Error::Failure(format!("{}: {e}", path.display())))?;
         use std::io::Write;
@@ -246,13 +246,17 @@ pub fn run_trial(
             .map_err(|e| Error::Failure(format!("thread pool: {e}")))?;
         // A trial's recording (outputs = "all") is named after the trial.
         let stem = batch.file.file_stem().unwrap_or_default().to_string_lossy();
-        let rrd = crate::record::Target {
+        let rrd = whisker_experiments::record::Target {
             id: Some(format!("{stem}-{}", trial.key)),
             ..Default::default()
         };
         pool.install(|| match batch.config.experiment {
-            Experiment::Run => crate::run::execute(&batch.file, &scenario, dir, &rrd, ctx),
-            Experiment::MazeSlam => crate::maze_slam::trial(&batch.file, &scenario, dir, &rrd, ctx),
+            Experiment::Run => {
+                whisker_experiments::run::execute(&batch.file, &scenario, dir, &rrd, ctx)
+            }
+            Experiment::MazeSlam => {
+                whisker_experiments::maze_slam::trial(&batch.file, &scenario, dir, &rrd, ctx)
+            }
         })?;
         if batch.config.outputs == Outputs::Light {
             drop_heavy(dir)?;

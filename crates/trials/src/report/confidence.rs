@@ -3,11 +3,11 @@
 //! level, one figure per object and stratum (a trial that stopped keeps its last value).
 
 use super::{FIGURES, Group, RUNS, reference, slug};
-use crate::error::{Error, Result};
-use crate::trials::plots::{Curve, band_curves};
+use crate::plots::{Curve, band_curves};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
+use whisker_scenario::error::{Error, Result};
 use whisker_slam::stats::boxplot::prctile;
 
 /// The `ic_<object>` columns of a closed-loop trial's `explore.csv`.

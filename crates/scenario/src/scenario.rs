@@ -6,21 +6,8 @@
 //! (the URDF, package search directories) are relative to the scenario file; the output
 //! directory is relative to the working directory.
 
-pub mod array;
-pub mod base;
-pub mod environment;
-pub mod explore;
-pub mod maze_slam;
-pub mod navigate;
-pub mod object_mode;
-pub mod office;
-pub mod overrides;
-mod paths;
-mod strict;
-pub mod trials;
-
 use crate::error::{Error, Result};
-use paths::relative_to;
+use crate::paths::relative_to;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use whisker_sim::sensing::physics::WhiskerConfig;
@@ -59,27 +46,27 @@ pub struct Scenario {
     pub sensing: Sensing,
     /// `[kinematic]`: options of `sensing = "kinematic"`.
     #[serde(default)]
-    pub kinematic: environment::KinematicConfig,
+    pub kinematic: crate::environment::KinematicConfig,
     /// `[[objects]]`: meshes placed in the world.
     #[serde(default)]
-    pub objects: Vec<environment::ObjectConfig>,
+    pub objects: Vec<crate::environment::ObjectConfig>,
     /// `[maze]`: the maze board.
-    pub maze: Option<environment::MazeConfig>,
+    pub maze: Option<crate::environment::MazeConfig>,
     /// `[office]`: rooms, corridors and doors (the world of `[navigate]`).
-    pub office: Option<office::OfficeConfig>,
+    pub office: Option<crate::office::OfficeConfig>,
     /// The whisker array (used with `sensing = "physics"`).
     #[serde(default)]
-    pub array: array::ArrayConfig,
+    pub array: crate::array::ArrayConfig,
     /// `[maze_slam]`: options of `whisker maze-slam` over the `[maze]`.
     #[serde(default)]
-    pub maze_slam: maze_slam::MazeSlamConfig,
+    pub maze_slam: crate::maze_slam::MazeSlamConfig,
     /// `[frontend]`: the signal front end of physics runs.
     #[serde(default)]
     pub frontend: FrontEndConfig,
     /// `[explore]`: the closed loop of Chapter 6 (the robot chooses where to whisk).
-    pub explore: Option<explore::ExploreConfig>,
+    pub explore: Option<crate::explore::ExploreConfig>,
     /// `[navigate]`: a mobile robot driving a route round the `[office]` (Fig 5.1).
-    pub navigate: Option<navigate::NavigateConfig>,
+    pub navigate: Option<crate::navigate::NavigateConfig>,
     /// Where the arm goes (scripted waypoints; none with `[explore]`).
     #[serde(default)]
     pub trajectory: TrajectoryConfig,
@@ -88,7 +75,7 @@ pub struct Scenario {
     pub output: OutputConfig,
     /// `[trials]`: a batch of runs over seeds and factors (`whisker trials`); `whisker run`
     /// ignores it.
-    pub trials: Option<trials::TrialsConfig>,
+    pub trials: Option<crate::trials::TrialsConfig>,
     /// The whiskers of `[array]`, checked once when the scenario was loaded (with sensing);
     /// see [`Scenario::whisker_configs`].
     #[serde(skip)]
@@ -311,12 +298,12 @@ pub enum Target {
 impl Scenario {
     /// The scenario file's TOML table merged over its base (if any).
     pub fn resolved_table(path: &Path) -> Result<toml::Table> {
-        let (_, table) = base::read_table(path)?;
-        base::resolve(path, table, 0)
+        let (_, table) = crate::base::read_table(path)?;
+        crate::base::resolve(path, table, 0)
     }
 
     /// Reads and checks a scenario file with `overrides` applied (`whisker run --set`).
-    pub fn load_with(path: &Path, overrides: &[overrides::Override]) -> Result<Self> {
+    pub fn load_with(path: &Path, overrides: &[crate::overrides::Override]) -> Result<Self> {
         if overrides.is_empty() {
             return Self::load(path);
         }
@@ -338,7 +325,7 @@ impl Scenario {
                 let e: toml::de::Error = e;
                 // A table has no lines, and toml names the field of only some errors
                 // (not those of enums or untagged enums): the path-keeping reading does.
-                return Err(match strict::check::<Self>(&table) {
+                return Err(match crate::strict::check::<Self>(&table) {
                     Err((field, message)) if !field.is_empty() => Error::Input(format!(
                         "{} ({context}): field `{field}`: {message}",
                         path.display()
@@ -358,10 +345,10 @@ impl Scenario {
 
     /// Reads and checks a scenario file (what does not depend on the URDF).
     pub fn load(path: &Path) -> Result<Self> {
-        let (text, table) = base::read_table(path)?;
+        let (text, table) = crate::base::read_table(path)?;
         if table.contains_key("base") {
             // Merged over its base: errors name the field, no longer the line.
-            let merged = base::resolve(path, table, 0)?;
+            let merged = crate::base::resolve(path, table, 0)?;
             return Self::from_table(path, merged, "merged over its base");
         }
         let mut scenario: Self = toml::from_str(&text).map_err(|e| {
@@ -376,7 +363,8 @@ impl Scenario {
     /// read positionally (see [`strict`]); after the `toml` reading, whose errors carry
     /// the line.
     fn check_shapes(path: &Path, table: &toml::Table) -> Result {
-        strict::check::<Self>(table).map_err(|(field, message)| Error::field(path, &field, message))
+        crate::strict::check::<Self>(table)
+            .map_err(|(field, message)| Error::field(path, &field, message))
     }
 
     /// The 18 whiskers' configurations of `[array]` (RCP thresholds not yet calibrated):
@@ -509,8 +497,8 @@ impl Scenario {
 
     /// The environment of `[[objects]]`, `[maze]` and `[office]`, loaded (mesh files read, checked
     /// and repaired; the maze built).
-    pub fn environment(&self, file: &Path) -> Result<environment::LoadedEnvironment> {
-        environment::load(
+    pub fn environment(&self, file: &Path) -> Result<crate::environment::LoadedEnvironment> {
+        crate::environment::load(
             file,
             &self.objects,
             self.maze.as_ref(),

@@ -35,13 +35,13 @@
 //! unit: WHISKiT Physics needs about 7 for one whisker, `shared/notes/physics.md`), and
 //! each path's speed-up over `released` and over the default path. Timing is a benchmark, never a test.
 
-use crate::error::{Error, Result};
-use crate::record::Context;
 use nalgebra::Isometry3;
 use serde::Serialize;
 use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
+use whisker_experiments::record::Context;
+use whisker_scenario::error::{Error, Result};
 use whisker_sim::sensing::physics::{
     DT, EnvironmentPiece, Lever, PhysicsArray, SolverPath, StageTimes,
 };

@@ -9,9 +9,9 @@
 //! is driven leg by leg: a turn in place towards the next waypoint, then straight, back
 //! to the first waypoint at the end of each lap.
 
-use super::Sensing;
-use super::object_mode::ObjectModeConfig;
+use crate::Sensing;
 use crate::error::{Error, Result};
+use crate::object_mode::ObjectModeConfig;
 use nalgebra::Point2;
 use serde::Deserialize;
 use std::path::Path;
@@ -131,7 +131,7 @@ fn over_office_ratslam<'de, D: serde::Deserializer<'de>>(
     use serde::de::Error as _;
     let given = toml::Table::deserialize(d)?;
     let mut table = toml::Table::try_from(office_ratslam()).map_err(D::Error::custom)?;
-    super::base::merge(&mut table, given);
+    crate::base::merge(&mut table, given);
     table
         .try_into()
         .map_err(|e: toml::de::Error| D::Error::custom(e.message()))
@@ -357,8 +357,8 @@ impl NavigateConfig {
                 "\nobject     at \"object\" the base stops, {} and the Ch 6 closed loop identifies \
                  it against {:?} in ≤ {} whisks; {}",
                 match o.dock {
-                    super::object_mode::DockBy::Arm => "the arm turns to face it",
-                    super::object_mode::DockBy::Base => "the base turns and drives up to it",
+                    crate::object_mode::DockBy::Arm => "the arm turns to face it",
+                    crate::object_mode::DockBy::Base => "the base turns and drives up to it",
                 },
                 o.explore.maps.keys().collect::<Vec<_>>(),
                 o.explore.max_iterations,
@@ -388,7 +388,7 @@ pub fn plan_rectangle(p: &whisker_sim::environment::Piece) -> (Point2<f64>, Poin
     (lo, hi)
 }
 
-impl super::Scenario {
+impl crate::Scenario {
     /// Checks that one thing moves the arm: the base along its route (`[navigate]`), the
     /// closed loop (`[explore]`) or the trajectory's waypoints.
     pub(super) fn check_driver(&self, file: &Path) -> Result {

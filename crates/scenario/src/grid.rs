@@ -1,27 +1,17 @@
-//! Batch trials (`whisker trials`): one scenario run over seeds and factor levels, on
-//! worker threads, resumable, sharded for clusters, with statistics and plots — the
-//! thesis' batches (§6.3: 10 seeds × 3 strategies, SPC on/off, IC thresholds; §3.3: the
-//! maze variants over seeds) as one command. Formats: scenarios/README.md, "Batch trials".
+//! The batch a scenario's `[trials]` describes (scenarios/README.md, "Batch trials"): the
+//! grid of trials over seeds and factor levels, each with a stable key, and its shards.
+//! Running it is `whisker-trials`' work.
 //!
 //! A trial is exactly one `whisker run` of the scenario with the trial's factor levels set
 //! by their dotted paths and its seed (`whisker run --seed S --set PATH=VALUE…` gives the
-//! same result bytes), run in-process on one thread so that N workers use N cores. Its
-//! row in `trials.csv` is its `summary.json`, flattened. The trial list is fixed by the
-//! scenario alone (factors in path order, the first outermost; seeds innermost), each
-//! trial with a stable key, and a shard is every K-th trial of it: rows depend on neither
-//! the number of workers, nor the order trials finish, nor the sharding.
-
-pub mod batch;
-pub mod journal;
-pub mod merge;
-pub mod plots;
-pub mod report;
-pub mod slurm;
-
+//! same result bytes). The trial list is fixed by the scenario alone (factors in path
+//! order, the first outermost; seeds innermost), each trial with a stable key, and a shard
+//! is every K-th trial of it: rows depend on neither the number of workers, nor the order
+//! trials finish, nor the sharding.
+use crate::Scenario;
 use crate::error::{Error, Result};
-use crate::scenario::Scenario;
-use crate::scenario::overrides::{Override, show, split_path};
-use crate::scenario::trials::{Experiment, Outputs, TrialsConfig};
+use crate::overrides::{Override, show, split_path};
+use crate::trials::{Experiment, Outputs, TrialsConfig};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 use toml::{Table, Value};

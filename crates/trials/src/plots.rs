@@ -2,11 +2,11 @@
 //! Figs 6.6–6.10 style; the figures from `whisker_slam::stats::boxplot`) and curves of a
 //! median with its interquartile band over iterations.
 
-use crate::error::{Error, Result};
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
+use whisker_scenario::error::{Error, Result};
 use whisker_slam::stats::boxplot::BoxStats;
 
 /// One box: its label under the axis and its figures.
@@ -81,7 +81,7 @@ pub fn notched_boxes(
 ) -> Result {
     let mut svg = String::new();
     draw_boxes(&mut svg, path, (title, y_label), groups, colours, reference)?;
-    crate::output::write_atomic(path, svg.as_bytes())
+    whisker_scenario::output::write_atomic(path, svg.as_bytes())
 }
 
 /// Draws [`notched_boxes`] into `svg` (`path` names it in errors).
@@ -241,7 +241,7 @@ pub fn band_curves(
 ) -> Result {
     let mut svg = String::new();
     draw_bands(&mut svg, path, labels, curves, reference)?;
-    crate::output::write_atomic(path, svg.as_bytes())
+    whisker_scenario::output::write_atomic(path, svg.as_bytes())
 }
 
 /// Draws [`band_curves`] into `svg` (`path` names it in errors).

@@ -4,10 +4,10 @@
 //! Refused, naming them, when trials are missing (and which shards were not given) or
 //! present twice, or when the directories come from different scenarios.
 
-use super::journal::{self, Entry, Meta, RUNS};
-use crate::error::{Error, Result};
+use crate::journal::{self, Entry, Meta, RUNS};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use whisker_scenario::error::{Error, Result};
 
 /// The trials found in the shard directories, by key, with the directory of each copy.
 type Found<'a> = BTreeMap<String, Vec<(&'a Path, Entry)>>;
@@ -132,7 +132,7 @@ fn problems(metas: &[Meta], found: &Found) -> Vec<String> {
 /// Writes the merged directory: every trial's outputs, the metadata without a shard, the
 /// journal in trial order, `trials.csv` and the report.
 fn write_merged(first: &Meta, found: Found, out: &Path) -> Result<usize> {
-    crate::output::create_dir(out)?;
+    whisker_scenario::output::create_dir(out)?;
     let mut entries: Vec<(&Path, Entry)> = found.into_values().flatten().collect();
     entries.sort_by_key(|(_, e)| e.index);
     for (d, e) in &entries {
@@ -146,11 +146,11 @@ fn write_merged(first: &Meta, found: Found, out: &Path) -> Result<usize> {
     meta.write(out)?;
     let entries: Vec<Entry> = entries.into_iter().map(|(_, e)| e).collect();
     journal::rewrite(out, &entries)?;
-    crate::output::write_atomic(
+    whisker_scenario::output::write_atomic(
         &out.join(journal::CSV),
         journal::csv(&meta.factors, &entries).as_bytes(),
     )?;
-    super::report::write(out)?;
+    crate::report::write(out)?;
     Ok(entries.len())
 }
 

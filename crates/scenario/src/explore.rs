@@ -4,8 +4,8 @@
 //! `scenarios/README.md`; the readings of the thesis' gaps are in
 //! `shared/notes/chapter6.md`.
 
-use super::paths::relative_to;
 use crate::error::{Error, Result};
+use crate::paths::relative_to;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -9,9 +9,9 @@
 //! prints the job IDs). Shards go to `DIR/shards/<I>/`, the merged batch to `DIR/`. On a
 //! real cluster DIR must be on a filesystem every node sees.
 
-use super::{Batch, quote};
-use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
+use whisker_scenario::error::{Error, Result};
+use whisker_scenario::grid::{Batch, quote};
 
 /// `whisker trials slurm`.
 #[derive(Debug, Clone)]
@@ -56,8 +56,8 @@ pub fn write(o: &Settings) -> Result<PathBuf> {
     let scenario = absolute(&o.scenario)?;
     let out = absolute(&o.out)?;
     let dir = out.join("slurm");
-    crate::output::create_dir(&dir.join("logs"))?;
-    crate::output::create_dir(&out.join("shards"))?;
+    whisker_scenario::output::create_dir(&dir.join("logs"))?;
+    whisker_scenario::output::create_dir(&out.join("shards"))?;
     let q = |p: &Path| quote(&p.display().to_string());
     let extra: String = o.sbatch.iter().map(|s| format!("#SBATCH {s}\n")).collect();
     let array = format!(
@@ -117,7 +117,7 @@ pub fn write(o: &Settings) -> Result<PathBuf> {
         ("submit.sh", submit),
     ] {
         let path = dir.join(name);
-        crate::output::write_atomic(&path, text.as_bytes())?;
+        whisker_scenario::output::write_atomic(&path, text.as_bytes())?;
         set_executable(&path)?;
     }
     Ok(dir.join("submit.sh"))

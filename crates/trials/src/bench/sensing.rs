@@ -8,7 +8,6 @@
 //! way — 101 parry ray casts per whisker per cycle against the object's BVH — measured
 //! in the same run as the baseline. Timing is a benchmark, never a test.
 
-use crate::error::{Error, Result};
 use nalgebra::{Isometry3, Vector3};
 use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::query::Ray;
@@ -16,6 +15,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 use std::fmt;
 use std::time::Instant;
+use whisker_scenario::error::{Error, Result};
 use whisker_sim::environment::assets::{CATALOGUE, generate};
 use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
 use whisker_sim::sensing::viewpoints;

@@ -1,0 +1,45 @@
+//! # whisker-scenario
+//!
+//! The scenario language of the whisker-slam testbed: what a scenario file says, read once
+//! and checked once. A scenario is a TOML file (version 1, documented field by field in
+//! `scenarios/README.md`), optionally written as changes to a `base` scenario and changed
+//! again by `--set PATH=VALUE` ([`overrides`]); unknown fields are rejected and every error
+//! names the file and the field ([`Error`]). From it come the arm's [`Plan`] (IK of every
+//! waypoint, the joint trajectory) and the batch [`grid`] of its `[trials]`.
+//!
+//! Beside the language sit the pieces every command shares: [`output`] (files written
+//! atomically, nothing left behind by a failed command), [`console`] (the one shape of
+//! every command's text), named [`choice`]s, and the radial-distance model a scenario's
+//! front end names ([`radial_model`]).
+//!
+//! The experiments themselves are `whisker-experiments`; batches are `whisker-trials`.
+
+mod base;
+mod paths;
+mod scenario;
+mod strict;
+
+pub mod array;
+pub mod choice;
+pub mod console;
+pub mod environment;
+pub mod error;
+pub mod explore;
+pub mod grid;
+pub mod maze_slam;
+pub mod navigate;
+pub mod object_mode;
+pub mod office;
+pub mod output;
+pub mod overrides;
+pub mod plan;
+pub mod radial_model;
+pub mod trials;
+
+pub use error::{Error, Result};
+pub use plan::Plan;
+pub use scenario::{
+    ArmConfig, DEFAULT_JOINT_SPEED_RAD_S, FrontEndConfig, MAX_HOLD_S, MAX_OBJECTS,
+    MIN_JOINT_SPEED_RAD_S, OutputConfig, SAMPLE_PERIOD_RANGE_S, Scenario, Sensing, SensingMode,
+    Target, TrajectoryConfig, Waypoint,
+};
