@@ -5,20 +5,21 @@
 
 use super::*;
 use nalgebra::Isometry3;
-use whisker_scenario::Scenario;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::plan::Plan;
 use whisker_sim::world::World;
 use whisker_slam::exploration::odometry_noise::OdometryNoise;
 
-fn load(name: &str) -> (Scenario, PathBuf) {
+fn load(name: &str) -> ScenarioFile {
     let file = repo(&format!("scenarios/{name}"));
-    (Scenario::load(&file).unwrap(), file)
+    ScenarioFile::load(&file).unwrap()
 }
 
-fn run(scenario: &Scenario, file: &Path) -> whisker_experiments::closed_loop::Outcome {
-    let plan = Plan::new(scenario, file).unwrap();
-    let env = scenario.environment(file).unwrap().environment;
-    whisker_experiments::closed_loop::run(scenario, file, plan, &env).unwrap()
+fn run(file: &ScenarioFile) -> whisker_experiments::closed_loop::Outcome {
+    let plan = Plan::new(file).unwrap();
+    let env = file.environment().unwrap().environment;
+    let config = file.scenario.experiment.explore().unwrap();
+    whisker_experiments::closed_loop::run(file, config, plan, &env).unwrap()
 }
 
 /// Column `name` of every row of a CSV text.
@@ -33,8 +34,8 @@ fn column(csv: &str, name: &str) -> Vec<String> {
 
 #[test]
 fn map_building_of_the_box_reaches_or_counts_every_goal_and_never_collides() {
-    let (scenario, file) = load("explore_map_box.toml");
-    let out = run(&scenario, &file);
+    let file = load("explore_map_box.toml");
+    let out = run(&file);
     let s = &out.summary;
     assert_eq!(s["loops_completed"], 2, "{s}");
     let status = column(&out.csv, "ik_status");
@@ -72,8 +73,8 @@ fn map_building_of_the_box_reaches_or_counts_every_goal_and_never_collides() {
     }
     // Rapier's own narrow phase along every move (each straight joint-space move in ten
     // steps): no arm link and not the array's housing touches the Box.
-    let plan = Plan::new(&scenario, &file).unwrap();
-    let env = scenario.environment(&file).unwrap().environment;
+    let plan = Plan::new(&file).unwrap();
+    let env = file.environment().unwrap().environment;
     let mut world = World::new(
         plan.model.clone(),
         plan.model_joints(&plan.waypoints[0]),
@@ -142,13 +143,13 @@ fn map_building_of_the_box_reaches_or_counts_every_goal_and_never_collides() {
 /// every side the array whisked at with μ contacts holds one.
 #[test]
 fn a_map_built_at_reach_has_experiences_on_every_side_it_whisked_within_reach() {
-    let (mut scenario, file) = load("explore_map_box.toml");
-    let explore = scenario.explore.as_mut().unwrap();
+    let mut file = load("explore_map_box.toml");
+    let explore = file.scenario.experiment.explore_mut().unwrap();
     explore.map_goals = whisker_scenario::explore::MapGoals::Reach;
     explore.slam.min_contacts = 4;
-    let out = run(&scenario, &file);
+    let out = run(&file);
     let (created, contacts) = (column(&out.csv, "created"), column(&out.csv, "contacts"));
-    let env = scenario.environment(&file).unwrap().environment;
+    let env = file.environment().unwrap().environment;
     let piece = &env.pieces[0];
     let world: Vec<nalgebra::Point3<f64>> =
         piece.mesh.vertices.iter().map(|v| piece.pose * v).collect();
@@ -197,11 +198,11 @@ fn a_map_built_at_reach_has_experiences_on_every_side_it_whisked_within_reach() 
 /// matches the thesis' SLAM joins revisits that are not: see `map_accuracy.revisits`.)
 #[test]
 fn without_noise_or_matches_the_map_is_where_the_array_was() {
-    let (mut scenario, file) = load("explore_map_box.toml");
-    let e = scenario.explore.as_mut().unwrap();
+    let mut file = load("explore_map_box.toml");
+    let e = file.scenario.experiment.explore_mut().unwrap();
     e.odometry = OdometryNoise::NONE;
     e.slam.matching.t_pfh = 0.0;
-    let out = run(&scenario, &file);
+    let out = run(&file);
     let s = &out.summary;
     assert_eq!(s["loops_completed"], 2, "{s}");
     let m = &s["map_accuracy"];
@@ -258,8 +259,12 @@ fn a_run_without_revisits_says_so_on_the_console() {
 
 #[test]
 fn same_seed_same_bytes_whatever_the_thread_count() {
-    let (mut scenario, file) = load("recognise_box_stack_lsr.toml");
-    scenario.explore.as_mut().unwrap().max_iterations = 250;
+    let mut file = load("recognise_box_stack_lsr.toml");
+    file.scenario
+        .experiment
+        .explore_mut()
+        .unwrap()
+        .max_iterations = 250;
     let outputs: Vec<(String, String)> = [1, 2]
         .iter()
         .map(|&threads| {
@@ -268,7 +273,7 @@ fn same_seed_same_bytes_whatever_the_thread_count() {
                 .build()
                 .unwrap();
             pool.install(|| {
-                let out = run(&scenario, &file);
+                let out = run(&file);
                 (out.csv, out.summary.to_string())
             })
         })
@@ -276,8 +281,8 @@ fn same_seed_same_bytes_whatever_the_thread_count() {
     assert_eq!(outputs[0], outputs[1]);
     assert_eq!(column(&outputs[0].0, "iteration").len(), 250);
     // The seed matters: another seed explores differently.
-    scenario.seed = 1;
-    let other = run(&scenario, &file);
+    file.scenario.seed = 1;
+    let other = run(&file);
     assert_ne!(other.csv, outputs[0].0);
 }
 

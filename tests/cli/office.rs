@@ -254,7 +254,7 @@ fn bad_offices_and_routes_exit_2_naming_the_field_and_write_nothing() {
 #[test]
 fn the_default_route_is_collision_free_by_an_independent_check() {
     use whisker_experiments::navigation::{footprint, route};
-    use whisker_scenario::Scenario;
+    use whisker_scenario::ScenarioFile;
     let tmp = tempfile::tempdir().unwrap();
     for (name, moved) in [("as_is", false), ("box_on_route", true)] {
         let path = office(tmp.path(), name, |s| match moved {
@@ -265,9 +265,9 @@ fn the_default_route_is_collision_free_by_an_independent_check() {
             ),
             false => s,
         });
-        let scenario = Scenario::load(&path).unwrap();
-        let n = scenario.navigate.as_ref().unwrap();
-        let environment = scenario.environment(&path).unwrap().environment;
+        let file = ScenarioFile::load(&path).unwrap();
+        let n = file.scenario.experiment.navigate().unwrap();
+        let environment = file.environment().unwrap().environment;
         let poses = route::poses(n, 1.0);
         let hits = footprint::collisions(&environment, &poses, n.base.radius_m, 0.3).unwrap();
         let checked = whisker(&["check", path.to_str().unwrap()]);

@@ -4,41 +4,43 @@
 
 use crate::record::Context;
 use std::path::Path;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::Result;
 use whisker_scenario::plan::Plan;
-use whisker_scenario::{Scenario, Sensing};
+use whisker_scenario::{Experiment, Sensing};
 use whisker_sim::environment::Environment;
 
 /// `whisker check`: validates and describes; with `meshes`, writes each object's mesh as
 /// loaded to `meshes/NAME.obj`.
-pub fn check(file: &Path, meshes: Option<&Path>, ctx: Context) -> Result {
-    let scenario = Scenario::load(file)?;
-    let plan = Plan::new(&scenario, file)?;
-    ctx.say(&plan.describe(file, &scenario));
+pub fn check(path: &Path, meshes: Option<&Path>, ctx: Context) -> Result {
+    let file = &ScenarioFile::load(path)?;
+    let scenario = &file.scenario;
+    let plan = Plan::new(file)?;
+    ctx.say(&plan.describe(file));
     if scenario.sensing != Sensing::None {
-        ctx.say(&crate::sensing::array::describe(&scenario, file)?);
-        crate::sensing::array::array_chain(&scenario, file, &plan)?;
+        ctx.say(&crate::sensing::array::describe(file)?);
+        crate::sensing::array::array_chain(file, &plan)?;
     }
     if scenario.sensing == Sensing::Kinematic {
-        let n = scenario.kinematic.noise(file)?;
+        let n = scenario.kinematic.noise(path)?;
         ctx.say(&format!("kinematic  1° sweeps once per whisk cycle; noise: point σ {} × length, slope σ {}, detection {}",
             n.point_fraction, n.slope_sigma, n.detection_probability
         ));
     }
-    let loaded = scenario.environment(file)?;
+    let loaded = file.environment()?;
     for line in &loaded.report {
         ctx.say(line);
     }
-    if scenario.navigate.is_some() {
+    if let Experiment::Navigate(config) = &scenario.experiment {
         ctx.say(&crate::navigation::outputs::check(
             file,
-            &scenario,
+            config,
             &plan,
             &loaded.environment,
         )?);
     }
     if let Some(dir) = meshes {
-        write_meshes(file, &scenario, &loaded.environment, dir)?;
+        write_meshes(file, &loaded.environment, dir)?;
     }
     let dir = &scenario.output.dir;
     let rrd = if scenario.output.recording {
@@ -46,34 +48,34 @@ pub fn check(file: &Path, meshes: Option<&Path>, ctx: Context) -> Result {
     } else {
         ""
     };
-    if scenario.navigate.is_some() {
-        ctx.say(&format!(
+    match &scenario.experiment {
+        Experiment::Navigate(_) => ctx.say(&format!(
             "output     {} ({}{rrd})",
             dir.display(),
             crate::navigation::outputs::FILES
-        ));
-    } else if let Some(e) = &scenario.explore {
-        ctx.say(&crate::closed_loop::describe(file, &scenario, e)?);
-        ctx.say(&format!(
-            "output     {} ({}, {}, contacts.csv{}{rrd})",
-            dir.display(),
-            crate::closed_loop::CSV_NAME,
-            crate::closed_loop::SUMMARY_NAME,
-            if e.task == whisker_scenario::explore::Task::Map {
-                ", map.json"
-            } else {
-                ""
-            }
-        ));
-    } else {
-        ctx.say(&format!(
+        )),
+        Experiment::ClosedLoop(e) => {
+            ctx.say(&crate::closed_loop::describe(file, e)?);
+            ctx.say(&format!(
+                "output     {} ({}, {}, contacts.csv{}{rrd})",
+                dir.display(),
+                crate::closed_loop::CSV_NAME,
+                crate::closed_loop::SUMMARY_NAME,
+                if e.task == whisker_scenario::explore::Task::Map {
+                    ", map.json"
+                } else {
+                    ""
+                }
+            ));
+        }
+        Experiment::Scripted => ctx.say(&format!(
             "output     {} (path.csv every {} s, summary.json{rrd})",
             dir.display(),
             scenario.output.sample_period_s
-        ));
+        )),
     }
     if scenario.trials.is_some() {
-        ctx.say(&whisker_scenario::grid::Batch::load(file)?.describe());
+        ctx.say(&whisker_scenario::grid::Batch::of(file)?.describe());
     }
     let skipped = whisker_sim::arm::links_without_colliders(&plan.model);
     if !skipped.is_empty() {
@@ -85,9 +87,10 @@ pub fn check(file: &Path, meshes: Option<&Path>, ctx: Context) -> Result {
     Ok(())
 }
 
-/// Writes each `[[objects]]` mesh of `scenario` (read from `file`) as loaded into
+/// Writes each `[[objects]]` mesh of the scenario in `file` as loaded into
 /// `environment` to `dir/NAME.obj`.
-fn write_meshes(file: &Path, scenario: &Scenario, environment: &Environment, dir: &Path) -> Result {
+fn write_meshes(file: &ScenarioFile, environment: &Environment, dir: &Path) -> Result {
+    let scenario = &file.scenario;
     whisker_scenario::output::create_dir(dir)?;
     let names = scenario.object_names();
     for (i, (name, piece)) in names.iter().zip(&environment.pieces).enumerate() {
@@ -109,7 +112,7 @@ fn write_meshes(file: &Path, scenario: &Scenario, environment: &Environment, dir
             &piece.mesh.triangles,
             &format!(
                 "{name} as loaded by {} (metres, z up, its own frame)",
-                file.display()
+                file.path.display()
             ),
         );
         whisker_scenario::output::write_atomic(&path, text.as_bytes())?;

@@ -15,11 +15,12 @@ use nalgebra::Isometry3;
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::Result;
 use whisker_scenario::output;
 use whisker_scenario::overrides::Override;
 use whisker_scenario::plan::Plan;
-use whisker_scenario::{Scenario, Sensing};
+use whisker_scenario::{Experiment, Sensing};
 use whisker_sim::environment::Environment;
 use whisker_sim::kinematics::Chain;
 use whisker_sim::sensing::noise::ContactNoise;
@@ -32,58 +33,67 @@ const CHECKPOINT_SAMPLES: usize = 100;
 /// `whisker run`: simulate and write the outputs; `seed` replaces the scenario's seed,
 /// `overrides` change fields (`--set`), `out` the output directory, `rrd` the recording.
 pub fn run(
-    file: &Path,
+    path: &Path,
     out: Option<PathBuf>,
     seed: Option<u64>,
     overrides: &[Override],
     rrd: &Target,
     ctx: Context,
 ) -> Result {
-    let mut scenario = Scenario::load_with(file, overrides)?;
+    let mut file = ScenarioFile::load_with(path, overrides)?;
     if let Some(seed) = seed {
-        scenario.seed = seed;
+        file.scenario.seed = seed;
     }
-    let dir = out.unwrap_or_else(|| scenario.output.dir.clone());
-    execute(file, &scenario, &dir, rrd, ctx)
+    let dir = out.unwrap_or_else(|| file.scenario.output.dir.clone());
+    execute(&file, &dir, rrd, ctx)
 }
 
-/// Runs `scenario` (read from `file`) into `dir` (created), saying what it does to
-/// `ctx`: `whisker run` and each trial of `whisker trials`; the recording goes where
-/// `rrd` and the scenario's `output.recording` say.
-pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: Context) -> Result {
-    let plan = Plan::new(scenario, file)?;
-    ctx.say(&plan.describe(file, scenario));
-    let loaded = scenario.environment(file)?;
+/// Runs the scenario of `file` into `dir` (created), saying what it does to `ctx`:
+/// `whisker run` and each trial of `whisker trials`; the recording goes where `rrd` and
+/// the scenario's `output.recording` say.
+pub fn execute(file: &ScenarioFile, dir: &Path, rrd: &Target, ctx: Context) -> Result {
+    let plan = Plan::new(file)?;
+    ctx.say(&plan.describe(file));
+    let loaded = file.environment()?;
     for line in &loaded.report {
         ctx.say(line);
     }
     let environment = loaded.environment;
-    if scenario.navigate.is_some() {
-        ctx.say(&crate::navigation::outputs::check(
+    let experiment = &file.scenario.experiment;
+    match experiment {
+        Experiment::Navigate(config) => ctx.say(&crate::navigation::outputs::check(
             file,
-            scenario,
+            config,
             &plan,
             &environment,
-        )?);
-    }
-    if let Some(e) = &scenario.explore {
+        )?),
         // Loads the object maps: a bad one stops the run before anything is written.
-        ctx.say(&crate::closed_loop::describe(file, scenario, e)?);
+        Experiment::ClosedLoop(e) => ctx.say(&crate::closed_loop::describe(file, e)?),
+        Experiment::Scripted => {}
     }
     output::create_dir(dir)?;
-    if scenario.navigate.is_some() {
-        return crate::navigation::outputs::write(
-            file,
-            scenario,
-            (&plan, &environment),
-            dir,
-            rrd,
-            ctx,
-        );
+    match experiment {
+        Experiment::Navigate(config) => {
+            crate::navigation::outputs::write(file, config, (&plan, &environment), dir, rrd, ctx)
+        }
+        Experiment::ClosedLoop(e) => {
+            crate::closed_loop::write(file, e, plan, &environment, dir, rrd, ctx)
+        }
+        Experiment::Scripted => scripted(file, &plan, &environment, dir, rrd, ctx),
     }
-    if scenario.explore.is_some() {
-        return crate::closed_loop::write(file, scenario, plan, &environment, dir, rrd, ctx);
-    }
+}
+
+/// The scripted run: the arm along the planned trajectory through the waypoints, sensing
+/// as the scenario says; `path.csv`, `summary.json`, the sensors' files and the recording.
+fn scripted(
+    file: &ScenarioFile,
+    plan: &Plan,
+    environment: &Environment,
+    dir: &Path,
+    rrd: &Target,
+    ctx: Context,
+) -> Result {
+    let scenario = &file.scenario;
     // The camera frames the objects, the arm's base and the whole arm at every waypoint.
     let mut framed: Vec<[f64; 3]> = vec![[0.0; 3]];
     for q in &plan.waypoints {
@@ -92,10 +102,10 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: 
     }
     let layout = Layout::Run {
         physics: scenario.sensing == Sensing::Physics,
-        eye: crate::record::Eye::of(&environment, &framed),
+        eye: crate::record::Eye::of(environment, &framed),
     };
     let recording = ctx.scenario_recording(
-        file,
+        &file.path,
         scenario.seed,
         scenario.output.recording,
         dir,
@@ -105,24 +115,17 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: 
     if let Some(rec) = &recording {
         let tips: Vec<Isometry3<f64>> = plan.waypoints.iter().map(|q| plan.chain.fk(q)).collect();
         rec.waypoints(&tips)?;
-        rec.environment(&environment)?;
+        rec.environment(environment)?;
     }
-    let mut sensors = Sensors::new(
-        file,
-        scenario,
-        &plan,
-        &environment,
-        recording.as_deref(),
-        ctx,
-    )?;
+    let mut sensors = Sensors::new(file, plan, environment, recording.as_deref(), ctx)?;
     let dt = scenario.output.sample_period_s;
     let mut world = World::new(
         plan.model.clone(),
         plan.model_joints(&plan.waypoints[0]),
         dt,
     );
-    world.add_environment(&environment);
-    let mut log = PathLog::new(&plan);
+    world.add_environment(environment);
+    let mut log = PathLog::new(plan);
     let skeleton = plan.skeleton();
     let steps = (plan.trajectory.duration() / dt).ceil() as usize;
     for k in 0..=steps {
@@ -131,14 +134,14 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: 
         if k > 0 {
             world.step(&plan.model_joints(&q));
         }
-        sensors.advance_to(&plan, t, recording.as_deref())?;
+        sensors.advance_to(plan, t, recording.as_deref())?;
         let tip = plan.chain.fk(&q);
         log.sample(t, &q, &tip, world.arm_collisions());
         if scenario.sensing == Sensing::Physics {
             ctx.progress("samples simulated", k as u64, steps as u64);
         }
         if let Some(rec) = recording.as_deref() {
-            sensors.record(rec, (&plan, &skeleton), t, &q, &tip)?;
+            sensors.record(rec, (plan, &skeleton), t, &q, &tip)?;
             // A fixed point every simulated second: the recording's chunks do not depend
             // on timing.
             if k % CHECKPOINT_SAMPLES == 0 {
@@ -146,7 +149,7 @@ pub fn execute(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: 
             }
         }
     }
-    let summary = log.summary(file, scenario, &plan, &environment, &sensors);
+    let summary = log.summary(file, plan, environment, &sensors);
     output::write_atomic(&dir.join("path.csv"), log.csv.as_bytes())?;
     let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
     output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
@@ -170,20 +173,19 @@ struct Sensors {
 
 impl Sensors {
     fn new(
-        file: &Path,
-        scenario: &Scenario,
+        file: &ScenarioFile,
         plan: &Plan,
         environment: &Environment,
         recording: Option<&dyn Recorder>,
         ctx: Context,
     ) -> Result<Self> {
+        let scenario = &file.scenario;
         let array_chain = match scenario.sensing {
             Sensing::None => None,
-            _ => Some(crate::sensing::array::array_chain(scenario, file, plan)?),
+            _ => Some(crate::sensing::array::array_chain(file, plan)?),
         };
         let whiskers = match scenario.sensing {
             Sensing::Physics => Some(ArraySimulation::new(
-                scenario,
                 file,
                 plan,
                 environment,
@@ -192,10 +194,12 @@ impl Sensors {
             )?),
             _ => None,
         };
-        let sweep =
-            |noise, name| ContactSensing::new(scenario, file, plan, environment, noise, name);
+        let sweep = |noise, name| ContactSensing::new(file, plan, environment, noise, name);
         let contacts = match scenario.sensing {
-            Sensing::Kinematic => Some(sweep(scenario.kinematic.noise(file)?, "contacts.csv")?),
+            Sensing::Kinematic => Some(sweep(
+                scenario.kinematic.noise(&file.path)?,
+                "contacts.csv",
+            )?),
             Sensing::Physics if !environment.pieces.is_empty() => {
                 Some(sweep(ContactNoise::NONE, "anticipated.csv")?)
             }
@@ -376,12 +380,12 @@ impl PathLog {
     /// `summary.json` of the run.
     fn summary(
         &self,
-        file: &Path,
-        scenario: &Scenario,
+        file: &ScenarioFile,
         plan: &Plan,
         environment: &Environment,
         sensors: &Sensors,
     ) -> serde_json::Value {
+        let scenario = &file.scenario;
         let chain = &plan.chain;
         let waypoints: Vec<_> = plan
             .waypoints
@@ -398,9 +402,9 @@ impl PathLog {
         let whiskers = sensors.whiskers.as_ref();
         let contacts = sensors.contacts.as_ref();
         json!({
-            "scenario": file.display().to_string(),
+            "scenario": file.path.display().to_string(),
             "seed": scenario.seed,
-            "urdf": scenario.urdf_path(file).display().to_string(),
+            "urdf": file.urdf_path().display().to_string(),
             "base_link": chain.base,
             "tip_link": chain.tip,
             "joint_names": chain.joint_names,

@@ -76,11 +76,9 @@ pub fn outputs(written: &[PathBuf], missing: Option<NoRecording>) -> String {
             e.1 += names.len();
         }
     }
-    let many = |dir: &Path| dir.parent().is_some_and(|p| siblings[p].0 > 6);
     let mut summarised = Vec::new();
     for (dir, names) in &by_dir {
-        if many(dir) {
-            let parent = dir.parent().expect("checked");
+        if let Some(parent) = dir.parent().filter(|p| siblings[p].0 > 6) {
             if !summarised.contains(&parent) {
                 summarised.push(parent);
                 let (dirs, files) = siblings[parent];

@@ -8,10 +8,10 @@
 //! order, the first outermost; seeds innermost), each trial with a stable key, and a shard
 //! is every K-th trial of it: rows depend on neither the number of workers, nor the order
 //! trials finish, nor the sharding.
-use crate::Scenario;
 use crate::error::{Error, Result};
+use crate::file::ScenarioFile;
 use crate::overrides::{Override, show, split_path};
-use crate::trials::{Experiment, Outputs, TrialsConfig};
+use crate::trials::{Outputs, TrialCommand, TrialsConfig};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 use toml::{Table, Value};
@@ -21,6 +21,8 @@ use toml::{Table, Value};
 pub struct Factor {
     /// The field's dotted path.
     pub path: String,
+    /// The same path, key by key.
+    pub keys: Vec<String>,
     /// The levels, in the order written.
     pub levels: Vec<Value>,
     /// How each level appears in trial keys.
@@ -31,7 +33,7 @@ impl Factor {
     /// The change that sets this factor to `level`.
     pub fn set(&self, level: usize) -> Override {
         Override {
-            path: split_path(&self.path).expect("checked when collected"),
+            path: self.keys.clone(),
             value: self.levels[level].clone(),
         }
     }
@@ -71,12 +73,17 @@ impl Batch {
     /// Reads `file`'s `[trials]` and checks every factor level by reading the scenario
     /// with it set (errors name the factor and the level).
     pub fn load(file: &Path) -> Result<Self> {
-        let scenario = Scenario::load(file)?;
-        let config = scenario
-            .trials
-            .clone()
-            .ok_or_else(|| Error::field(file, "trials", "the scenario has no [trials] section"))?;
-        let mut table = Scenario::resolved_table(file)?;
+        Self::of(&ScenarioFile::load(file)?)
+    }
+
+    /// The batch of `read`'s `[trials]`, every factor level checked as in [`Batch::load`].
+    pub fn of(read: &ScenarioFile) -> Result<Self> {
+        let file = read.path.as_path();
+        let config =
+            read.scenario.trials.clone().ok_or_else(|| {
+                Error::field(file, "trials", "the scenario has no [trials] section")
+            })?;
+        let mut table = read.table.clone();
         let hash = hex(&Sha256::digest(
             toml::to_string(&table).expect("a table").as_bytes(),
         ));
@@ -94,21 +101,23 @@ impl Batch {
                 let o = f.set(i);
                 let field = format!("trials.factors.{}[{i}]", f.path);
                 o.apply(&mut t).map_err(|e| Error::field(file, &field, e))?;
-                let s =
-                    Scenario::from_table(file, t, &format!("with {} = {}", f.path, show(level)))
-                        .map_err(|e| Error::field(file, &field, e))?;
+                let s = ScenarioFile::from_table(
+                    file,
+                    t,
+                    &format!("with {} = {}", f.path, show(level)),
+                )
+                .map_err(|e| Error::field(file, &field, e))?;
                 // The environment's fields are checked as it loads (meshes, poses): a
                 // level that changes it is loaded once here, so that a bad value (a NaN
                 // position) is refused now, not by every trial at run time.
                 let root = f.path.split('.').next().unwrap_or_default();
                 if root == "objects" || root == "maze" {
-                    s.environment(file)
-                        .map_err(|e| Error::field(file, &field, e))?;
+                    s.environment().map_err(|e| Error::field(file, &field, e))?;
                 }
             }
         }
         let trials = expand(&factors, &seeds);
-        if config.experiment == Experiment::MazeSlam && scenario.maze.is_none() {
+        if config.experiment == TrialCommand::MazeSlam && read.scenario.maze.is_none() {
             return Err(Error::field(
                 file,
                 "trials.experiment",
@@ -153,25 +162,25 @@ impl Batch {
 
     /// The scenario of a trial: its levels set, its seed, no recording with light
     /// outputs.
-    pub fn scenario(&self, trial: &Trial) -> Result<Scenario> {
+    pub fn scenario(&self, trial: &Trial) -> Result<ScenarioFile> {
         let mut table = self.table.clone();
         for o in self.overrides(trial) {
             o.apply(&mut table).map_err(Error::Input)?;
         }
         table.insert("seed".into(), Value::Integer(trial.seed as i64));
-        let mut scenario =
-            Scenario::from_table(&self.file, table, &format!("trial {}", trial.key))?;
+        let mut file =
+            ScenarioFile::from_table(&self.file, table, &format!("trial {}", trial.key))?;
         if self.config.outputs == Outputs::Light {
-            scenario.output.recording = false;
+            file.scenario.output.recording = false;
         }
-        Ok(scenario)
+        Ok(file)
     }
 
     /// The `whisker` command line that runs the same as `trial` (shell-quoted).
     pub fn command(&self, trial: &Trial) -> String {
         let (verb, seed) = match self.config.experiment {
-            Experiment::Run => ("run", "--seed"),
-            Experiment::MazeSlam => ("maze-slam", "--json --seeds"),
+            TrialCommand::Run => ("run", "--seed"),
+            TrialCommand::MazeSlam => ("maze-slam", "--json --seeds"),
         };
         let mut s = format!(
             "whisker {verb} {} {seed} {}",
@@ -261,6 +270,7 @@ fn collect(file: &Path, table: &Table, prefix: &[String], out: &mut Vec<Factor>)
                 }
                 out.push(Factor {
                     path: dotted,
+                    keys: path,
                     labels: labels(levels),
                     levels: levels.clone(),
                 });
@@ -349,6 +359,7 @@ mod tests {
     fn trials_are_the_product_with_seeds_innermost() {
         let f = |path: &str, v: &[&str]| Factor {
             path: path.into(),
+            keys: vec![path.into()],
             levels: v.iter().map(|s| Value::String(s.to_string())).collect(),
             labels: v.iter().map(|s| s.to_string()).collect(),
         };

@@ -4,7 +4,9 @@
 //! and checked once. A scenario is a TOML file (version 1, documented field by field in
 //! `scenarios/README.md`), optionally written as changes to a `base` scenario and changed
 //! again by `--set PATH=VALUE` ([`overrides`]); unknown fields are rejected and every error
-//! names the file and the field ([`Error`]). From it come the arm's [`Plan`] (IK of every
+//! names the file and the field ([`Error`]). A [`ScenarioFile`] is read once: its table as
+//! run and the checked [`Scenario`], whose [`Experiment`] — the scripted run, the closed loop
+//! or the office — is chosen then. From it come the arm's [`Plan`] (IK of every
 //! waypoint, the joint trajectory) and the batch [`grid`] of its `[trials]`.
 //!
 //! Beside the language sit the pieces every command shares: [`output`] (files written
@@ -15,8 +17,11 @@
 //! The experiments themselves are `whisker-experiments`; batches are `whisker-trials`.
 
 mod base;
+mod experiment;
+mod file;
 mod paths;
 mod scenario;
+mod sensing;
 mod strict;
 
 pub mod array;
@@ -37,9 +42,11 @@ pub mod radial_model;
 pub mod trials;
 
 pub use error::{Error, Result};
+pub use experiment::Experiment;
+pub use file::ScenarioFile;
 pub use plan::Plan;
 pub use scenario::{
-    ArmConfig, DEFAULT_JOINT_SPEED_RAD_S, FrontEndConfig, MAX_HOLD_S, MAX_OBJECTS,
-    MIN_JOINT_SPEED_RAD_S, OutputConfig, SAMPLE_PERIOD_RANGE_S, Scenario, Sensing, SensingMode,
-    Target, TrajectoryConfig, Waypoint,
+    ArmConfig, DEFAULT_JOINT_SPEED_RAD_S, MAX_HOLD_S, MAX_OBJECTS, MIN_JOINT_SPEED_RAD_S,
+    OutputConfig, SAMPLE_PERIOD_RANGE_S, Scenario, Target, TrajectoryConfig, Waypoint,
 };
+pub use sensing::{FrontEndConfig, Sensing, SensingMode};

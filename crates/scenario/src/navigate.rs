@@ -9,7 +9,6 @@
 //! is driven leg by leg: a turn in place towards the next waypoint, then straight, back
 //! to the first waypoint at the end of each lap.
 
-use crate::Sensing;
 use crate::error::{Error, Result};
 use crate::object_mode::ObjectModeConfig;
 use nalgebra::Point2;
@@ -386,46 +385,4 @@ pub fn plan_rectangle(p: &whisker_sim::environment::Piece) -> (Point2<f64>, Poin
         hi = Point2::new(hi.x.max(w.x), hi.y.max(w.y));
     }
     (lo, hi)
-}
-
-impl crate::Scenario {
-    /// Checks that one thing moves the arm: the base along its route (`[navigate]`), the
-    /// closed loop (`[explore]`) or the trajectory's waypoints.
-    pub(super) fn check_driver(&self, file: &Path) -> Result {
-        // Who moves the arm: the base along its route, the closed loop, or the waypoints.
-        let bad = |field: &str, msg: String| Err(Error::field(file, field, msg));
-        let driver = match (&self.navigate, &self.explore) {
-            (Some(_), Some(_)) => {
-                return bad(
-                    "explore",
-                    "with [navigate] the robot explores the objects it meets: expected no \
-                     [explore] section"
-                        .into(),
-                );
-            }
-            (Some(_), None) => Some(("[navigate]", "the base follows navigate.route_m")),
-            (None, Some(_)) => Some(("[explore]", "the loop chooses where the arm goes")),
-            (None, None) => None,
-        };
-        match driver {
-            Some((section, why)) => {
-                if !self.trajectory.waypoints.is_empty() {
-                    let msg = format!("with {section} {why}: expected no waypoints");
-                    return bad("trajectory.waypoints", msg);
-                }
-                if !matches!(self.sensing, Sensing::Kinematic | Sensing::Physics) {
-                    let msg = format!("{section} needs sensing = \"kinematic\" or \"physics\"");
-                    return bad("sensing", msg);
-                }
-            }
-            None if self.trajectory.waypoints.is_empty() => {
-                return bad(
-                    "trajectory.waypoints",
-                    "expected at least one waypoint (or an [explore] or [navigate] section)".into(),
-                );
-            }
-            None => {}
-        }
-        Ok(())
-    }
 }

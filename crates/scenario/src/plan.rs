@@ -3,7 +3,9 @@
 //! solved by IK from the previous waypoint's configuration, §2.2.1).
 
 use crate::error::{Error, Result};
-use crate::{Scenario, Target};
+use crate::experiment::Experiment;
+use crate::file::ScenarioFile;
+use crate::scenario::Target;
 use std::fmt::Write as _;
 use std::path::Path;
 use whisker_sim::kinematics::ik::{self, IkOptions};
@@ -77,10 +79,11 @@ fn check_joints(file: &Path, field: &str, chain: &Chain, q: &[f64]) -> Result {
 }
 
 impl Plan {
-    /// Loads the URDF of `scenario` (read from `file`) and plans its trajectory.
-    pub fn new(scenario: &Scenario, file: &Path) -> Result<Self> {
-        let packages = PackagePaths::new(scenario.package_paths(file));
-        let urdf = scenario.urdf_path(file);
+    /// Loads the URDF of the scenario in `file` and plans its trajectory.
+    pub fn new(file: &ScenarioFile) -> Result<Self> {
+        let packages = PackagePaths::new(file.package_paths());
+        let urdf = file.urdf_path();
+        let (scenario, file) = (&file.scenario, file.path.as_path());
         if !urdf.is_file() {
             return Err(Error::field(
                 file,
@@ -175,9 +178,11 @@ impl Plan {
         skeleton.iter().map(|&l| base_inv * poses[l]).collect()
     }
 
-    /// What `whisker check` and `whisker run` say of the plan of `scenario` (read from
-    /// `file`): the arm, the trajectory and every waypoint.
-    pub fn describe(&self, file: &Path, scenario: &Scenario) -> String {
+    /// What `whisker check` and `whisker run` say of the plan of the scenario in `file`:
+    /// the arm, the trajectory and every waypoint.
+    pub fn describe(&self, file: &ScenarioFile) -> String {
+        let urdf = file.urdf_path();
+        let (scenario, file) = (&file.scenario, file.path.as_path());
         let plan = self;
         let c = &plan.chain;
         let mut s = String::new();
@@ -186,19 +191,20 @@ impl Plan {
             s,
             "arm        {} from {}: {} -> {}, {} joints ({})",
             plan.model.name,
-            scenario.urdf_path(file).display(),
+            urdf.display(),
             c.base,
             c.tip,
             c.dof(),
             c.joint_names.join(", ")
         );
         let speed = plan.speed.iter().cloned().fold(f64::INFINITY, f64::min);
-        if scenario.navigate.is_some() {
+        if let Experiment::Navigate(_) = scenario.experiment {
             let _ = writeln!(
                 s,
                 "trajectory none scripted: the base drives navigate.route_m; joint speeds ≤ {speed} rad/s"
             );
-        } else if scenario.explore.is_some() && plan.waypoints.len() == 1 {
+        } else if let (Experiment::ClosedLoop(_), 1) = (&scenario.experiment, plan.waypoints.len())
+        {
             let _ = writeln!(
                 s,
                 "trajectory none scripted: the closed loop chooses each whisk's goal (Ch 6); joint speeds ≤ {speed} rad/s"

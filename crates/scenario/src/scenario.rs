@@ -7,7 +7,10 @@
 //! directory is relative to the working directory.
 
 use crate::error::{Error, Result};
-use crate::paths::relative_to;
+use crate::experiment::Experiment;
+use crate::explore::ExploreConfig;
+use crate::navigate::NavigateConfig;
+use crate::sensing::{FrontEndConfig, Sensing};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use whisker_sim::sensing::physics::WhiskerConfig;
@@ -63,10 +66,18 @@ pub struct Scenario {
     /// `[frontend]`: the signal front end of physics runs.
     #[serde(default)]
     pub frontend: FrontEndConfig,
-    /// `[explore]`: the closed loop of Chapter 6 (the robot chooses where to whisk).
-    pub explore: Option<crate::explore::ExploreConfig>,
-    /// `[navigate]`: a mobile robot driving a route round the `[office]` (Fig 5.1).
-    pub navigate: Option<crate::navigate::NavigateConfig>,
+    /// `[explore]`: the closed loop of Chapter 6 (the robot chooses where to whisk), as
+    /// read; moved into [`Scenario::experiment`] once checked.
+    #[serde(rename = "explore")]
+    explore_section: Option<ExploreConfig>,
+    /// `[navigate]`: a mobile robot driving a route round the `[office]` (Fig 5.1), as
+    /// read; moved into [`Scenario::experiment`] once checked.
+    #[serde(rename = "navigate")]
+    navigate_section: Option<NavigateConfig>,
+    /// What the scenario runs — its waypoints, `[explore]` or `[navigate]` — chosen when
+    /// it was read.
+    #[serde(skip)]
+    pub experiment: Experiment,
     /// Where the arm goes (scripted waypoints; none with `[explore]`).
     #[serde(default)]
     pub trajectory: TrajectoryConfig,
@@ -80,117 +91,6 @@ pub struct Scenario {
     /// see [`Scenario::whisker_configs`].
     #[serde(skip)]
     whiskers: Option<Vec<WhiskerConfig>>,
-}
-
-/// `[frontend]`: the signal front end of `sensing = "physics"` (thesis Ch 4).
-#[derive(Debug, Clone, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct FrontEndConfig {
-    /// Radial-distance model (a `whisker radial train` output), relative to the scenario
-    /// file; default: the built-in svr10.
-    pub radial_model: Option<PathBuf>,
-    /// `[frontend.detection]`: contact-detection parameters (thesis defaults).
-    #[serde(default)]
-    pub detection: whisker_slam::frontend::contact::FrontEndParams,
-}
-
-impl FrontEndConfig {
-    /// Checks the detection parameters; names the offending field.
-    pub fn validate(&self, file: &Path) -> Result {
-        let d = &self.detection;
-        let p = &d.peaks;
-        let checks: [(&str, bool); 7] = [
-            ("peaks.max_peaks", p.max_peaks >= 1),
-            ("smoothing_span", d.smoothing_span >= 1),
-            ("baseline_samples", d.baseline_samples >= 1),
-            (
-                "confirm_counts",
-                d.confirm_counts.is_finite() && d.confirm_counts >= 0.0,
-            ),
-            (
-                "contact_angle_rate",
-                d.contact_angle_rate.is_finite() && d.contact_angle_rate > 0.0,
-            ),
-            (
-                "peaks.min_width",
-                p.min_width.is_finite() && p.min_width >= 0.0,
-            ),
-            (
-                "peaks.min_prominence",
-                p.min_prominence.is_finite() && p.min_prominence >= 0.0,
-            ),
-        ];
-        for (name, ok) in checks {
-            if !ok {
-                return Err(Error::field(
-                    file,
-                    &format!("frontend.detection.{name}"),
-                    "expected a finite number ≥ 0 (spans and counts ≥ 1, rates > 0)",
-                ));
-            }
-        }
-        self.model(file).map(|_| ())
-    }
-
-    /// The radial-distance model: `radial_model` (relative to the scenario `file`), or the
-    /// built-in svr10.
-    pub fn model(&self, file: &Path) -> Result<whisker_slam::radial::RadialEstimator> {
-        match &self.radial_model {
-            Some(m) => crate::radial_model::load(&relative_to(file, m))
-                .map_err(|e| Error::field(file, "frontend.radial_model", e)),
-            None => crate::radial_model::load_or_default(None),
-        }
-    }
-}
-
-/// Sensing mode of a scenario.
-#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
-#[serde(rename_all = "kebab-case")]
-pub enum Sensing {
-    /// No whisker simulation: the arm moves, nothing senses.
-    #[default]
-    None,
-    /// Rapier simulates every whisker at 2 kHz (`whiskers.csv`, and the anticipated
-    /// contacts as ground truth in `anticipated.csv`).
-    Physics,
-    /// Rigid whiskers swept once per whisk cycle, anticipated intersect with noise
-    /// (§4.1.2.3, §6.1.3.1.2; `contacts.csv`).
-    Kinematic,
-}
-
-impl Sensing {
-    /// The name used in scenarios.
-    pub fn name(self) -> &'static str {
-        match self {
-            Sensing::None => "none",
-            Sensing::Physics => "physics",
-            Sensing::Kinematic => "kinematic",
-        }
-    }
-}
-
-/// How whisker contacts are sensed by a command that needs them (`--sensing`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SensingMode {
-    /// The anticipated intersect with noise.
-    Kinematic,
-    /// Rapier whiskers, the front end and a radial-distance model.
-    Physics,
-}
-
-impl crate::choice::Choice for SensingMode {
-    const ALL: &'static [(Self, &'static str, &'static str)] = &[
-        (
-            SensingMode::Kinematic,
-            "kinematic",
-            "Anticipated intersect with noise",
-        ),
-        (
-            SensingMode::Physics,
-            "physics",
-            "Rapier whiskers, the front end and a radial-distance model",
-        ),
-    ];
 }
 
 /// `[arm]`: the robot description and its initial state.
@@ -296,87 +196,26 @@ pub enum Target {
 }
 
 impl Scenario {
-    /// The scenario file's TOML table merged over its base (if any).
-    pub fn resolved_table(path: &Path) -> Result<toml::Table> {
-        let (_, table) = crate::base::read_table(path)?;
-        crate::base::resolve(path, table, 0)
-    }
-
-    /// Reads and checks a scenario file with `overrides` applied (`whisker run --set`).
-    pub fn load_with(path: &Path, overrides: &[crate::overrides::Override]) -> Result<Self> {
-        if overrides.is_empty() {
-            return Self::load(path);
-        }
-        let mut table = Self::resolved_table(path)?;
-        for o in overrides {
-            o.apply(&mut table).map_err(|e| {
-                Error::Input(format!("{}: --set {}: {e}", path.display(), o.dotted()))
-            })?;
-        }
-        Self::from_table(path, table, "with --set")
-    }
-
-    /// The scenario of `table` (read from `path`, base merged in, then changed as
-    /// `context` says), checked.
-    pub fn from_table(path: &Path, table: toml::Table, context: &str) -> Result<Self> {
-        let mut scenario: Self = match table.clone().try_into() {
-            Ok(s) => s,
-            Err(e) => {
-                let e: toml::de::Error = e;
-                // A table has no lines, and toml names the field of only some errors
-                // (not those of enums or untagged enums): the path-keeping reading does.
-                return Err(match crate::strict::check::<Self>(&table) {
-                    Err((field, message)) if !field.is_empty() => Error::Input(format!(
-                        "{} ({context}): field `{field}`: {message}",
-                        path.display()
-                    )),
-                    _ => Error::Input(format!(
-                        "{} ({context}): {}",
-                        path.display(),
-                        e.to_string().trim_end()
-                    )),
-                });
-            }
-        };
-        Self::check_shapes(path, &table)?;
-        scenario.validate(path)?;
-        Ok(scenario)
-    }
-
-    /// Reads and checks a scenario file (what does not depend on the URDF).
-    pub fn load(path: &Path) -> Result<Self> {
-        let (text, table) = crate::base::read_table(path)?;
-        if table.contains_key("base") {
-            // Merged over its base: errors name the field, no longer the line.
-            let merged = crate::base::resolve(path, table, 0)?;
-            return Self::from_table(path, merged, "merged over its base");
-        }
-        let mut scenario: Self = toml::from_str(&text).map_err(|e| {
-            Error::Input(format!("{}: {}", path.display(), e.to_string().trim_end()))
-        })?;
-        Self::check_shapes(path, &table)?;
-        scenario.validate(path)?;
-        Ok(scenario)
-    }
-
     /// Refuses an array (or any non-table) where a table is expected, which serde would
-    /// read positionally (see [`strict`]); after the `toml` reading, whose errors carry
+    /// read positionally (see `strict`); after the `toml` reading, whose errors carry
     /// the line.
-    fn check_shapes(path: &Path, table: &toml::Table) -> Result {
+    pub(crate) fn check_shapes(path: &Path, table: &toml::Table) -> Result {
         crate::strict::check::<Self>(table)
             .map_err(|(field, message)| Error::field(path, &field, message))
     }
 
     /// The 18 whiskers' configurations of `[array]` (RCP thresholds not yet calibrated):
     /// those checked at loading, or, for a scenario without sensing, checked now.
-    pub fn whisker_configs(&self, file: &Path) -> Result<Vec<WhiskerConfig>> {
+    pub(crate) fn whisker_configs(&self, file: &Path) -> Result<Vec<WhiskerConfig>> {
         match &self.whiskers {
             Some(w) => Ok(w.clone()),
             None => self.array.whisker_configs(file),
         }
     }
 
-    fn validate(&mut self, file: &Path) -> Result {
+    /// Checks what does not depend on the URDF and chooses the [`Experiment`]; every
+    /// error names `file` and the field.
+    pub(crate) fn validate(&mut self, file: &Path) -> Result {
         let bad = |field: &str, msg: String| Err(Error::field(file, field, msg));
         if self.version != 1 {
             return bad("version", format!("expected 1, got {}", self.version));
@@ -429,7 +268,7 @@ impl Scenario {
         // A triangle soup serves the kinematic sweep only.
         let needs_solids = if self.sensing == Sensing::Physics {
             Some("sensing = \"physics\"")
-        } else if self.explore.is_some() {
+        } else if self.explore_section.is_some() {
             Some("[explore] (its placement checks depth inside the object)")
         } else {
             None
@@ -455,14 +294,22 @@ impl Scenario {
             (_, Some(o)) => Some(o.checked_plan(file)?),
             _ => None,
         };
-        self.check_driver(file)?;
-        if let Some(n) = &self.navigate {
+        crate::experiment::check_driver(
+            file,
+            (
+                self.explore_section.is_some(),
+                self.navigate_section.is_some(),
+            ),
+            self.trajectory.waypoints.len(),
+            self.sensing,
+        )?;
+        if let Some(n) = &self.navigate_section {
             n.validate(file, office.as_ref())?;
             if let Some(o) = &n.object {
                 o.validate(file, &self.object_names())?;
             }
         }
-        if let Some(e) = &self.explore {
+        if let Some(e) = &self.explore_section {
             e.validate(file, &self.object_names())?;
         }
         for (k, w) in self.trajectory.waypoints.iter().enumerate() {
@@ -478,6 +325,12 @@ impl Scenario {
                 );
             }
         }
+        // Checked: one of them at most.
+        self.experiment = match (self.explore_section.take(), self.navigate_section.take()) {
+            (Some(e), _) => Experiment::ClosedLoop(Box::new(e)),
+            (None, Some(n)) => Experiment::Navigate(Box::new(n)),
+            (None, None) => Experiment::Scripted,
+        };
         Ok(())
     }
 
@@ -487,32 +340,6 @@ impl Scenario {
             .iter()
             .enumerate()
             .map(|(i, o)| o.display_name(i))
-            .collect()
-    }
-
-    /// The URDF path, resolved against the scenario file's directory.
-    pub fn urdf_path(&self, file: &Path) -> PathBuf {
-        relative_to(file, &self.arm.urdf)
-    }
-
-    /// The environment of `[[objects]]`, `[maze]` and `[office]`, loaded (mesh files read, checked
-    /// and repaired; the maze built).
-    pub fn environment(&self, file: &Path) -> Result<crate::environment::LoadedEnvironment> {
-        crate::environment::load(
-            file,
-            &self.objects,
-            self.maze.as_ref(),
-            self.office.as_ref(),
-            self.seed,
-        )
-    }
-
-    /// The package search directories, resolved against the scenario file's directory.
-    pub fn package_paths(&self, file: &Path) -> Vec<PathBuf> {
-        self.arm
-            .package_paths
-            .iter()
-            .map(|p| relative_to(file, p))
             .collect()
     }
 }

@@ -18,7 +18,7 @@ pub struct TrialsConfig {
     /// What one trial runs: `"run"` (what `whisker run` does) or `"maze-slam"` (one seed of
     /// `whisker maze-slam`).
     #[serde(default)]
-    pub experiment: Experiment,
+    pub experiment: TrialCommand,
     /// What each trial keeps in `runs/<key>/`: `"light"` (the summary, `explore.csv` or
     /// `path.csv`, maze trajectories, `stdout.txt`) or `"all"` (also the recording and the
     /// heavy streams: see [`HEAVY`]).
@@ -100,7 +100,7 @@ pub const HEAVY: [&str; 6] = [
 /// `trials.experiment`.
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
 #[serde(rename_all = "kebab-case")]
-pub enum Experiment {
+pub enum TrialCommand {
     /// One `whisker run` of the scenario (scripted trajectory or closed loop).
     #[default]
     Run,

@@ -17,7 +17,7 @@ use std::time::Instant;
 use whisker_experiments::record::{Context, Reporter};
 use whisker_scenario::error::{Error, Result};
 use whisker_scenario::grid::{Batch, Shard, Trial};
-use whisker_scenario::trials::{Experiment, HEAVY, Outputs};
+use whisker_scenario::trials::{HEAVY, Outputs, TrialCommand};
 
 /// How a batch runs (`whisker trials SCENARIO …`).
 #[derive(Debug, Clone)]
@@ -251,11 +251,9 @@ pub fn run_trial(
             ..Default::default()
         };
         pool.install(|| match batch.config.experiment {
-            Experiment::Run => {
-                whisker_experiments::run::execute(&batch.file, &scenario, dir, &rrd, ctx)
-            }
-            Experiment::MazeSlam => {
-                whisker_experiments::maze_slam::trial(&batch.file, &scenario, dir, &rrd, ctx)
+            TrialCommand::Run => whisker_experiments::run::execute(&scenario, dir, &rrd, ctx),
+            TrialCommand::MazeSlam => {
+                whisker_experiments::maze_slam::trial(&scenario, dir, &rrd, ctx)
             }
         })?;
         if batch.config.outputs == Outputs::Light {

@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use whisker_experiments::record::SensorColumns;
 use whisker_experiments::record::{Context, Layout, Recorder};
-use whisker_scenario::Scenario;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::{Error, Result};
 use whisker_sim::environment::Environment;
 use whisker_sim::environment::assets::{CATALOGUE, placed};
@@ -381,15 +381,16 @@ pub fn object_case(name: &str) -> Result<Case, Error> {
     })
 }
 
-/// The `[maze]` of the scenario `file`, the array 100 mm above the board facing down, at
+/// The `[maze]` of the scenario at `path`, the array 100 mm above the board facing down, at
 /// the point of a 50 mm grid where the most whiskers touch the walls.
-pub fn maze_case(file: &Path) -> Result<Case, Error> {
-    let scenario = Scenario::load(file)?;
+pub fn maze_case(path: &Path) -> Result<Case, Error> {
+    let file = ScenarioFile::load(path)?;
+    let scenario = &file.scenario;
     let maze = scenario
         .maze
         .as_ref()
-        .ok_or_else(|| Error::field(file, "maze", "expected a [maze] section"))?;
-    let environment = scenario.environment(file)?.environment;
+        .ok_or_else(|| file.error("maze", "expected a [maze] section"))?;
+    let environment = file.environment()?.environment;
     let frame =
         whisker_slam::pose::from_xyz_rpy(maze.position_m, maze.rpy_deg.map(f64::to_radians));
     let down = Isometry3::rotation(Vector3::x() * std::f64::consts::PI);

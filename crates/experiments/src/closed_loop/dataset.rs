@@ -28,8 +28,9 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::path::Path;
-use whisker_scenario::Scenario;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::{Error, Result};
+use whisker_scenario::explore::ExploreConfig;
 use whisker_scenario::explore::Task;
 use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker};
 use whisker_sim::sensing::noise::ContactNoise;
@@ -41,19 +42,19 @@ use whisker_slam::sensor::{Odometry, SAMPLE_RATE_HZ};
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 use whisker_slam::whisker_ratslam::slam::WhiskerRatSlam;
 
-/// Runs the closed loop of `scenario` (read from `file`, its `seed` the dataset's) and
+/// Runs the closed loop `config` of the scenario in `file` (its `seed` the dataset's) and
 /// writes the path it took into `s`; `scenario_text` is the scenario as run.
 pub fn write(
-    file: &Path,
-    scenario: &Scenario,
+    file: &ScenarioFile,
+    config: &ExploreConfig,
     scenario_text: &str,
     s: &mut Staging,
     reporter: &dyn crate::record::Reporter,
 ) -> Result<Manifest> {
-    let config = scenario.explore.as_ref().expect("checked by the caller");
-    let plan = whisker_scenario::plan::Plan::new(scenario, file)?;
-    let environment = scenario.environment(file)?.environment;
-    let configs = scenario.whisker_configs(file)?;
+    let scenario = &file.scenario;
+    let plan = whisker_scenario::plan::Plan::new(file)?;
+    let environment = file.environment()?.environment;
+    let configs = file.whisker_configs()?;
     let whiskers: Vec<RigidWhisker> = configs.iter().map(|c| c.rigid()).collect();
     let array = array_info(&whiskers);
     let physics = scenario.sensing == whisker_scenario::Sensing::Physics;
@@ -69,7 +70,7 @@ pub fn write(
     });
     let log = files.as_ref().map(|f| f.log.clone());
     let outcome =
-        super::session::run_logged(scenario, file, plan, &environment, log, None, reporter)?;
+        super::session::run_logged(file, config, plan, &environment, (log, None), reporter)?;
     if let Some(files) = &files {
         files.finish()?;
     }
@@ -77,7 +78,7 @@ pub fn write(
         for k in 0..outcome.poses.len() {
             s.register(&format!("log/whisks/{}", records::whisk_name(k)), Role::Log)?;
         }
-        put_model(s, &scenario.frontend.model(file)?)?;
+        put_model(s, &scenario.frontend.model(&file.path)?)?;
     } else {
         s.put(
             "log/contacts.csv",
@@ -97,7 +98,7 @@ pub fn write(
         Some(&outcome.times),
     );
     s.put("log/poses.csv", Role::Log, log.as_bytes())?;
-    let maps = put_maps(file, config, s)?;
+    let maps = put_maps(&file.path, config, s)?;
     put_truth(
         &outcome,
         &configs,
@@ -107,21 +108,21 @@ pub fn write(
         scenario_text,
         s,
     )?;
-    manifest(file, scenario, &configs, &outcome, maps, array)
+    manifest(file, config, &configs, &outcome, maps, array)
 }
 
 /// The manifest of a closed loop's dataset.
 fn manifest(
-    file: &Path,
-    scenario: &Scenario,
+    file: &ScenarioFile,
+    config: &ExploreConfig,
     configs: &[whisker_sim::sensing::physics::WhiskerConfig],
     outcome: &super::Outcome,
     maps: Vec<String>,
     array: crate::dataset::manifest::ArrayInfo,
 ) -> Result<Manifest> {
-    let config = scenario.explore.as_ref().expect("checked by the caller");
+    let scenario = &file.scenario;
     let physics = scenario.sensing == whisker_scenario::Sensing::Physics;
-    let noise = scenario.kinematic.noise(file)?;
+    let noise = scenario.kinematic.noise(&file.path)?;
     let sensor = configs[0].sensor;
     Ok(Manifest {
         sensor: physics.then_some(SensorInfo {

@@ -4,7 +4,7 @@ use super::log::{CSV_NAME, SUMMARY_NAME};
 use super::session::run_logged;
 use crate::record::Context;
 use std::path::Path;
-use whisker_scenario::Scenario;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::{Error, Result};
 use whisker_scenario::explore::{ExploreConfig, Task};
 use whisker_scenario::plan::Plan;
@@ -16,8 +16,9 @@ const TRAIL_WHISKS: usize = 10;
 
 /// What `whisker check` says of an `[explore]` section: the task, the object, the
 /// strategy, and each map loaded (a map that does not load is an input error).
-pub fn describe(file: &Path, scenario: &Scenario, e: &ExploreConfig) -> Result<String> {
-    let object = e.object_name(file, &scenario.object_names())?;
+pub fn describe(file: &ScenarioFile, e: &ExploreConfig) -> Result<String> {
+    let scenario = &file.scenario;
+    let object = e.object_name(&file.path, &scenario.object_names())?;
     let mut s = match e.task {
         Task::Map => format!(
             "explore    build the object map of {object}: {} loops over a {n}×{n} ellipsoid, SPC {}, at most {} whisks\n",
@@ -35,9 +36,9 @@ pub fn describe(file: &Path, scenario: &Scenario, e: &ExploreConfig) -> Result<S
             e.max_iterations
         ),
     };
-    for (name, path) in e.map_files(file) {
+    for (name, path) in e.map_files(&file.path) {
         let m = ObjectMap::load(&path)
-            .map_err(|err| Error::field(file, &format!("explore.maps.{name}"), err))?;
+            .map_err(|err| Error::field(&file.path, &format!("explore.maps.{name}"), err))?;
         s.push_str(&format!(
             "map        {name}: {} ({} experiences, {} links)\n",
             path.display(),
@@ -48,22 +49,23 @@ pub fn describe(file: &Path, scenario: &Scenario, e: &ExploreConfig) -> Result<S
     Ok(s)
 }
 
-/// `whisker run` of a scenario with `[explore]`: runs the loop and writes `explore.csv`,
-/// `summary.json`, `contacts.csv` (every registered contact, in a kinematic run's columns),
-/// the object map (`map.json`, map building) and `run.rrd` into `dir`.
+/// `whisker run` of a scenario with `[explore]` (`config`): runs the loop and writes
+/// `explore.csv`, `summary.json`, `contacts.csv` (every registered contact, in a kinematic
+/// run's columns), the object map (`map.json`, map building) and `run.rrd` into `dir`.
 pub fn write(
-    file: &Path,
-    scenario: &Scenario,
+    file: &ScenarioFile,
+    config: &ExploreConfig,
     plan: Plan,
     environment: &Environment,
     dir: &Path,
     rrd: &crate::record::Target,
     ctx: Context,
 ) -> Result {
+    let scenario = &file.scenario;
     // The camera frames the object and the arm's base.
     let eye = crate::record::Eye::of(environment, &[[0.0; 3]]);
     let recording = ctx.scenario_recording(
-        file,
+        &file.path,
         scenario.seed,
         scenario.output.recording,
         dir,
@@ -76,12 +78,11 @@ pub fn write(
     let frames = plan.clone();
     let started = std::time::Instant::now();
     let out = run_logged(
-        scenario,
         file,
+        config,
         plan,
         environment,
-        None,
-        recording.as_deref(),
+        (None, recording.as_deref()),
         ctx.reporter,
     )?;
     let wall = started.elapsed().as_secs_f64();

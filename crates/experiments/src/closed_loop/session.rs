@@ -6,39 +6,39 @@ use super::setup::{self, Outlets};
 use super::state::Outcome;
 use crate::record::{Recorder, Reporter, Silent};
 use crate::sensing::held::WhiskLog;
-use std::path::Path;
-use whisker_scenario::Scenario;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::Result;
+use whisker_scenario::explore::ExploreConfig;
 use whisker_scenario::plan::Plan;
 use whisker_sim::environment::Environment;
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 
-/// Runs the closed loop of `scenario` (read from `file`) in `environment`.
+/// Runs the closed loop `config` of the scenario in `file` in `environment`.
 pub fn run(
-    scenario: &Scenario,
-    file: &Path,
+    file: &ScenarioFile,
+    config: &ExploreConfig,
     plan: Plan,
     environment: &Environment,
 ) -> Result<Outcome> {
-    run_knowing(scenario, file, plan, environment, &[])
+    run_knowing(file, config, plan, environment, &[])
 }
 
 /// [`run`] knowing `learned` object maps (name, map) besides `[explore].maps`.
 pub fn run_knowing(
-    scenario: &Scenario,
-    file: &Path,
+    file: &ScenarioFile,
+    config: &ExploreConfig,
     plan: Plan,
     environment: &Environment,
     learned: &[(String, ObjectMap)],
 ) -> Result<Outcome> {
-    run_recorded(scenario, file, plan, environment, learned, None)
+    run_recorded(file, config, plan, environment, learned, None)
 }
 
 /// [`run_knowing`], each whisk logged to `recording` (the arm's motion is recorded after
 /// the loop: [`super::outputs::record_arm`]).
 pub fn run_recorded(
-    scenario: &Scenario,
-    file: &Path,
+    file: &ScenarioFile,
+    config: &ExploreConfig,
     plan: Plan,
     environment: &Environment,
     learned: &[(String, ObjectMap)],
@@ -51,26 +51,25 @@ pub fn run_recorded(
         learned,
     };
     start(
-        setup::build(scenario, file, plan, environment, outlets)?,
-        scenario,
+        setup::build(file, config, plan, environment, outlets)?,
+        file.scenario.seed,
     )
 }
 
-/// Runs a built loop from the array's pose.
-fn start(mut state: super::state::Loop<'_>, scenario: &Scenario) -> Result<Outcome> {
+/// Runs a built loop from the array's pose, its random draws from `seed`.
+fn start(mut state: super::state::Loop<'_>, seed: u64) -> Result<Outcome> {
     let at = state.robot.array_pose();
-    state.run(scenario.seed, at)
+    state.run(seed, at)
 }
 
 /// [`run`], physics whisks' samples handed to `log` (stream `explore/physics/<k>`), each
 /// whisk logged to `recording`, progress said to `reporter`.
 pub fn run_logged(
-    scenario: &Scenario,
-    file: &Path,
+    file: &ScenarioFile,
+    config: &ExploreConfig,
     plan: Plan,
     environment: &Environment,
-    log: Option<WhiskLog>,
-    recording: Option<&dyn Recorder>,
+    (log, recording): (Option<WhiskLog>, Option<&dyn Recorder>),
     reporter: &dyn Reporter,
 ) -> Result<Outcome> {
     let outlets = Outlets {
@@ -80,7 +79,7 @@ pub fn run_logged(
         learned: &[],
     };
     start(
-        setup::build(scenario, file, plan, environment, outlets)?,
-        scenario,
+        setup::build(file, config, plan, environment, outlets)?,
+        file.scenario.seed,
     )
 }

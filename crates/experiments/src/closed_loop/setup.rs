@@ -11,10 +11,11 @@ use nalgebra::{Point3, Vector3};
 use rand::RngExt;
 use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
+use whisker_scenario::ScenarioFile;
+use whisker_scenario::Sensing;
 use whisker_scenario::error::{Error, Result};
 use whisker_scenario::explore::{ExploreConfig, MapGoals, Task};
 use whisker_scenario::plan::Plan;
-use whisker_scenario::{Scenario, Sensing};
 use whisker_sim::environment::Environment;
 use whisker_sim::sensing::kinematic::{KinematicArray, SweepTarget};
 use whisker_slam::exploration::goal_mesh::GoalMesh;
@@ -34,20 +35,18 @@ pub struct Outlets<'a> {
     pub learned: &'a [(String, ObjectMap)],
 }
 
-/// The run of `scenario` (read from `file`) in `environment`, ready to start.
+/// The run of the closed loop `config` of the scenario in `file` in `environment`, ready
+/// to start.
 pub fn build<'a>(
-    scenario: &'a Scenario,
-    file: &Path,
+    file: &ScenarioFile,
+    config: &'a ExploreConfig,
     plan: Plan,
     environment: &Environment,
     outlets: Outlets<'a>,
 ) -> Result<Loop<'a>> {
-    let config = scenario
-        .explore
-        .as_ref()
-        .ok_or_else(|| Error::field(file, "explore", "the scenario has no [explore] section"))?;
+    let (scenario, path) = (&file.scenario, file.path.as_path());
     let names = scenario.object_names();
-    let truth = config.object_name(file, &names)?;
+    let truth = config.object_name(path, &names)?;
     let index = names.iter().position(|n| *n == truth).expect("validated");
     let piece = &environment.pieces[index];
     // The explored object in the world.
@@ -56,12 +55,12 @@ pub fn build<'a>(
         triangles: piece.mesh.triangles.clone(),
     };
     let (centre, half) = bounding_box(&object.vertices);
-    let chain = crate::sensing::array::array_chain(scenario, file, &plan)?;
+    let chain = crate::sensing::array::array_chain(file, &plan)?;
     let robot = Robot::new(plan, chain, environment, scenario.seed)?;
     let hits = robot.colliding(&robot.q);
     if !hits.is_empty() {
         return Err(Error::field(
-            file,
+            path,
             "arm.initial_joints_deg",
             format!(
                 "the arm starts inside the environment ({})",
@@ -69,14 +68,14 @@ pub fn build<'a>(
             ),
         ));
     }
-    let sensing = sensor(scenario, file, environment, outlets.log)?;
+    let sensing = sensor(file, environment, outlets.log)?;
     let surface =
-        MeshSurface::new(&object, centre).map_err(|e| Error::field(file, "explore.object", e))?;
-    let (map, recognition, mesh) = goals(config, file, &surface, half, outlets.learned)?;
+        MeshSurface::new(&object, centre).map_err(|e| Error::field(path, "explore.object", e))?;
+    let (map, recognition, mesh) = goals(config, path, &surface, half, outlets.learned)?;
     let tour = FaceTour::new(mesh, config.min_height_m);
     if tour.usable() == 0 {
         return Err(Error::field(
-            file,
+            path,
             "explore.min_height_m",
             "every goal face lies below it",
         ));
@@ -118,29 +117,25 @@ pub fn build<'a>(
     })
 }
 
-/// How the run of `scenario` (read from `file`) whisks in `environment`: physics whiskers
+/// How the run of the scenario in `file` whisks in `environment`: physics whiskers
 /// (their samples handed to `log`) or the kinematic sweep.
-fn sensor(
-    scenario: &Scenario,
-    file: &Path,
-    environment: &Environment,
-    log: Option<WhiskLog>,
-) -> Result<Sensor> {
+fn sensor(file: &ScenarioFile, environment: &Environment, log: Option<WhiskLog>) -> Result<Sensor> {
+    let scenario = &file.scenario;
     Ok(match scenario.sensing {
         Sensing::Physics => {
             let mut p = PhysicsSensing::with_configs(
                 environment.physics_pieces(),
-                scenario.frontend.model(file)?,
-                scenario.whisker_configs(file)?,
+                scenario.frontend.model(&file.path)?,
+                file.whisker_configs()?,
             );
             p.log = log;
             Sensor::Physics(Box::new(p))
         }
         _ => {
-            let configs = scenario.whisker_configs(file)?;
+            let configs = file.whisker_configs()?;
             let whiskers = configs.iter().map(|c| c.rigid()).collect();
             let patterns = configs.iter().map(|c| c.pattern).collect();
-            let noise = scenario.kinematic.noise(file)?;
+            let noise = scenario.kinematic.noise(&file.path)?;
             Sensor::Kinematic(
                 KinematicArray::new(whiskers, patterns, noise, scenario.seed)
                     .with_control(configs[0].control),

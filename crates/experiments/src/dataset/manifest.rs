@@ -384,6 +384,30 @@ impl Manifest {
         }
     }
 
+    /// The `maze` section of the manifest read from `dir` (present whenever `experiment`
+    /// is maze-slam: [`Manifest::read`] refuses one without it).
+    pub fn maze_section(&self, dir: &Path) -> Result<&MazeInfo> {
+        self.maze.as_ref().ok_or_else(|| {
+            Error::field(
+                &dir.join(FILE),
+                "maze",
+                "a maze dataset needs a maze section",
+            )
+        })
+    }
+
+    /// The `sensor` section of the manifest read from `dir` (present whenever `level` is
+    /// streams: [`Manifest::read`] refuses one without it).
+    pub fn sensor_section(&self, dir: &Path) -> Result<SensorInfo> {
+        self.sensor.ok_or_else(|| {
+            Error::field(
+                &dir.join(FILE),
+                "sensor",
+                "level \"streams\" needs a sensor section",
+            )
+        })
+    }
+
     /// The entry of `path` (relative), if listed.
     pub fn entry(&self, path: &str) -> Option<&FileEntry> {
         self.files.iter().find(|f| f.path == path)

@@ -10,7 +10,8 @@ pub mod noise;
 use crate::dataset::manifest::{Experiment, Manifest};
 use crate::dataset::{self, Written};
 use std::path::{Path, PathBuf};
-use whisker_scenario::Scenario;
+use whisker_scenario::Experiment as Runs;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::{Error, Result};
 
 /// What `whisker dataset SCENARIO --seed N --out DIR` writes.
@@ -31,49 +32,39 @@ pub struct ScenarioDataset {
     pub set: Vec<whisker_scenario::overrides::Override>,
 }
 
-/// `whisker dataset SCENARIO`: a maze run or a closed loop written as a dataset.
+/// `whisker dataset SCENARIO`: a maze run, a closed loop or an office run written as a
+/// dataset.
 pub fn write_scenario(w: &ScenarioDataset, ctx: crate::record::Context) -> Result<Written> {
-    let file = &w.scenario;
-    let mut scenario = Scenario::load_with(file, &w.set)?;
-    let seed = w.seed.unwrap_or(scenario.seed);
-    scenario.seed = seed;
+    let mut file = ScenarioFile::load_with(&w.scenario, &w.set)?;
     // The scenario as run, for truth/scenario.toml: its base merged, --set applied (the
     // seed is the manifest's: the truth does not change with it).
-    let mut table = Scenario::resolved_table(file)?;
-    for o in &w.set {
-        o.apply(&mut table)
-            .map_err(|e| Error::Input(format!("--set {}: {e}", o.dotted())))?;
-    }
-    let text = toml::to_string(&table).map_err(|e| Error::Failure(e.to_string()))?;
-    dataset::timed(&w.out, |staging| {
-        if scenario.explore.is_some() {
-            if w.clean {
-                return Err(Error::Input(format!(
-                    "{}: --clean: a closed loop's path depends on its noise; write \
-                     it with the noise it runs with",
-                    file.display()
-                )));
-            }
-            crate::closed_loop::dataset::write(file, &scenario, &text, staging, ctx.reporter)
-        } else if scenario.navigate.is_some() {
-            if w.clean {
-                return Err(Error::Input(format!(
-                    "{}: --clean: the robot's stops depend on its noise; write the office run \
-                     with the noise it runs with",
-                    file.display()
-                )));
-            }
-            crate::navigation::dataset::write(file, &scenario, &text, staging, ctx.reporter)
-        } else if scenario.maze.is_some() {
-            crate::maze_slam::dataset::write(file, &scenario, &text, w.clean, staging, ctx.reporter)
-        } else {
-            Err(Error::field(
-                file,
-                "maze",
-                "whisker dataset writes maze scenarios ([maze]), closed loops ([explore]) \
-                 and office runs ([navigate]); object walks: `whisker dataset object-slam`",
-            ))
+    let text = toml::to_string(&file.table).map_err(|e| Error::Failure(e.to_string()))?;
+    file.scenario.seed = w.seed.unwrap_or(file.scenario.seed);
+    let file = &file;
+    let path = file.path.display();
+    dataset::timed(&w.out, |staging| match &file.scenario.experiment {
+        Runs::ClosedLoop(_) if w.clean => Err(Error::Input(format!(
+            "{path}: --clean: a closed loop's path depends on its noise; write it with the \
+             noise it runs with"
+        ))),
+        Runs::ClosedLoop(config) => {
+            crate::closed_loop::dataset::write(file, config, &text, staging, ctx.reporter)
         }
+        Runs::Navigate(_) if w.clean => Err(Error::Input(format!(
+            "{path}: --clean: the robot's stops depend on its noise; write the office run with \
+             the noise it runs with"
+        ))),
+        Runs::Navigate(config) => {
+            crate::navigation::dataset::write(file, config, &text, staging, ctx.reporter)
+        }
+        Runs::Scripted if file.scenario.maze.is_some() => {
+            crate::maze_slam::dataset::write(file, &text, w.clean, staging, ctx.reporter)
+        }
+        Runs::Scripted => Err(file.error(
+            "maze",
+            "whisker dataset writes maze scenarios ([maze]), closed loops ([explore]) \
+             and office runs ([navigate]); object walks: `whisker dataset object-slam`",
+        )),
     })
 }
 

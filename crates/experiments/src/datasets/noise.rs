@@ -211,7 +211,7 @@ fn noisy_streams(
     sigma: SensorNoise,
     s: &mut crate::dataset::Staging,
 ) -> Result {
-    let sensor = m.sensor.expect("checked");
+    let sensor = m.sensor_section(&o.input)?;
     let files: Vec<Result<(String, String)>> = (0..sensor.whisks)
         .into_par_iter()
         .map(|c| {

@@ -30,7 +30,7 @@ use nalgebra::UnitQuaternion;
 use rayon::prelude::*;
 use std::fmt::Write;
 use std::path::Path;
-use whisker_scenario::Scenario;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::{Error, Result};
 use whisker_scenario::maze_slam::AngleEstimate;
 use whisker_sim::sensing::kinematic::KinematicArray;
@@ -61,31 +61,30 @@ struct SensingLog {
     anticipated: Vec<whisker_slam::contact::ContactCycle>,
 }
 
-/// What both kinds of sensing read: the scenario and its file, the setup, the environment's
+/// What both kinds of sensing read: the scenario file, the setup, the environment's
 /// sweep target, the seed, whether noise is left out.
 struct MazeRun<'a> {
-    file: &'a Path,
-    scenario: &'a Scenario,
+    file: &'a ScenarioFile,
     setup: &'a Setup,
     target: &'a whisker_sim::sensing::kinematic::SweepTarget,
     seed: u64,
     clean: bool,
 }
 
-/// Writes maze scenario `scenario` (read from `file`; its seed the dataset's; as run:
-/// `scenario_text`) into `s`; `clean` leaves out every noise.
+/// Writes the maze scenario of `file` (its seed the dataset's; as run: `scenario_text`)
+/// into `s`; `clean` leaves out every noise.
 pub fn write(
-    file: &Path,
-    scenario: &Scenario,
+    file: &ScenarioFile,
     scenario_text: &str,
     clean: bool,
     s: &mut Staging,
     reporter: &dyn Reporter,
 ) -> Result<Manifest> {
+    let scenario = &file.scenario;
     let seed = scenario.seed;
-    let o = Settings::of(file);
-    let setup = Setup::new(&o, scenario)?;
-    let environment = scenario.environment(file)?.environment;
+    let o = Settings::of(&file.path);
+    let setup = Setup::new(&o, file)?;
+    let environment = file.environment()?.environment;
     let (g, truth) = (&setup.geometry, &setup.truth);
     let config = &scenario.maze_slam;
     let target = whisker_sim::sensing::kinematic::SweepTarget::of(&environment);
@@ -97,7 +96,6 @@ pub fn write(
     };
     let run = MazeRun {
         file,
-        scenario,
         setup: &setup,
         target: &target,
         seed,
@@ -168,10 +166,10 @@ fn kinematic_log(run: &MazeRun, s: &mut Staging) -> Result<SensingLog> {
     let noise = if run.clean {
         ContactNoise::NONE
     } else {
-        run.scenario.kinematic.noise(run.file)?
+        run.file.scenario.kinematic.noise(&run.file.path)?
     };
     let key = substream_key(run.seed, "maze-slam/sensing");
-    let control = run.scenario.whisker_configs(run.file)?[0].control;
+    let control = run.file.whisker_configs()?[0].control;
     let cycles = kinematic_contacts(truth, run.target, noise, key, g, control);
     let labels = array_info(&whiskers).labels;
     s.put(
@@ -218,7 +216,7 @@ fn physics_log(
     }
     let key = substream_key(run.seed, "maze-slam/physics");
     let configs = maze_physics::calibrated(configs, *rcp, key);
-    let front = ImageFrontEnd::new(&configs, &run.scenario.frontend.detection);
+    let front = ImageFrontEnd::new(&configs, &run.file.scenario.frontend.detection);
     let whiskers = front.rigid.clone();
     let labels = array_info(&whiskers).labels;
     let model = configs[0].sensor;
@@ -264,6 +262,7 @@ fn physics_log(
         contact_noise: None,
         frontend: Some(front.params.clone()),
         image_sets: run
+            .file
             .scenario
             .maze_slam
             .images
@@ -377,7 +376,7 @@ fn pose_log(
 /// Reads a maze dataset: RatSLAM's input, its parameters and whether to run the
 /// kidnapped variant.
 pub fn read(dir: &Path, m: &Manifest) -> Result<(Sensed, RatSlamParams, bool)> {
-    let info = m.maze.as_ref().expect("checked by Manifest::read");
+    let info = m.maze_section(dir)?;
     let file = dir.join(crate::dataset::manifest::FILE);
     check_info(&file, info, m.level)?;
     let n = info.updates;
@@ -504,9 +503,9 @@ fn stream_images(
     whiskers: Vec<whisker_sim::sensing::kinematic::RigidWhisker>,
     g: &Geometry,
 ) -> Result<Vec<super::ImageSet>> {
-    let info = m.maze.as_ref().expect("checked by Manifest::read");
+    let info = m.maze_section(dir)?;
     let n = info.updates;
-    let sensor = m.sensor.expect("checked by Manifest::read");
+    let sensor = m.sensor_section(dir)?;
     let params = info.frontend.clone().ok_or_else(|| {
         Error::field(
             file,

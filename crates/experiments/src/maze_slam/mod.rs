@@ -32,7 +32,7 @@ use serde::Serialize;
 use serde_json::json;
 use std::fmt;
 use std::path::Path;
-use whisker_scenario::Scenario;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::{Error, Result};
 use whisker_slam::ratslam::experience_map::Pose2;
 use whisker_slam::ratslam::local_view::TactileImage;
@@ -200,12 +200,12 @@ fn without<T: Copy>(v: &[T], cut: &std::ops::Range<usize>) -> Vec<T> {
 
 /// `whisker maze-slam`.
 pub fn run(o: &Settings, ctx: Context) -> Result<Report> {
-    let scenario = Scenario::load_with(&o.scenario, &o.set)?;
+    let file = ScenarioFile::load_with(&o.scenario, &o.set)?;
     ctx.say(&format!(
         "odometry   {}",
-        scenario.maze_slam.odometry.describe(path::STEP_M)
+        file.scenario.maze_slam.odometry.describe(path::STEP_M)
     ));
-    let runs = evaluate(o, &scenario, ctx)?;
+    let runs = evaluate(o, &file, ctx)?;
     Ok(Report { runs })
 }
 
@@ -340,13 +340,14 @@ fn open_recording(
 /// One trial of a batch (`trials.experiment = "maze-slam"`): `whisker maze-slam` of the
 /// scenario's seed with `--out dir` (the recording as `rrd` says), and `summary.json`: each run's figures under
 /// `<variant>.<images>` (e.g. `normal.kinematic.arr`).
-pub fn trial(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: Context) -> Result {
-    let mut o = Settings::of(file);
+pub fn trial(file: &ScenarioFile, dir: &Path, rrd: &Target, ctx: Context) -> Result {
+    let scenario = &file.scenario;
+    let mut o = Settings::of(&file.path);
     o.rrd = rrd.clone();
     o.seeds = Some(vec![scenario.seed]);
     o.out = Some(dir.to_path_buf());
     let report = Report {
-        runs: evaluate(&o, scenario, ctx)?,
+        runs: evaluate(&o, file, ctx)?,
     };
     let mut summary = serde_json::Map::new();
     summary.insert("seed".into(), json!(scenario.seed));
@@ -374,11 +375,12 @@ pub fn trial(file: &Path, scenario: &Scenario, dir: &Path, rrd: &Target, ctx: Co
     Ok(())
 }
 
-/// The runs of `whisker maze-slam` with settings `o` on `scenario` (read from
-/// `o.scenario`): one per seed, variant, image set and tuning.
-pub fn evaluate(o: &Settings, scenario: &Scenario, ctx: Context) -> Result<Vec<RunResult>> {
-    let setup = Setup::new(o, scenario)?;
-    let environment = scenario.environment(&o.scenario)?.environment;
+/// The runs of `whisker maze-slam` with settings `o` on the scenario of `file`: one per
+/// seed, variant, image set and tuning.
+pub fn evaluate(o: &Settings, file: &ScenarioFile, ctx: Context) -> Result<Vec<RunResult>> {
+    let scenario = &file.scenario;
+    let setup = Setup::new(o, file)?;
+    let environment = file.environment()?.environment;
     let tunings = tunings(scenario.maze_slam.ratslam, o)?;
     let kidnap = o.kidnap || scenario.maze_slam.kidnap;
     let seeds = o.seeds.clone().unwrap_or(vec![scenario.seed]);
@@ -397,7 +399,7 @@ pub fn evaluate(o: &Settings, scenario: &Scenario, ctx: Context) -> Result<Vec<R
     let target = std::cell::OnceCell::new();
     let mut results = Vec::new();
     for &seed in &seeds {
-        let sensed = sensed::sense(o, scenario, &setup, &environment, &target, seed, ctx)?;
+        let sensed = sensed::sense(o, file, &setup, &environment, &target, seed, ctx)?;
         results.extend(run_sensed(
             &sensed,
             &tunings,

@@ -222,7 +222,7 @@ pub fn images(
 mod tests {
     use super::*;
     use std::path::Path;
-    use whisker_scenario::Scenario;
+
     use whisker_sim::sensing::noise::ContactNoise;
 
     /// Held still 6 cm beside the maze's tallest post, the physics whiskers light the
@@ -232,8 +232,9 @@ mod tests {
     #[test]
     fn physics_images_light_the_touching_whiskers() {
         let file = &Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/maze.toml");
-        let scenario = Scenario::load(file).unwrap();
-        let environment = scenario.environment(file).unwrap().environment;
+        let read = whisker_scenario::ScenarioFile::load(file).unwrap();
+        let scenario = &read.scenario;
+        let environment = read.environment().unwrap().environment;
         let g = Geometry {
             plane_z: 0.0,
             board_z: scenario.maze.as_ref().unwrap().position_m[2],

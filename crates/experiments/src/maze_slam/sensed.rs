@@ -9,11 +9,11 @@ use super::path::{self, Sample};
 use super::physics_images::{self as physics, PhysicsWhiskers};
 use super::settings::Settings;
 use crate::record::Context;
-use std::path::Path;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::array::{BendingConfig, RcpConfig};
 use whisker_scenario::error::{Error, Result};
 use whisker_scenario::maze_slam::AngleEstimate;
-use whisker_scenario::{Scenario, Sensing, SensingMode};
+use whisker_scenario::{Sensing, SensingMode};
 use whisker_sim::environment::Environment;
 use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
 use whisker_sim::whisker::array;
@@ -57,7 +57,8 @@ pub fn kinematic_contacts(
 /// The loop's corners (x, y) from the scenario's pose waypoints, and the geometry: the
 /// array plane at the first waypoint's height, its yaw at heading 0 from its `rpy_deg`,
 /// the board's top at `board_z`.
-fn corners(scenario: &Scenario, file: &Path, board_z: f64) -> Result<(Vec<(f64, f64)>, Geometry)> {
+fn corners(file: &ScenarioFile, board_z: f64) -> Result<(Vec<(f64, f64)>, Geometry)> {
+    let scenario = &file.scenario;
     let poses: Vec<([f64; 3], [f64; 3])> = scenario
         .trajectory
         .waypoints
@@ -66,7 +67,7 @@ fn corners(scenario: &Scenario, file: &Path, board_z: f64) -> Result<(Vec<(f64, 
         .collect();
     if poses.len() < 3 {
         return Err(Error::field(
-            file,
+            &file.path,
             "trajectory.waypoints",
             "maze-slam needs at least 3 pose waypoints (the loop's corners)",
         ));
@@ -85,7 +86,8 @@ fn corners(scenario: &Scenario, file: &Path, board_z: f64) -> Result<(Vec<(f64, 
 
 /// The physics whiskers: the scenario's `[array]` with the command line's overrides,
 /// checked as the scenario's own values are.
-fn physics_configs(scenario: &Scenario, file: &Path, o: &Settings) -> Result<PhysicsWhiskers> {
+fn physics_configs(file: &ScenarioFile, o: &Settings) -> Result<PhysicsWhiskers> {
+    let scenario = &file.scenario;
     let mut array = scenario.array.clone();
     if let Some(b) = o.bending {
         array.bending = match b {
@@ -100,7 +102,7 @@ fn physics_configs(scenario: &Scenario, file: &Path, o: &Settings) -> Result<Phy
         array.rcp_noise_multiple = Some(20.0);
     }
     let overridden = o.bending.is_some() || o.segments.is_some() || o.substeps.is_some();
-    let configs = array.whisker_configs(file).map_err(|e| match e {
+    let configs = array.whisker_configs(&file.path).map_err(|e| match e {
         Error::Input(m) if overridden => Error::Input(format!(
             "{m} (with --bending / --segments / --substeps from the command line)"
         )),
@@ -130,9 +132,9 @@ pub struct Setup {
 }
 
 impl Setup {
-    /// The setup of `scenario` (read from `o.scenario`) with the command line's options.
-    pub fn new(o: &Settings, scenario: &Scenario) -> Result<Self> {
-        let file = o.scenario.as_path();
+    /// The setup of the scenario in `read` with the command line's options `o`.
+    pub fn new(o: &Settings, read: &ScenarioFile) -> Result<Self> {
+        let (scenario, file) = (&read.scenario, read.path.as_path());
         let maze = scenario
             .maze
             .as_ref()
@@ -148,7 +150,7 @@ impl Setup {
                 ),
             ));
         }
-        let (loop_corners, geometry) = corners(scenario, file, maze.position_m[2])?;
+        let (loop_corners, geometry) = corners(read, maze.position_m[2])?;
         let sensing = match (o.sensing, scenario.sensing) {
             (Some(s), _) => s,
             (None, Sensing::Physics) => SensingMode::Physics,
@@ -162,14 +164,12 @@ impl Setup {
             }
         };
         let physics = match sensing {
-            SensingMode::Physics => Some(physics_configs(scenario, file, o)?),
+            SensingMode::Physics => Some(physics_configs(read, o)?),
             SensingMode::Kinematic => None,
         };
         let (truth, starts) = path::path(&loop_corners, config.circuits);
         let set_names = match &physics {
-            None => vec![kinematic_set_name(
-                &scenario.whisker_configs(file)?[0].control,
-            )],
+            None => vec![kinematic_set_name(&read.whisker_configs()?[0].control)],
             Some(w) => image_set_names(&w.configs[0].control.name(), &config.images),
         };
         Ok(Self {
@@ -225,14 +225,14 @@ pub struct Sensed {
 /// Senses one seed live (or reads `--images`).
 pub(super) fn sense(
     o: &Settings,
-    scenario: &Scenario,
+    read: &ScenarioFile,
     setup: &Setup,
     environment: &Environment,
     target: &std::cell::OnceCell<SweepTarget>,
     seed: u64,
     ctx: Context,
 ) -> Result<Sensed> {
-    let file = o.scenario.as_path();
+    let (scenario, file) = (&read.scenario, read.path.as_path());
     let config = &scenario.maze_slam;
     let (g, truth) = (&setup.geometry, &setup.truth);
     let image_sets: Vec<ImageSet> = match (&o.images, &setup.physics) {
@@ -249,7 +249,7 @@ pub(super) fn sense(
             let noise = scenario.kinematic.noise(file)?;
             let key = substream_key(seed, "maze-slam/sensing");
             let whiskers = kinematic_whiskers();
-            let control = scenario.whisker_configs(file)?[0].control;
+            let control = read.whisker_configs()?[0].control;
             let images = kinematic_contacts(truth, target, noise, key, g, control)
                 .iter()
                 .map(|c| g.contact_image(c, &whiskers))

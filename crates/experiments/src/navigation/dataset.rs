@@ -28,9 +28,9 @@ use crate::dataset::{Staging, array_info, records};
 use crate::object_slam::dataset::{odometry_csv, pose_log};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use std::fmt::Write;
-use std::path::Path;
-use whisker_scenario::Scenario;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::{Error, Result};
+use whisker_scenario::navigate::NavigateConfig;
 use whisker_scenario::object_mode::DockBy;
 use whisker_slam::ratslam::experience_map::Pose2;
 
@@ -56,36 +56,36 @@ pub fn floor_pose(b: &Pose2) -> Isometry3<f64> {
     )
 }
 
-/// Runs the `[navigate]` of `scenario` (read from `file`, its seed the dataset's) and
-/// writes it into `s`; `scenario_text` is the scenario as run.
+/// Runs the `[navigate]` (`config`) of the scenario in `file` (its seed the dataset's)
+/// and writes it into `s`; `scenario_text` is the scenario as run.
 pub fn write(
-    file: &Path,
-    scenario: &Scenario,
+    file: &ScenarioFile,
+    config: &NavigateConfig,
     scenario_text: &str,
     s: &mut Staging,
     reporter: &dyn crate::record::Reporter,
 ) -> Result<Manifest> {
-    let config = scenario.navigate.as_ref().expect("checked by the caller");
+    let scenario = &file.scenario;
     if scenario.sensing != whisker_scenario::Sensing::Kinematic {
         return Err(Error::field(
-            file,
+            &file.path,
             "sensing",
             "a navigate dataset is written from kinematic sensing (level contacts); physics \
              sensing on the moving base is not written as whisk streams yet",
         ));
     }
-    let plan = whisker_scenario::plan::Plan::new(scenario, file)?;
-    let environment = scenario.environment(file)?.environment;
-    outputs::check(file, scenario, &plan, &environment)?;
-    let run = terrain::run(scenario, file, &plan, &environment, config, reporter, None)?;
+    let plan = whisker_scenario::plan::Plan::new(file)?;
+    let environment = file.environment()?.environment;
+    outputs::check(file, config, &plan, &environment)?;
+    let run = terrain::run(file, &plan, &environment, config, reporter, None)?;
     let whiskers = crate::maze_slam::kinematic_whiskers();
     let array = array_info(&whiskers);
     put_log(&run, &array.labels, s)?;
     let maps = match &config.object {
-        Some(o) => crate::closed_loop::dataset::put_maps(file, &o.explore, s)?,
+        Some(o) => crate::closed_loop::dataset::put_maps(&file.path, &o.explore, s)?,
         None => Vec::new(),
     };
-    put_truth(&run, scenario, scenario_text, s)?;
+    put_truth(&run, (scenario.seed, config), scenario_text, s)?;
     let posture = &run.posture;
     let (t, q) = (
         posture.array.translation.vector,
@@ -123,7 +123,7 @@ pub fn write(
     };
     Ok(Manifest {
         noise: NoiseInfo {
-            contacts: ContactNoiseInfo::of(scenario.kinematic.noise(file)?),
+            contacts: ContactNoiseInfo::of(scenario.kinematic.noise(&file.path)?),
             ..NoiseInfo::default()
         },
         navigate: Some(info),
@@ -192,8 +192,12 @@ fn put_log(run: &TerrainRun, labels: &[String], s: &mut Staging) -> Result {
 
 /// The ground truth: true poses, the objects at the stops, the route's laps and carry,
 /// the loops' reached poses, the live run's files and the scenario.
-fn put_truth(run: &TerrainRun, scenario: &Scenario, text: &str, s: &mut Staging) -> Result {
-    let config = scenario.navigate.as_ref().expect("checked by the caller");
+fn put_truth(
+    run: &TerrainRun,
+    (seed, config): (u64, &NavigateConfig),
+    text: &str,
+    s: &mut Staging,
+) -> Result {
     let mut poses = String::from(TRUTH_COLUMNS) + "\n";
     for (k, u) in run.updates.iter().enumerate() {
         let b = &u.truth;
@@ -223,7 +227,7 @@ fn put_truth(run: &TerrainRun, scenario: &Scenario, text: &str, s: &mut Staging)
     let route = serde_json::to_string_pretty(&route).expect("plain JSON") + "\n";
     s.put("truth/route.json", Role::Truth, route.as_bytes())?;
     let flags = (config.object.is_some(), config.fusion, config.kidnap);
-    let (path, stops, summary) = outputs::tables(run, scenario.seed, flags, Known::ALL);
+    let (path, stops, summary) = outputs::tables(run, seed, flags, Known::ALL);
     s.put("truth/run/path.csv", Role::Truth, path.as_bytes())?;
     s.put("truth/run/stops.csv", Role::Truth, stops.as_bytes())?;
     // As `whisker run` writes it.

@@ -31,12 +31,11 @@ use crate::closed_loop;
 use crate::record::Recorder;
 use nalgebra::{Isometry3, Point2};
 use std::collections::BTreeMap;
-use std::path::Path;
-use whisker_scenario::Scenario;
 use whisker_scenario::error::{Error, Result};
 use whisker_scenario::explore::{ExploreConfig, Task};
 use whisker_scenario::object_mode::ObjectModeConfig;
 use whisker_scenario::plan::Plan;
+use whisker_scenario::{Experiment, ScenarioFile};
 use whisker_sim::environment::Environment;
 use whisker_slam::navigation::base_odometry::{BaseMotion, BaseOdometryNoise};
 use whisker_slam::ratslam::experience_map::{Pose2, wrap};
@@ -181,20 +180,20 @@ pub fn compose(first: &BaseMotion, then: &BaseMotion) -> BaseMotion {
 /// `NNNNNN-map`) and what its camera frames (the object, in the arm's base frame).
 pub type StopRecorder<'a> = &'a dyn Fn(&str, &Environment) -> Result<Box<dyn Recorder>>;
 
-/// What a stop's closed loop runs in: the scenario (read from `file`), its arm and the
-/// office; `record` records each loop (none: no recordings).
+/// What a stop's closed loop runs in: the scenario's `file`, its arm and the office;
+/// `record` records each loop (none: no recordings).
 pub struct Setting<'a> {
-    pub scenario: &'a Scenario,
-    pub file: &'a Path,
+    pub file: &'a ScenarioFile,
     pub plan: &'a Plan,
     pub environment: &'a Environment,
     pub record: Option<StopRecorder<'a>>,
 }
 
-/// Runs the closed loop of `stop` in `local` knowing `learned`, recorded as `name` when
-/// `record` is given (the camera on `focus`): the loop's whisks, then the arm's motion.
+/// Runs the closed loop `config` of `stop` in `local` knowing `learned`, recorded as
+/// `name` when `record` is given (the camera on `focus`): the loop's whisks, then the
+/// arm's motion.
 fn recorded_loop(
-    (stop, file, plan): (&Scenario, &Path, &Plan),
+    (stop, config, plan): (&ScenarioFile, &ExploreConfig, &Plan),
     (local, focus): (&Environment, &Environment),
     learned: &[(String, ObjectMap)],
     record: Option<StopRecorder>,
@@ -209,7 +208,7 @@ fn recorded_loop(
         None => None,
     };
     let outcome =
-        closed_loop::run_recorded(stop, file, plan.clone(), local, learned, rec.as_deref())?;
+        closed_loop::run_recorded(stop, config, plan.clone(), local, learned, rec.as_deref())?;
     if let Some(rec) = rec {
         closed_loop::record_arm(rec.as_ref(), plan, &outcome)?;
         rec.finish()?;
@@ -229,23 +228,22 @@ pub fn explore(
     learned: &mut Learned,
 ) -> Result<(Episode, Loops)> {
     let Setting {
-        scenario,
         file,
         plan,
         environment,
         record,
     } = *setting;
-    let name = scenario.object_names()[piece].clone();
-    let mut stop = scenario.clone();
-    stop.navigate = None;
-    stop.explore = Some(config.episode(&name));
-    stop.seed = substream_key(scenario.seed, &format!("navigate/stop/{update}"));
+    let name = file.scenario.object_names()[piece].clone();
+    let mut stop = file.clone();
+    let recognise = config.episode(&name);
+    stop.scenario.experiment = Experiment::ClosedLoop(Box::new(recognise.clone()));
+    stop.scenario.seed = substream_key(file.scenario.seed, &format!("navigate/stop/{update}"));
     let to_base = arm_base.inverse();
     let mut local = environment.clone();
     for p in &mut local.pieces {
         p.pose = to_base * p.pose;
     }
-    let at = (&stop, file, plan);
+    let at = (&stop, &recognise, plan);
     let focus = Environment {
         pieces: vec![local.pieces[piece].clone()],
     };
@@ -279,14 +277,15 @@ pub fn explore(
     };
     if episode.identified.is_none() && config.map_unmapped {
         // None of the known objects: build its map (Ch 6 map building) and learn it.
-        stop.explore = Some(ExploreConfig {
+        let mapping = ExploreConfig {
             task: Task::Map,
             maps: Default::default(),
             max_iterations: config.map_whisks,
-            ..config.episode(&name)
-        });
+            ..recognise
+        };
+        stop.scenario.experiment = Experiment::ClosedLoop(Box::new(mapping.clone()));
         let loop_name = format!("{update:06}-map");
-        let at = (&stop, file, plan);
+        let at = (&stop, &mapping, plan);
         let built = recorded_loop(at, (&local, &focus), &[], record, &loop_name)?;
         let (whisks, time_s) = effort(&built.summary)?;
         episode.whisks += whisks;

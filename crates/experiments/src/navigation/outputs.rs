@@ -9,8 +9,9 @@ use crate::maze_slam::run_recording::RunRecording;
 use crate::record::{Context, Eye, Layout, Target};
 use serde_json::json;
 use std::path::Path;
-use whisker_scenario::Scenario;
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::ScenarioFile;
+use whisker_scenario::error::Result;
+use whisker_scenario::navigate::NavigateConfig;
 use whisker_scenario::output;
 use whisker_scenario::plan::Plan;
 use whisker_sim::environment::Environment;
@@ -118,29 +119,24 @@ pub fn tables(
     (path, stops, summary)
 }
 
-/// Checks what a navigation run of `scenario` (read from `file`) needs beyond the
+/// Checks what the navigation run `n` of the scenario in `file` needs beyond the
 /// scenario's own fields: the arm's terrain posture, and the route clear of the office's
 /// walls and posts and of the objects (the first pieces of `environment`); says what it
 /// would do. `whisker check` and `whisker run` both call it, before anything is written.
 pub fn check(
-    file: &Path,
-    scenario: &Scenario,
+    file: &ScenarioFile,
+    n: &NavigateConfig,
     plan: &Plan,
     environment: &Environment,
 ) -> Result<String> {
-    let (Some(n), Some(office)) = (&scenario.navigate, &scenario.office) else {
-        return Err(Error::field(
-            file,
-            "navigate",
-            "expected [navigate] and [office]",
-        ));
-    };
+    let scenario = &file.scenario;
     let objects = Environment {
         pieces: environment.pieces[..scenario.objects.len()].to_vec(),
     };
-    n.check_route(file, &office.checked_plan(file)?, &objects)?;
-    let chain = crate::sensing::array::array_chain(scenario, file, plan)?;
-    let posture = super::posture::Posture::solve(&n.terrain, &chain, &plan.waypoints[0], file)?;
+    n.check_route(&file.path, &floor_plan(file)?, &objects)?;
+    let chain = crate::sensing::array::array_chain(file, plan)?;
+    let posture =
+        super::posture::Posture::solve(&n.terrain, &chain, &plan.waypoints[0], &file.path)?;
     let t = &n.terrain;
     let joints: Vec<String> = posture
         .q
@@ -159,19 +155,31 @@ pub fn check(
     ))
 }
 
-/// Runs the `[navigate]` of `scenario` (read from `file`) in `environment` and writes its
-/// outputs into `dir` (which exists).
+/// The floor plan of the scenario's `[office]`, which `[navigate]` drives round.
+fn floor_plan(file: &ScenarioFile) -> Result<whisker_sim::environment::floor_plan::FloorPlan> {
+    match &file.scenario.office {
+        Some(office) => office.checked_plan(&file.path),
+        // Refused when the scenario was read (NavigateConfig::validate).
+        None => Err(file.error(
+            "navigate",
+            "[navigate] drives round an office: expected an [office] section",
+        )),
+    }
+}
+
+/// Runs the `[navigate]` (`config`) of the scenario in `file` in `environment` and writes
+/// its outputs into `dir` (which exists).
 pub fn write(
-    file: &Path,
-    scenario: &Scenario,
+    file: &ScenarioFile,
+    config: &NavigateConfig,
     (plan, environment): (&Plan, &Environment),
     dir: &Path,
     rrd: &Target,
     ctx: Context,
 ) -> Result {
-    let config = scenario.navigate.as_ref().expect("a [navigate] scenario");
+    let scenario = &file.scenario;
     let recorder = ctx.scenario_recording(
-        file,
+        &file.path,
         scenario.seed,
         scenario.output.recording,
         dir,
@@ -200,7 +208,7 @@ pub fn write(
     let stops_dir = rrd
         .path(Some(dir), scenario.output.recording)
         .map(|p| p.parent().unwrap_or(dir).join("stops"));
-    let stem = file.file_stem().unwrap_or_default().to_string_lossy();
+    let stem = file.path.file_stem().unwrap_or_default().to_string_lossy();
     let record_stop =
         |name: &str, focus: &Environment| -> Result<Box<dyn crate::record::Recorder>> {
             let dir = stops_dir.as_ref().expect("only with a recording");
@@ -216,7 +224,6 @@ pub fn write(
         };
     let stops: super::object_mode::StopRecorder = &record_stop;
     let run = terrain::run(
-        scenario,
         file,
         plan,
         environment,
@@ -241,11 +248,7 @@ pub fn write(
     let (path, stops, summary) = tables(&run, scenario.seed, flags, Known::ALL);
     output::write_atomic(&dir.join("path.csv"), path.as_bytes())?;
     output::write_atomic(&dir.join("stops.csv"), stops.as_bytes())?;
-    let floor = scenario
-        .office
-        .as_ref()
-        .expect("checked")
-        .checked_plan(file)?;
+    let floor = floor_plan(file)?;
     let objects: Vec<(String, [f64; 2], [f64; 2])> = environment.pieces[..scenario.objects.len()]
         .iter()
         .map(|p| {
@@ -256,7 +259,7 @@ pub fn write(
     let figure = dir.join("path.svg");
     let title = format!(
         "{}, seed {}: map {:.3} m rms, odometry alone {:.3} m rms (after the best rigid fits)",
-        file.file_name().unwrap_or_default().to_string_lossy(),
+        file.path.file_name().unwrap_or_default().to_string_lossy(),
         scenario.seed,
         run.map_error.map_or(f64::NAN, |e| e.rms_m),
         run.odometry_error.map_or(f64::NAN, |e| e.rms_m),

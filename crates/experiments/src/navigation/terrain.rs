@@ -41,8 +41,8 @@ use crate::maze_slam::run_recording::RunRecording;
 use crate::record::Reporter;
 use crate::sensing::held::PhysicsSensing;
 use nalgebra::{Isometry3, Point2, Point3};
-use std::path::Path;
 use whisker_scenario::Scenario;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::Sensing;
 use whisker_scenario::error::{Error, Result};
 use whisker_scenario::navigate::NavigateConfig;
@@ -124,19 +124,19 @@ impl Whisks {
 /// The whiskers (rigid, for the images and free points) and the whisks of `scenario`'s
 /// sensing; `poses` gives every update's array pose (physics simulates them first).
 fn whisks(
-    scenario: &Scenario,
-    file: &Path,
+    file: &ScenarioFile,
     environment: &Environment,
     target: &SweepTarget,
     reporter: &dyn Reporter,
     poses: impl FnOnce() -> Vec<Isometry3<f64>>,
 ) -> Result<(Vec<RigidWhisker>, Whisks)> {
-    let configs = scenario.whisker_configs(file)?;
+    let scenario = &file.scenario;
+    let configs = file.whisker_configs()?;
     Ok(match scenario.sensing {
         Sensing::Physics => {
             let physics = PhysicsSensing::with_configs(
                 environment.physics_pieces(),
-                scenario.frontend.model(file)?,
+                scenario.frontend.model(&file.path)?,
                 configs.clone(),
             );
             let cycles = physics.sense(target, &poses(), scenario.seed, "navigate", reporter);
@@ -146,7 +146,7 @@ fn whisks(
         _ => {
             let whiskers = crate::maze_slam::kinematic_whiskers();
             let patterns = vec![WhiskingPattern::default(); whiskers.len()];
-            let noise = scenario.kinematic.noise(file)?;
+            let noise = scenario.kinematic.noise(&file.path)?;
             let key = substream_key(scenario.seed, "navigate/sensing");
             let array = KinematicArray::new(whiskers.clone(), patterns, noise, key)
                 .with_control(configs[0].control);
@@ -258,27 +258,27 @@ pub struct TerrainRun {
 /// given, its progress said to `reporter`; with `recording`, each update into the office's
 /// recording and each stop's closed loops into recordings of their own.
 pub fn run(
-    scenario: &Scenario,
-    file: &Path,
+    file: &ScenarioFile,
     plan: &Plan,
     environment: &Environment,
     config: &NavigateConfig,
     reporter: &dyn Reporter,
     recording: Option<(&mut RunRecording, object_mode::StopRecorder)>,
 ) -> Result<TerrainRun> {
+    let scenario = &file.scenario;
     let (mut recording, record) = match recording {
         Some((run, stops)) => (Some(run), Some(stops)),
         None => (None, None),
     };
-    let chain = crate::sensing::array::array_chain(scenario, file, plan)?;
-    let posture = Posture::solve(&config.terrain, &chain, &plan.waypoints[0], file)?;
+    let chain = crate::sensing::array::array_chain(file, plan)?;
+    let posture = Posture::solve(&config.terrain, &chain, &plan.waypoints[0], &file.path)?;
     let route = route::poses(config, 1.0 / UPDATE_HZ);
     let (truth, carried) = match config.kidnap {
         false => (route, None),
         true => {
             let (cut, j) = route::kidnap(&route, config).ok_or_else(|| {
                 Error::field(
-                    file,
+                    &file.path,
                     "navigate.kidnap",
                     "the route never reaches its middle waypoint",
                 )
@@ -304,7 +304,7 @@ pub fn run(
     let joints = plan.model_joints(&posture.q);
 
     let target = SweepTarget::of(environment);
-    let (whiskers, mut whisks) = whisks(scenario, file, environment, &target, reporter, || {
+    let (whiskers, mut whisks) = whisks(file, environment, &target, reporter, || {
         truth.iter().map(|b| posture.array_pose(b)).collect()
     })?;
     let mut robot = Navigator::of(config, whiskers, posture.clone());
@@ -318,7 +318,6 @@ pub fn run(
     let mut newest_piece = None;
     let mut learned = object_mode::Learned::default();
     let setting = object_mode::Setting {
-        scenario,
         file,
         plan,
         environment,

@@ -2,8 +2,7 @@
 //! chain that places it.
 
 use std::fmt::Write as _;
-use std::path::Path;
-use whisker_scenario::Scenario;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::{Error, Result};
 use whisker_scenario::plan::Plan;
 use whisker_sim::kinematics::Chain;
@@ -11,8 +10,9 @@ use whisker_sim::whisker::control::{RcpThreshold, WhiskingPattern};
 use whisker_sim::whisker::strategies::WhiskingControl;
 
 /// A description of the array of `scenario` for `whisker check`: one line per whisker.
-pub fn describe(scenario: &Scenario, file: &Path) -> Result<String> {
-    let configs = scenario.whisker_configs(file)?;
+pub fn describe(file: &ScenarioFile) -> Result<String> {
+    let scenario = &file.scenario;
+    let configs = file.whisker_configs()?;
     let a = &scenario.array;
     let contacts = match a.contact_mode() {
         None => String::new(),
@@ -55,10 +55,11 @@ pub fn describe(scenario: &Scenario, file: &Path) -> Result<String> {
 
 /// The chain from the arm's base to the `whisker_array` link, which must be moved by the
 /// same joints as the scenario's tip link.
-pub fn array_chain(scenario: &Scenario, file: &Path, plan: &Plan) -> Result<Chain> {
+pub fn array_chain(file: &ScenarioFile, plan: &Plan) -> Result<Chain> {
+    let scenario = &file.scenario;
     let chain = Chain::new(&plan.model, &plan.chain.base, "whisker_array").map_err(|e| {
         Error::field(
-            file,
+            &file.path,
             "sensing",
             format!(
                 "{:?} needs a whisker_array link in the URDF: {e}",
@@ -68,7 +69,7 @@ pub fn array_chain(scenario: &Scenario, file: &Path, plan: &Plan) -> Result<Chai
     })?;
     if chain.joint_names != plan.chain.joint_names {
         return Err(Error::field(
-            file,
+            &file.path,
             "arm.tip_link",
             "the whisker_array link must be moved by the same joints as the tip link",
         ));

@@ -7,7 +7,7 @@ use crate::record::SensorColumns;
 use crate::record::{Recorder, Reporter};
 use std::fmt::Write as _;
 use std::path::Path;
-use whisker_scenario::Scenario;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::Result;
 use whisker_scenario::output;
 use whisker_scenario::plan::Plan;
@@ -37,15 +37,15 @@ pub struct ArraySimulation {
 impl ArraySimulation {
     /// Builds the array of `scenario` at the plan's start, calibrating RCP thresholds.
     pub fn new(
-        scenario: &Scenario,
-        file: &Path,
+        file: &ScenarioFile,
         plan: &Plan,
         environment: &Environment,
         recording: Option<&dyn Recorder>,
         reporter: &dyn Reporter,
     ) -> Result<Self> {
-        let mut configs = scenario.whisker_configs(file)?;
-        let chain = super::array::array_chain(scenario, file, plan)?;
+        let scenario = &file.scenario;
+        let mut configs = file.whisker_configs()?;
+        let chain = super::array::array_chain(file, plan)?;
         let dt = whisker_sim::sensing::physics::DT;
         if let Some(mode) = scenario.array.contact_mode() {
             calibrate_array_rcp(&mut configs, mode, scenario.seed, dt);
@@ -85,7 +85,7 @@ impl ArraySimulation {
         }
         csv.push('\n');
         let start = chain.fk(&plan.waypoints[0]);
-        let frontend = super::frontend::FrontEnd::new(scenario, file, &configs)?;
+        let frontend = super::frontend::FrontEnd::new(file, &configs)?;
         let columns = match recording {
             Some(rec) => {
                 let labels: Vec<String> = configs.iter().map(|c| c.module.pixel()).collect();

@@ -15,7 +15,7 @@ use crate::record::Recorder;
 use crate::record::{Contact, ContactKind};
 use nalgebra::Isometry3;
 use std::path::Path;
-use whisker_scenario::Scenario;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::Result;
 use whisker_scenario::output;
 use whisker_sim::sensing::kinematic::RigidWhisker;
@@ -44,8 +44,9 @@ pub struct FrontEnd {
 
 impl FrontEnd {
     /// The front end of `scenario` for whiskers `configs`.
-    pub fn new(scenario: &Scenario, file: &Path, configs: &[WhiskerConfig]) -> Result<Self> {
-        let model = scenario.frontend.model(file)?;
+    pub fn new(file: &ScenarioFile, configs: &[WhiskerConfig]) -> Result<Self> {
+        let scenario = &file.scenario;
+        let model = scenario.frontend.model(&file.path)?;
         Ok(Self {
             params: scenario.frontend.detection,
             model,

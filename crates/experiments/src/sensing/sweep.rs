@@ -11,7 +11,7 @@ use super::contact::{HEADER, append_cycle, intersects, rigid_shafts};
 use crate::record::ContactKind;
 use crate::record::Recorder;
 use std::path::Path;
-use whisker_scenario::Scenario;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::Result;
 use whisker_scenario::output;
 use whisker_scenario::plan::Plan;
@@ -42,15 +42,15 @@ impl ContactSensing {
     /// Sets up the sweep of the scenario's array against `environment`, with `noise`,
     /// written to `name`.csv.
     pub fn new(
-        scenario: &Scenario,
-        file: &Path,
+        file: &ScenarioFile,
         plan: &Plan,
         environment: &Environment,
         noise: ContactNoise,
         name: &'static str,
     ) -> Result<Self> {
-        let configs = scenario.whisker_configs(file)?;
-        let chain = crate::sensing::array::array_chain(scenario, file, plan)?;
+        let scenario = &file.scenario;
+        let configs = file.whisker_configs()?;
+        let chain = crate::sensing::array::array_chain(file, plan)?;
         let whiskers = configs
             .iter()
             .map(|c| {

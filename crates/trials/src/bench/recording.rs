@@ -9,7 +9,7 @@ use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
 use whisker_experiments::record::{Context, Target};
-use whisker_scenario::Scenario;
+use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::Result;
 use whisker_scenario::overrides::Override;
 
@@ -41,8 +41,8 @@ pub struct Report {
 
 /// `whisker bench recording`.
 pub fn recording(o: &Settings, ctx: Context) -> Result<Report> {
-    let mut scenario = Scenario::load_with(&o.scenario, &o.set)?;
-    scenario.output.recording = true;
+    let mut file = ScenarioFile::load_with(&o.scenario, &o.set)?;
+    file.scenario.output.recording = true;
     let (without_dir, with_dir) = (o.out.join("without"), o.out.join("with"));
     let mut best = [f64::INFINITY; 2];
     let quiet = Context {
@@ -60,7 +60,7 @@ pub fn recording(o: &Settings, ctx: Context) -> Result<Report> {
                 ..Default::default()
             };
             let start = Instant::now();
-            whisker_experiments::run::execute(&o.scenario, &scenario, dir, &rrd, quiet)?;
+            whisker_experiments::run::execute(&file, dir, &rrd, quiet)?;
             best[k] = best[k].min(start.elapsed().as_secs_f64());
         }
     }
@@ -76,7 +76,7 @@ pub fn recording(o: &Settings, ctx: Context) -> Result<Report> {
     let bytes = std::fs::metadata(with_dir.join("run.rrd")).map_or(0, |m| m.len());
     Ok(Report {
         scenario: o.scenario.display().to_string(),
-        sensing: scenario.sensing.name(),
+        sensing: file.scenario.sensing.name(),
         simulated_s: simulated,
         wall_without_s: best[0],
         wall_with_s: best[1],
