@@ -28,7 +28,7 @@ fn noise_free_contacts_lie_on_the_object_and_on_the_shaft() {
     let mesh = load(&repo("assets/meshes/kettle.obj"), &MeshOptions::default())
         .unwrap()
         .mesh;
-    let shape = mesh.shape().unwrap();
+    let shape = whisker_sim::environment::solids::shape(&mesh).unwrap();
     let pose = whisker_slam::pose::from_xyz_rpy([0.5, 0.0, 0.0], [0.0, 0.0, 90f64.to_radians()]);
     let lengths = [0.060, 0.100, 0.160];
     for c in &contacts {
@@ -375,18 +375,19 @@ fn a_mesh_auto_refuses_runs_as_a_soup_or_a_voxel_remesh() {
         };
         let points = contact_points(&run_into(&scenario, &tmp.path().join(repair)));
         assert!(points.len() > 20, "{repair}: {} contacts", points.len());
-        let soup = load(
-            &file,
-            &MeshOptions {
-                repair: Repair::Soup,
-                ..Default::default()
-            },
+        let soup = whisker_sim::environment::solids::soup_shape(
+            &load(
+                &file,
+                &MeshOptions {
+                    repair: Repair::Soup,
+                    ..Default::default()
+                },
+            )
+            .unwrap()
+            .mesh,
         )
-        .unwrap()
-        .mesh
-        .soup_shape()
         .unwrap();
-        let surface = loaded.mesh.soup_shape().unwrap();
+        let surface = whisker_sim::environment::solids::soup_shape(&loaded.mesh).unwrap();
         for p in &points {
             let local = pose.inverse_transform_point(p);
             let q = PVector::new(local.x, local.y, local.z);

@@ -47,7 +47,7 @@ impl MeshSurface {
     /// The triangles of `mesh` (world) seen from `centre`, as a two-sided triangle mesh.
     pub fn new(mesh: &Mesh, centre: Point3<f64>) -> Result<Self, String> {
         Ok(Self {
-            shape: mesh.soup_shape()?,
+            shape: whisker_sim::environment::solids::soup_shape(mesh)?,
             centre,
         })
     }

@@ -298,9 +298,9 @@ fn load_object(file: &Path, i: usize, o: &ObjectConfig, seed: u64) -> Result<(Pi
     let loaded =
         mesh::load(&path, &options).map_err(|e| Error::field(file, &format!("{field}.mesh"), e))?;
     let shape = if loaded.solid {
-        loaded.mesh.shape()
+        whisker_sim::environment::solids::shape(&loaded.mesh)
     } else {
-        loaded.mesh.soup_shape()
+        whisker_sim::environment::solids::soup_shape(&loaded.mesh)
     }
     .map_err(|e| Error::field(file, &format!("{field}.mesh"), e))?;
     let name = o.display_name(i);

@@ -47,7 +47,8 @@ fn catalogue_assets_are_closed_outward_and_of_their_documented_size() {
         }
         let lo = m.vertices.iter().fold(f64::INFINITY, |a, v| a.min(v.z));
         assert!(lo.abs() < 1e-6, "{} stands on z = 0", asset.name);
-        m.shape().unwrap_or_else(|e| panic!("{}: {e}", asset.name));
+        whisker_sim::environment::solids::shape(m)
+            .unwrap_or_else(|e| panic!("{}: {e}", asset.name));
     }
     // Box-Stack is Box with a protrusion: same upper region, larger volume.
     let volume = |name: &str| {

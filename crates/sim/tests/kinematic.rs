@@ -291,7 +291,7 @@ fn sweep_matches_brute_force_ray_casts_on_catalogue_objects() {
         .filter(|a| ["mug", "skull", "box_stack"].contains(&a.name))
     {
         let mesh = generate(asset);
-        let shape = mesh.shape().unwrap();
+        let shape = whisker_sim::environment::solids::shape(&mesh).unwrap();
         let target = SweepTarget::new(mesh);
         for _ in 0..60 {
             // The array 5–25 cm from the object's centre, facing it, randomly rolled.

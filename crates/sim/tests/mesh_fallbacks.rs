@@ -114,7 +114,7 @@ fn voxel_remesh_of_a_random_soup_is_one_outward_solid_per_part() {
     let volumes = loaded.mesh.component_volumes();
     assert!(volumes.iter().all(|&v| v > 0.0), "{volumes:?}");
     assert!(loaded.mesh.is_closed_and_consistent());
-    assert!(loaded.mesh.shape().is_ok());
+    assert!(whisker_sim::environment::solids::shape(&loaded.mesh).is_ok());
     let (max, _) = reported_deviation(&loaded);
     assert!(max < 0.01, "{:?}", loaded.repairs);
 }

@@ -5,7 +5,7 @@
 //! so a replay decides, stops and maps exactly as the robot did.
 //!
 //! Per update ([`Navigator::update`]): the odometry's reading dead-reckons the base; the
-//! whisk becomes a tactile image ([`super::terrain::image`]) and one planar RatSLAM step
+//! whisk becomes a tactile image ([`image`]) and one planar RatSLAM step
 //! (Ch 3; a whisk that touched nothing does not inject); its contacts and free points join
 //! the cue's plan view ([`super::plan_view`]) at the dead-reckoned pose, and the cue
 //! decides while the window holds a contact. At an "object" whose outline lies farther than
@@ -25,6 +25,19 @@ use whisker_slam::navigation::mode_switch::{Decision, ModeSwitch, Verdict};
 use whisker_slam::ratslam::experience_map::Pose2;
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::ratslam::{RatSlam, RatSlamParams, Step};
+
+/// The tactile image of a whisk (`super::terrain`'s module documentation): each contacted whisker's
+/// pixel 1 + 254 × (θ_p − θ) / (θ_p − θ_r), θ its contact angle and θ_r, θ_p its
+/// retraction and protraction limits; 0 where it touched nothing.
+pub fn image(cycle: &ContactCycle, whiskers: &[RigidWhisker]) -> TactileImage {
+    let mut image = TactileImage::default();
+    for c in &cycle.contacts {
+        let w = &whiskers[c.whisker];
+        let early = ((w.protracted - c.angle_rad) / (w.protracted - w.retracted)).clamp(0.0, 1.0);
+        image.pixels[c.whisker] = 1 + (254.0 * early).round() as u8;
+    }
+    image
+}
 
 /// What the robot does at its stops (`[navigate.object]`, as far as the robot's own
 /// decisions need it).
@@ -127,7 +140,7 @@ impl Navigator {
             Some(at) => reading.apply(at),
         };
         self.at = Some(dr);
-        let image = super::terrain::image(cycle, &self.whiskers);
+        let image = image(cycle, &self.whiskers);
         self.view
             .add(cycle, &self.whiskers, &self.posture.array_pose(&dr));
         let outline = self.view.outline();
@@ -174,5 +187,43 @@ impl Navigator {
             self.landmarks
                 .observe(&mut self.slam, id, rules.landmark_energy)
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Isometry3;
+    use nalgebra::Point3;
+    use whisker_slam::contact::Contact;
+
+    fn cycle(contacts: &[(usize, f64)]) -> ContactCycle {
+        ContactCycle {
+            index: 0,
+            start_s: 0.0,
+            array_pose: Isometry3::identity(),
+            contacts: contacts
+                .iter()
+                .map(|&(whisker, angle)| Contact {
+                    whisker,
+                    time_s: 0.0,
+                    angle_rad: angle.to_radians(),
+                    radial_distance: 0.1,
+                    point: Point3::origin(),
+                    slope: 0.0,
+                })
+                .collect(),
+        }
+    }
+
+    /// 40°–140° whisks: a contact at 40° is 255, at 140° 1, at 90° 1 + 127 = 128; an
+    /// untouched whisker 0.
+    #[test]
+    fn the_image_scales_the_contact_angle_early_bright() {
+        let ws = crate::maze_slam::kinematic_whiskers();
+        let img = image(&cycle(&[(0, 40.0), (5, 140.0), (17, 90.0)]), &ws);
+        let mut want = [0u8; 18];
+        (want[0], want[5], want[17]) = (255, 1, 128);
+        assert_eq!(img.pixels, want);
     }
 }

@@ -11,7 +11,7 @@
 //! - **Sensing.** The kinematic sweep (the anticipated intersect of each rigid whisker,
 //!   the `[kinematic]` detection noise; sub-stream `navigate/sensing` of the seed) at that
 //!   pose. A whisker's pixel is its contact angle scaled so that an early contact is
-//!   bright ([`image`]): along a wall beside the array the angle at which a whisker meets
+//!   bright ([`super::navigator::image`]): along a wall beside the array the angle at which a whisker meets
 //!   it is what changes with the wall's distance and shape, as the tip's height is over
 //!   the maze's board (§3.1.1, where the array faces the surface).
 //! - **RatSLAM.** One [`RatSlam::step_gated`] per update with the odometry's drive and
@@ -66,19 +66,6 @@ use whisker_slam::rng::substream_key;
 
 /// Updates per second: one whisk each at the whisking frequency (1 Hz).
 pub const UPDATE_HZ: f64 = 1.0;
-
-/// The tactile image of a whisk (see the module documentation): each contacted whisker's
-/// pixel 1 + 254 × (θ_p − θ) / (θ_p − θ_r), θ its contact angle and θ_r, θ_p its
-/// retraction and protraction limits; 0 where it touched nothing.
-pub fn image(cycle: &ContactCycle, whiskers: &[RigidWhisker]) -> TactileImage {
-    let mut image = TactileImage::default();
-    for c in &cycle.contacts {
-        let w = &whiskers[c.whisker];
-        let early = ((w.protracted - c.angle_rad) / (w.protracted - w.retracted)).clamp(0.0, 1.0);
-        image.pixels[c.whisker] = 1 + (254.0 * early).round() as u8;
-    }
-    image
-}
 
 /// How the terrain whisks are sensed.
 enum Whisks {
@@ -486,42 +473,4 @@ pub fn run(
         estimate,
         dead_reckoned,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use nalgebra::Isometry3;
-    use nalgebra::Point3;
-    use whisker_slam::contact::Contact;
-
-    fn cycle(contacts: &[(usize, f64)]) -> ContactCycle {
-        ContactCycle {
-            index: 0,
-            start_s: 0.0,
-            array_pose: Isometry3::identity(),
-            contacts: contacts
-                .iter()
-                .map(|&(whisker, angle)| Contact {
-                    whisker,
-                    time_s: 0.0,
-                    angle_rad: angle.to_radians(),
-                    radial_distance: 0.1,
-                    point: Point3::origin(),
-                    slope: 0.0,
-                })
-                .collect(),
-        }
-    }
-
-    /// 40°–140° whisks: a contact at 40° is 255, at 140° 1, at 90° 1 + 127 = 128; an
-    /// untouched whisker 0.
-    #[test]
-    fn the_image_scales_the_contact_angle_early_bright() {
-        let ws = crate::maze_slam::kinematic_whiskers();
-        let img = image(&cycle(&[(0, 40.0), (5, 140.0), (17, 90.0)]), &ws);
-        let mut want = [0u8; 18];
-        (want[0], want[5], want[17]) = (255, 1, 128);
-        assert_eq!(img.pixels, want);
-    }
 }

@@ -123,8 +123,7 @@ pub fn sense(
         .par_iter()
         .map(|asset| {
             let mesh = generate(asset);
-            let shape = mesh
-                .shape()
+            let shape = whisker_sim::environment::solids::shape(&mesh)
                 .map_err(|e| Error::Failure(format!("{}: {e}", asset.name)))?;
             let target = SweepTarget::new(mesh);
             let physics = model.clone().map(|m| {

@@ -177,7 +177,7 @@ mod tests {
     #[test]
     fn every_pose_faces_the_centre_from_its_stand_off() {
         for asset in &CATALOGUE {
-            let shape = generate(asset).shape().unwrap();
+            let shape = whisker_sim::environment::solids::shape(&generate(asset)).unwrap();
             for placement in [Placement::Thesis, Placement::Centred] {
                 let c = centre(placement, asset.name, &shape, asset.size);
                 for (which, standoff) in [(Trajectory::A, 0.04), (Trajectory::B, 0.05)] {
@@ -207,7 +207,7 @@ mod tests {
     fn the_thesis_placement_offsets_all_but_the_kettle() {
         let mut offset = Vec::new();
         for asset in &CATALOGUE {
-            let shape = generate(asset).shape().unwrap();
+            let shape = whisker_sim::environment::solids::shape(&generate(asset)).unwrap();
             let middle = Vector3::new(0.0, 0.0, 0.5 * asset.size[2]);
             let c = centre(Placement::Thesis, asset.name, &shape, asset.size);
             assert_eq!(

@@ -137,8 +137,7 @@ pub fn run(o: &EvalSettings) -> Result<EvalReport> {
         if let Some(asset) = CATALOGUE.iter().find(|a| a.name == s.object)
             && !objects.contains_key(&s.object)
         {
-            let shape = generate(asset)
-                .shape()
+            let shape = whisker_sim::environment::solids::shape(&generate(asset))
                 .map_err(|e| Error::Failure(format!("{}: {e}", asset.name)))?;
             objects.insert(s.object.clone(), shape);
         }

@@ -20,10 +20,10 @@
 //! | blob | 22 × 20 × 32 | a sphere deformed by seeded smooth bumps |
 //! | skull | 18 × 22 × 24 | cranium with eye sockets, nasal cavity and cheekbones (front −y), and a jaw |
 
-use super::mesh::bounds;
 use super::mesh_io::obj_text;
 use super::shapes::{box_union, lathe, merge, prism, rotation, scaled, star, transformed, tube};
-use super::topology::Mesh;
+use super::triangles::Mesh;
+use super::triangles::bounds;
 use nalgebra::{Point3, Vector3};
 use rand::RngExt;
 use std::f64::consts::PI;
@@ -101,7 +101,7 @@ pub fn placed(
     asset: &Asset,
 ) -> Result<(super::Environment, parry3d_f64::shape::SharedShape), String> {
     let mesh = generate(asset);
-    let shape = mesh.shape()?;
+    let shape = super::solids::shape(&mesh)?;
     let environment = super::Environment {
         pieces: vec![super::Piece {
             name: asset.name.to_string(),

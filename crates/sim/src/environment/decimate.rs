@@ -15,7 +15,7 @@
 //! result's real deviation.
 
 use super::edges::EdgeMap;
-use super::topology::Mesh;
+use super::triangles::Mesh;
 use nalgebra::{Matrix3, Matrix4, Point3, Vector3, Vector4};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;

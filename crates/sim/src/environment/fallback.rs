@@ -1,7 +1,7 @@
 //! Fallback solids for meshes that cannot be repaired into closed solids (issue #20): the
 //! convex hull of the file's vertices, with how far it strays from the file's surface.
 
-use super::topology::{Mesh, signed_volume};
+use super::triangles::{Mesh, signed_volume};
 use nalgebra::Point3;
 use parry3d_f64::math::Vector;
 use parry3d_f64::query::PointQuery;

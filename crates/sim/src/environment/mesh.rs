@@ -9,10 +9,9 @@
 use super::fallback::{SAMPLES_PER_EDGE, convex_hull, deviation, distances, index_surface};
 use super::mesh_io;
 pub use super::mesh_io::MeshError;
-pub use super::topology::Mesh;
-use super::topology::{close_and_orient, components, signed_volume, weld};
+use super::topology::{close_and_orient, weld};
+pub use super::triangles::{Mesh, bounds};
 use nalgebra::{Point3, Vector3};
-use parry3d_f64::shape::SharedShape;
 use std::path::Path;
 
 /// Length unit of a mesh file.
@@ -406,77 +405,4 @@ fn load_in_file_frame(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, 
         repairs,
         objects: soup.objects,
     })
-}
-
-/// Axis-aligned bounds of points.
-pub fn bounds(points: &[Point3<f64>]) -> (Point3<f64>, Point3<f64>) {
-    let mut lo = Point3::from(Vector3::repeat(f64::INFINITY));
-    let mut hi = Point3::from(Vector3::repeat(f64::NEG_INFINITY));
-    for p in points {
-        lo = lo.inf(p);
-        hi = hi.sup(p);
-    }
-    (lo, hi)
-}
-
-impl Mesh {
-    /// Bounding-box size (m).
-    pub fn size(&self) -> Vector3<f64> {
-        let (lo, hi) = bounds(&self.vertices);
-        hi - lo
-    }
-
-    /// Enclosed volume (m³); components counted separately.
-    pub fn volume(&self) -> f64 {
-        signed_volume(&self.vertices, &self.triangles)
-    }
-
-    /// Each connected component's signed volume (all positive for a valid mesh).
-    pub fn component_volumes(&self) -> Vec<f64> {
-        components(&self.triangles)
-            .iter()
-            .map(|c| {
-                let sub: Vec<[u32; 3]> = c.iter().map(|&t| self.triangles[t]).collect();
-                signed_volume(&self.vertices, &sub)
-            })
-            .collect()
-    }
-
-    /// Whether every edge is shared by exactly two triangles in opposite directions.
-    pub fn is_closed_and_consistent(&self) -> bool {
-        let mut directed = std::collections::HashMap::new();
-        for t in &self.triangles {
-            for k in 0..3 {
-                *directed.entry((t[k], t[(k + 1) % 3])).or_insert(0) += 1;
-            }
-        }
-        directed
-            .iter()
-            .all(|(&(a, b), &n)| n == 1 && directed.get(&(b, a)) == Some(&1))
-    }
-
-    /// Outward unit normal of triangle `t`.
-    pub fn normal(&self, t: usize) -> Vector3<f64> {
-        let [a, b, c] = self.triangles[t].map(|i| self.vertices[i as usize]);
-        (b - a).cross(&(c - a)).normalize()
-    }
-
-    /// The mesh as a parry shape for fixed colliders: the surface of the union of its
-    /// components ([`super::solids::outer_surface`]: triangles buried inside another
-    /// component dropped), `ORIENTED` so that contacts are one-sided. Not
-    /// `FIX_INTERNAL_EDGES`: with it, a whisker tip pressed into a concave crease (the
-    /// Barrel's hoops) wedges ~2 mm into the solid within half a minute of whisking
-    /// (`whisker soak --objects barrel --whiskers D1`: 1.9 mm at 27 s with 2 substeps);
-    /// without it (2 substeps per step), the centre line stayed within 0.12 mm
-    /// over 60 s. Point queries on this shape are not inside tests for meshes of several
-    /// components; use [`super::solids::Solids`].
-    pub fn shape(&self) -> Result<SharedShape, String> {
-        super::solids::oriented_trimesh(&super::solids::outer_surface(self)?)
-    }
-
-    /// A triangle soup as a plain, two-sided parry triangle mesh (for the arm's collision
-    /// checks; no inside, so no depth queries).
-    pub fn soup_shape(&self) -> Result<SharedShape, String> {
-        super::solids::plain_trimesh(self)
-    }
 }

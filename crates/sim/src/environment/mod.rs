@@ -26,11 +26,12 @@ pub mod mesh_io;
 pub mod shapes;
 pub mod solids;
 pub mod topology;
+pub mod triangles;
 pub mod voxel;
 
 use nalgebra::Isometry3;
 use parry3d_f64::shape::SharedShape;
-pub use topology::Mesh;
+pub use triangles::Mesh;
 
 /// A fixed piece of the environment as the physics worlds hold it: a shape and its pose
 /// in the world.

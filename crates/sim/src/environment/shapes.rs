@@ -7,7 +7,7 @@
 //! closed by construction. Unions of axis-aligned boxes are meshed on the grid of their
 //! corner coordinates ([`box_union`]), so faces meet without T-junctions.
 
-use super::topology::{Mesh, signed_volume};
+use super::triangles::{Mesh, signed_volume};
 use nalgebra::{Isometry3, Point3, Unit, UnitQuaternion, Vector3};
 use std::collections::HashMap;
 use std::f64::consts::{PI, TAU};

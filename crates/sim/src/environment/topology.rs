@@ -20,17 +20,9 @@ pub use super::edges::TopologyError;
 pub use super::edges::components;
 use super::edges::point_at;
 use super::edges::{EdgeMap, FastMap, split_sheets};
+use super::triangles::{Mesh, signed_volume};
 use nalgebra::Point3;
 use std::collections::VecDeque;
-
-/// A closed, consistently wound triangle mesh (metres, z up).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Mesh {
-    /// Vertex positions.
-    pub vertices: Vec<Point3<f64>>,
-    /// Triangles, counter-clockwise seen from outside.
-    pub triangles: Vec<[u32; 3]>,
-}
 
 /// Merges vertices closer than `tolerance`; returns the new positions and the map from
 /// old to new index.
@@ -71,17 +63,6 @@ pub fn weld(positions: &[Point3<f64>], tolerance: f64) -> (Vec<Point3<f64>>, Vec
         map.push(i);
     }
     (out, map)
-}
-
-/// Signed volume of a set of triangles (positive for a closed outward-wound surface).
-pub fn signed_volume(vertices: &[Point3<f64>], triangles: &[[u32; 3]]) -> f64 {
-    triangles
-        .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|i| vertices[i as usize].coords);
-            a.dot(&b.cross(&c)) / 6.0
-        })
-        .sum()
 }
 
 /// Repairs a welded triangle list into a closed, outward-oriented mesh, or says why it
@@ -153,7 +134,7 @@ fn close_solid(
         });
     }
     // T-junctions.
-    let (lo, hi) = super::mesh::bounds(&vertices);
+    let (lo, hi) = super::triangles::bounds(&vertices);
     let inserted = split_t_junctions(
         &vertices,
         &mut tris,
@@ -241,7 +222,7 @@ fn close_solid(
     }
     // Outward orientation: each component's signed volume must be positive; a component
     // with none is a sheet, not a solid.
-    let (lo, hi) = super::mesh::bounds(&vertices);
+    let (lo, hi) = super::triangles::bounds(&vertices);
     let tiny = 1e-9 * (hi - lo).norm().powi(3);
     let mut inverted = 0;
     for comp in components(&tris) {

@@ -27,7 +27,8 @@
 //!
 //! The caller reports how far the result lies from the soup ([`super::fallback::deviation`]).
 
-use super::topology::{Mesh, components, signed_volume};
+use super::edges::components;
+use super::triangles::{Mesh, signed_volume};
 use nalgebra::{Point3, Vector3};
 use parry3d_f64::math::Vector;
 use parry3d_f64::query::PointQuery;
@@ -247,7 +248,7 @@ pub fn remesh(
     if !(size.is_finite() && size > 0.0) {
         return Err(format!("voxel size {size}: expected a positive length"));
     }
-    let (lo, hi) = super::mesh::bounds(vertices);
+    let (lo, hi) = super::triangles::bounds(vertices);
     let margin = 1 + closing;
     let cells = (hi - lo).map(|e| (e / size).ceil() + 1.0 + 2.0 * margin as f64);
     if cells.iter().product::<f64>() > MAX_VOXELS as f64 {

@@ -94,8 +94,7 @@ pub fn sensing(o: &Settings) -> Result<Report> {
     }
     let mesh = generate(asset);
     let triangles = mesh.triangles.len();
-    let shape = mesh
-        .shape()
+    let shape = whisker_sim::environment::solids::shape(&mesh)
         .map_err(|e| Error::Failure(format!("{}: {e}", asset.name)))?;
     let target = SweepTarget::new(mesh);
     let whiskers: Vec<RigidWhisker> = array::modules()
