@@ -2,15 +2,16 @@
 //! the goal and the move, the whisk, odometry and WhiskerRatSLAM, recognition, the SPC
 //! and the strategy, and what each whisk writes and records.
 
+use super::goal::{Fallback, GoalKind};
 use super::log::{self, Row, Summary};
 use super::map_accuracy;
+use super::placement::SpcDecision;
 use super::robot::Motion;
 use super::state::Whisk;
 use super::state::{Loop, Outcome, Sensor, Tally, Whisked, relocalised_into};
 use nalgebra::{Isometry3, Point3, Translation3, Vector3};
 use whisker_scenario::error::Result;
 use whisker_scenario::explore::{Strategy, Task};
-use whisker_slam::exploration::placement::{self, Placement};
 use whisker_slam::rng::substream;
 
 /// Attempts at a goal per iteration before the array whisks where it is.
@@ -102,7 +103,7 @@ impl Loop<'_> {
         let relocalised = relocalised_into(&self.slam.map, step, before);
         if let Some((experience, o)) = &relocalised {
             tally.relocalisations += 1;
-            self.anchors.insert(o.clone(), (*experience, pose));
+            self.course.anchor_at(o.clone(), *experience, pose);
         }
         let onto = relocalised.map(|(_, o)| o);
         if let Some(r) = &mut self.recognition {
@@ -125,22 +126,27 @@ impl Loop<'_> {
         }
     }
 
-    /// Step 6: the SPC's decision on the whisk's contacts (its name) and the strategy's
-    /// bookkeeping.
-    fn decide(&mut self, w: &Whisked) -> &'static str {
+    /// Step 6: the SPC's decision on the whisk's contacts and the strategy's bookkeeping.
+    fn decide(&mut self, w: &Whisked) -> SpcDecision {
         let decision = if self.config.spc {
-            self.place(&w.pose, &w.world)
+            let p = &self.config.placement;
+            self.spc.decide(p, &w.pose, &w.world, &mut self.fallbacks)
         } else {
-            "off"
+            SpcDecision::Off
         };
         if w.world.is_empty() {
-            self.count("lost_contact");
-            self.abandon_step();
+            self.fallbacks.count(Fallback::LostContact);
+            self.course.abandon_step();
         } else if let Some(step) = w.step
-            && let Some(r) = self.recognition.take()
+            && let Some(r) = &self.recognition
         {
-            self.replan(&r, w.onto.as_deref(), step.experience, &w.features, &w.pose);
-            self.recognition = Some(r);
+            self.course.replan(
+                (self.config, &self.slam.map),
+                r,
+                (w.onto.as_deref(), step.experience),
+                (&w.features, &w.pose),
+                !self.spc.is_pending(),
+            );
         }
         decision
     }
@@ -150,9 +156,9 @@ impl Loop<'_> {
     fn log(
         &mut self,
         iteration: usize,
-        (goal, status): (Option<&(Isometry3<f64>, String)>, &'static str),
+        (goal, status): (Option<&(Isometry3<f64>, GoalKind)>, &'static str),
         w: Whisked,
-        decision: &'static str,
+        decision: SpcDecision,
         tally: &mut Tally,
         out: &mut Outcome,
     ) -> Result {
@@ -167,8 +173,8 @@ impl Loop<'_> {
             step: w.step.as_ref(),
             onto: w.onto.as_deref(),
             recognition: self.recognition.as_ref(),
-            heading: self.heading.name(),
-            spc: decision,
+            heading: self.course.heading_name(),
+            spc: decision.name(),
         };
         log::row(&mut out.csv, &row, &tally.objects);
         out.poses.push(w.pose);
@@ -178,7 +184,7 @@ impl Loop<'_> {
             &w.pose,
             &tally.pixels,
         ));
-        if let (Some(rec), Some(contacts)) = (self.recording, out.contacts.last()) {
+        if let (Some(rec), Some(contacts)) = (self.records.recording, out.contacts.last()) {
             let whisk = Whisk {
                 iteration,
                 start: w.start,
@@ -198,7 +204,7 @@ impl Loop<'_> {
         out.cycles.push(w.cycle);
         out.odometry.push(w.odometry);
         if matches!(self.sensing, Sensor::Physics(_)) && (iteration + 1).is_multiple_of(10) {
-            self.reporter.note(&format!(
+            self.records.reporter.note(&format!(
                 "  explore: {}/{} whisks (physics), {} re-localisations",
                 iteration + 1,
                 self.config.max_iterations,
@@ -224,8 +230,8 @@ impl Loop<'_> {
             iterations,
             relocalisations: tally.relocalisations,
             experiences: self.slam.map.experiences.len(),
-            faces_per_loop: self.tour.usable(),
-            loops: self.tour.loops,
+            faces_per_loop: self.course.faces_per_loop(),
+            loops: self.course.loops(),
             recognition: self.recognition.as_ref(),
             mean_rc: tally
                 .rc_sums
@@ -235,10 +241,10 @@ impl Loop<'_> {
             fallbacks: &self.fallbacks,
             map_accuracy,
             time: self.time,
-            lsr_plans: (self.config.strategy == Strategy::Lsr).then_some(self.lsr_plans),
+            lsr_plans: (self.config.strategy == Strategy::Lsr).then_some(self.course.lsr_plans()),
         };
         out.summary = summary.json();
-        if let Some(rec) = self.recording {
+        if let Some(rec) = self.records.recording {
             self.record_end(rec, &out.summary)?;
         }
         if self.config.task == Task::Map {
@@ -247,24 +253,9 @@ impl Loop<'_> {
         Ok(out)
     }
 
-    pub(super) fn count(&mut self, what: &'static str) {
-        *self.fallbacks.entry(what).or_default() += 1;
-    }
-
-    /// The strategy's next goal (not the SPC's), and its kind for the log.
-    fn strategy_goal(&mut self) -> Option<(Isometry3<f64>, String)> {
-        if let Some(seg) = self.segments.pop_front() {
-            let to = self.stepping_to.map_or(String::new(), |e| e.to_string());
-            return Some((seg, format!("step:{to}")));
-        }
-        let level = self.robot.array_pose().rotation * Vector3::y();
-        let face = self.tour.next(self.start_face)?;
-        Some((self.tour.goal(face, &level), format!("face:{face}")))
-    }
-
     fn done(&self) -> bool {
         match (&self.recognition, self.config.task) {
-            (_, Task::Map) => self.tour.loops >= self.config.map_loops,
+            (_, Task::Map) => self.course.loops() >= self.config.map_loops,
             (Some(r), Task::Recognise) => {
                 (self.config.stop_on_identity && r.identified().is_some())
                     || r.all_reached(self.config.stop_ic)
@@ -276,13 +267,14 @@ impl Loop<'_> {
     /// Step 2: the next goal (the SPC's pending correction, else the strategy's), and the
     /// move there; a refused goal is counted and the next one tried, up to
     /// [`GOAL_ATTEMPTS`]. Returns the last goal tried and the move's status.
-    fn go(&mut self) -> (Option<(Isometry3<f64>, String)>, &'static str) {
+    fn go(&mut self) -> (Option<(Isometry3<f64>, GoalKind)>, &'static str) {
         let mut goal = None;
         let mut status = "none";
         for _ in 0..GOAL_ATTEMPTS {
+            let level = self.robot.array_pose().rotation * Vector3::y();
             let (mut pose, kind) = match self.spc.take() {
-                Some(p) => (p, "spc".to_string()),
-                None => match self.strategy_goal() {
+                Some(p) => (p, GoalKind::Spc),
+                None => match self.course.next_goal(&level) {
                     Some(g) => g,
                     None => break,
                 },
@@ -290,7 +282,7 @@ impl Loop<'_> {
             let mut motion = self.robot.move_to(&pose);
             // A face goal inside the object (a sphere cuts a box's corners) is pushed back
             // along its pointing axis, 2 cm at a time, up to 10 cm.
-            if kind.starts_with("face") {
+            if let GoalKind::Face(_) = kind {
                 for k in 1..=RETREATS {
                     if !matches!(motion, Motion::Collision(_)) {
                         break;
@@ -298,7 +290,7 @@ impl Loop<'_> {
                     let back = pose * Translation3::new(0.0, 0.0, -RETREAT_M * k as f64);
                     motion = self.robot.move_to(&back);
                     if matches!(motion, Motion::Reached { .. }) {
-                        self.count("pushed_back");
+                        self.fallbacks.count(Fallback::PushedBack);
                         pose = back;
                     }
                 }
@@ -309,39 +301,16 @@ impl Loop<'_> {
                     self.time += duration;
                     return (Some((pose, kind)), status);
                 }
-                Motion::Unreachable => self.count("unreachable"),
-                Motion::Collision(_) => self.count("collision"),
+                Motion::Unreachable => self.fallbacks.count(Fallback::Unreachable),
+                Motion::Collision(_) => self.fallbacks.count(Fallback::Collision),
             }
             // A refused SPC correction ends the region; a refused segment the step.
-            self.adjustments = 0;
-            if kind.starts_with("step") {
-                self.abandon_step();
+            self.spc.end_region();
+            if let GoalKind::Step(_) = kind {
+                self.course.abandon_step();
             }
             goal = Some((pose, kind));
         }
         (goal, status)
-    }
-
-    /// Runs the SPC on this whisk's contacts; returns its decision's name.
-    fn place(&mut self, pose: &Isometry3<f64>, world: &[Point3<f64>]) -> &'static str {
-        let p = &self.config.placement;
-        let decision = placement::correct(p, pose, world);
-        let name = match decision {
-            Placement::Approach(_) => "approach",
-            Placement::Turn(_) => "turn",
-            Placement::Move(_) => "move",
-            Placement::BackOff(_) => "back_off",
-            Placement::Done(_) => "done",
-        };
-        if matches!(decision, Placement::Done(_)) {
-            self.adjustments = 0;
-        } else if self.adjustments >= p.max_adjustments {
-            self.count("spc_limit");
-            self.adjustments = 0;
-        } else {
-            self.adjustments += 1;
-            self.spc = decision.pose();
-        }
-        name
     }
 }

@@ -1,6 +1,7 @@
 //! What a closed-loop run writes: `explore.csv`, one row per iteration, and
 //! `summary.json` (both documented in `scenarios/README.md`).
 
+use super::goal::{Fallback, Fallbacks, GoalKind};
 use nalgebra::Isometry3;
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -39,7 +40,7 @@ pub fn header(objects: &[String], dof: usize) -> String {
 pub struct Row<'a> {
     pub iteration: usize,
     pub time: f64,
-    pub goal: Option<&'a (Isometry3<f64>, String)>,
+    pub goal: Option<&'a (Isometry3<f64>, GoalKind)>,
     pub status: &'a str,
     pub reached: &'a Isometry3<f64>,
     pub joints: &'a [f64],
@@ -115,25 +116,19 @@ pub struct Summary<'a> {
     pub loops: usize,
     pub recognition: Option<&'a Recognition>,
     pub mean_rc: BTreeMap<String, f64>,
-    pub fallbacks: &'a BTreeMap<&'static str, usize>,
+    pub fallbacks: &'a Fallbacks,
     pub map_accuracy: Option<super::map_accuracy::MapAccuracy>,
     pub time: f64,
     /// LSR runs: what its plans were like.
-    pub lsr_plans: Option<super::state::LsrTally>,
+    pub lsr_plans: Option<super::strategy::LsrTally>,
 }
 
 impl Summary<'_> {
     /// The JSON value.
     pub fn json(&self) -> serde_json::Value {
         let mut fallbacks = serde_json::Map::new();
-        for k in [
-            "unreachable",
-            "collision",
-            "pushed_back",
-            "lost_contact",
-            "spc_limit",
-        ] {
-            fallbacks.insert(k.into(), json!(self.fallbacks.get(k).copied().unwrap_or(0)));
+        for f in Fallback::ALL {
+            fallbacks.insert(f.name().into(), json!(self.fallbacks.get(f)));
         }
         let recognition = self.recognition.map(|r| {
             let identified = r.identified();

@@ -29,10 +29,12 @@
 //! `spc_limit` (a region left unsettled after K adjustments).
 
 pub mod dataset;
+mod goal;
 mod iteration;
 mod log;
 mod map_accuracy;
 mod outputs;
+mod placement;
 pub mod robot;
 mod session;
 mod setup;

@@ -2,14 +2,16 @@
 //! map building, the sphere of recognition), the known maps, the robot at its initial
 //! joints clear of the environment, and the sensing.
 
+use super::goal::Fallbacks;
+use super::placement::Spc;
 use super::robot::Robot;
-use super::state::{Heading, Loop, LsrTally, Sensor};
+use super::state::{Loop, Records, Sensor};
+use super::strategy::Course;
 use crate::record::{GraphSchedule, Recorder, Reporter, SensorColumns};
 use crate::sensing::held::{PhysicsSensing, WhiskLog};
 use crate::surface::MeshSurface;
 use nalgebra::{Point3, Vector3};
 use rand::RngExt;
-use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
 use whisker_scenario::ScenarioFile;
 use whisker_scenario::Sensing;
@@ -98,22 +100,16 @@ pub fn build<'a>(
         target: SweepTarget::of(environment),
         slam: WhiskerRatSlam::new(config.slam, map),
         recognition,
-        tour,
-        start_face,
-        spc: None,
-        adjustments: 0,
-        segments: VecDeque::new(),
-        stepping_to: None,
-        heading: Heading::Default,
-        anchors: BTreeMap::new(),
-        own_links,
-        lsr_plans: LsrTally::default(),
-        fallbacks: BTreeMap::new(),
+        course: Course::new(tour, start_face, own_links),
+        spc: Spc::default(),
+        fallbacks: Fallbacks::default(),
         time: 0.0,
-        recording: outlets.recording,
-        reporter: outlets.reporter,
-        graph: GraphSchedule::default(),
-        columns,
+        records: Records {
+            recording: outlets.recording,
+            reporter: outlets.reporter,
+            graph: GraphSchedule::default(),
+            columns,
+        },
     })
 }
 

@@ -1,17 +1,18 @@
 //! The state of a closed-loop run: the robot, its sensing, WhiskerRatSLAM, recognition,
-//! the strategy's and the SPC's bookkeeping, what is recorded, and what a run produces.
+//! the strategy's course, the SPC, what is recorded, and what a run produces.
 
+use super::goal::{Fallbacks, GoalKind};
+use super::placement::{Spc, SpcDecision};
 use super::robot::Robot;
+use super::strategy::Course;
 use crate::record::{Contact, GraphSchedule, Recorder, Reporter, SensorColumns};
 use crate::sensing::held::PhysicsSensing;
 use nalgebra::Isometry3;
 use nalgebra::Point3;
-use std::collections::{BTreeMap, VecDeque};
+use std::collections::BTreeMap;
 use whisker_scenario::explore::ExploreConfig;
 use whisker_sim::sensing::kinematic::{KinematicArray, SweepTarget};
 use whisker_slam::contact::ContactCycle;
-use whisker_slam::exploration::feh::Follower;
-use whisker_slam::exploration::tour::FaceTour;
 use whisker_slam::features::similarity::Features;
 use whisker_slam::recognition::Recognition;
 use whisker_slam::rng::StreamRng;
@@ -92,58 +93,31 @@ impl Sensor {
     }
 }
 
-/// Where FEH or LSR is heading.
-pub enum Heading {
-    /// The default trajectory's faces.
-    Default,
-    /// Following a history (FEH).
-    Feh(Follower),
-    /// Along an LSR path: the remaining nodes after the one being stepped to.
-    Lsr {
-        path: VecDeque<usize>,
-        leader: String,
-    },
-}
-
-impl Heading {
-    /// The `strategy_state` column of `explore.csv`.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Heading::Default => "default",
-            Heading::Feh(_) => "feh",
-            Heading::Lsr { .. } => "lsr",
-        }
-    }
-}
-
-/// The state of a run.
+/// The state of a run: the robot and its sensing, WhiskerRatSLAM and recognition, the
+/// strategy's course, the SPC, the fallbacks counted, the simulated time and what is
+/// recorded. Built by `setup::build`, run by `Loop::run` (`iteration`); its parts keep
+/// their own state behind their own methods.
 pub struct Loop<'a> {
-    pub config: &'a ExploreConfig,
-    pub truth: String,
-    pub robot: Robot,
-    pub sensing: Sensor,
-    pub target: SweepTarget,
-    pub slam: WhiskerRatSlam,
-    pub recognition: Option<Recognition>,
-    pub tour: FaceTour,
-    pub start_face: usize,
-    /// Pending SPC correction and the adjustments made in this region.
-    pub spc: Option<Isometry3<f64>>,
-    pub adjustments: usize,
-    /// FEH/LSR: segments still to go of the current step, and the step's target.
-    pub segments: VecDeque<Isometry3<f64>>,
-    pub stepping_to: Option<usize>,
-    pub heading: Heading,
-    /// Per loaded object: the last experience of its map re-localised into or stepped to,
-    /// and the true pose then (steps start there, §6.1.2.1).
-    pub anchors: BTreeMap<String, (usize, Isometry3<f64>)>,
-    /// How many links the loaded maps brought (the run's own links come after them).
-    pub own_links: usize,
-    /// What LSR's plans were like.
-    pub lsr_plans: LsrTally,
-    pub fallbacks: BTreeMap<&'static str, usize>,
-    pub time: f64,
-    /// The recording, its map schedule and its buffered physics streams.
+    pub(super) config: &'a ExploreConfig,
+    /// The explored object's name.
+    pub(super) truth: String,
+    pub(super) robot: Robot,
+    pub(super) sensing: Sensor,
+    pub(super) target: SweepTarget,
+    pub(super) slam: WhiskerRatSlam,
+    /// Recognition (none while building a map).
+    pub(super) recognition: Option<Recognition>,
+    pub(super) course: Course,
+    pub(super) spc: Spc,
+    pub(super) fallbacks: Fallbacks,
+    /// Simulated time (s).
+    pub(super) time: f64,
+    pub(super) records: Records<'a>,
+}
+
+/// What a run records and says: the recording with its map schedule and buffered physics
+/// streams, and the reporter of its progress.
+pub struct Records<'a> {
     pub recording: Option<&'a dyn Recorder>,
     pub reporter: &'a dyn Reporter,
     pub graph: GraphSchedule,
@@ -193,34 +167,14 @@ pub struct Whisk<'a> {
     /// When the whisk started and how long it took (s).
     pub start: f64,
     pub period: f64,
-    pub goal: Option<&'a (Isometry3<f64>, String)>,
+    pub goal: Option<&'a (Isometry3<f64>, GoalKind)>,
     pub pose: &'a Isometry3<f64>,
     pub contacts: &'a [Contact],
     pub step: Option<&'a Step>,
     pub onto: Option<&'a str>,
-    pub spc: &'a str,
+    pub spc: SpcDecision,
     /// Physics: every whisker's samples of the whisk.
     pub streams: Option<&'a [Vec<Sample>]>,
-}
-
-/// LSR's plans over a run (`summary.json`'s `lsr`).
-#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
-pub struct LsrTally {
-    /// Plans made.
-    pub plans: usize,
-    /// Plans whose least similar row was shared by more than one experience (|E_smin| > 1).
-    pub tied_targets: usize,
-    /// Rows passed over as unreachable, summed over the plans.
-    pub rows_skipped: usize,
-}
-
-impl LsrTally {
-    /// Counts `plan`.
-    pub fn add(&mut self, plan: &whisker_slam::exploration::lsr::LsrPlan) {
-        self.plans += 1;
-        self.tied_targets += usize::from(plan.tied > 1);
-        self.rows_skipped += plan.skipped;
-    }
 }
 
 /// The loaded map a whisk's SLAM `step` re-localised into: an experience that existed

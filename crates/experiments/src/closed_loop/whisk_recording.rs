@@ -23,7 +23,7 @@ impl Loop<'_> {
             "slam/map",
             &self.slam.map,
             self.slam.current,
-            self.stepping_to,
+            self.course.stepping_to(),
         )?;
         let text = match summary["recognition"].as_object() {
             Some(r) => format!(
@@ -46,7 +46,7 @@ impl Loop<'_> {
         rec.at(t);
         rec.at_step("whisk", k);
         if let Some((goal, kind)) = w.goal {
-            rec.goal(goal, kind)?;
+            rec.goal(goal, &kind.to_string())?;
         }
         rec.pose("world/array", w.pose)?;
         let (truth, shafts) = match &self.sensing {
@@ -68,7 +68,7 @@ impl Loop<'_> {
                 )?;
             }
         }
-        if let (Some(streams), Some(cols)) = (w.streams, &mut self.columns) {
+        if let (Some(streams), Some(cols)) = (w.streams, &mut self.records.columns) {
             cols.push_streams(rec, t, 0, streams, None)?;
             cols.send(rec)?;
         }
@@ -77,12 +77,16 @@ impl Loop<'_> {
         rec.at(te);
         rec.at_step("whisk", k);
         rec.pose_cells("slam/pose_cells", &self.slam.cells.grid)?;
-        if self.graph.due(self.slam.map.experiences.len(), false) {
+        if self
+            .records
+            .graph
+            .due(self.slam.map.experiences.len(), false)
+        {
             rec.object_map(
                 "slam/map",
                 &self.slam.map,
                 w.step.map(|s| s.experience),
-                self.stepping_to,
+                self.course.stepping_to(),
             )?;
         }
         if let Some(step) = w.step.filter(|s| s.relocalised) {
@@ -96,8 +100,8 @@ impl Loop<'_> {
                 ),
             )?;
         }
-        if w.spc != "off" && w.spc != "done" {
-            rec.event(&format!("whisk {}: SPC {}", w.iteration, w.spc))?;
+        if w.spc.corrects() {
+            rec.event(&format!("whisk {}: SPC {}", w.iteration, w.spc.name()))?;
         }
         if let Some(r) = &self.recognition {
             for (o, v) in &r.raw.confidence {
