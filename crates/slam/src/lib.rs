@@ -12,6 +12,7 @@
 //! - [`rng`]: every random draw comes from a named sub-stream of a scenario seed.
 
 pub mod contact;
+pub mod csv_records;
 pub mod exploration;
 pub mod features;
 pub mod frontend;

@@ -1,7 +1,9 @@
-//! Strict reading of a dataset's CSV files: the exact header, the same number of fields
-//! on every line, numbers that parse; every error names the file, the line (1-based, the
-//! header is line 1) and what was expected, and exits with code 2.
+//! Strict reading of a dataset's CSV files (records by the `csv` crate,
+//! `whisker_slam::csv_records`): the exact header, the same number of fields on every
+//! line, numbers that parse; every error names the file, the line (1-based, the header is
+//! line 1) and what was expected, and exits with code 2.
 
+use csv::StringRecord;
 use std::path::{Path, PathBuf};
 use whisker_scenario::error::{Error, Result};
 
@@ -17,7 +19,7 @@ pub struct Row<'a> {
     path: &'a Path,
     /// Line number in the file (1-based; the header is line 1).
     pub line: usize,
-    fields: Vec<&'a str>,
+    fields: StringRecord,
     columns: &'a [String],
 }
 
@@ -55,20 +57,18 @@ impl Table {
 
     /// The data lines, each checked for its number of fields.
     pub fn rows(&self) -> impl Iterator<Item = Result<Row<'_>>> {
-        self.text.lines().enumerate().skip(1).map(|(i, line)| {
-            let fields: Vec<&str> = line.split(',').collect();
+        whisker_slam::csv_records::records(&self.text).map(|(line, fields)| {
             if fields.len() != self.columns.len() {
                 return Err(Error::Input(format!(
-                    "{}: line {}: expected {} fields, got {}",
+                    "{}: line {line}: expected {} fields, got {}",
                     self.path.display(),
-                    i + 1,
                     self.columns.len(),
                     fields.len()
                 )));
             }
             Ok(Row {
                 path: &self.path,
-                line: i + 1,
+                line,
                 fields,
                 columns: &self.columns,
             })
@@ -103,7 +103,7 @@ impl Row<'_> {
 
     /// Field `i` as text.
     pub fn text(&self, i: usize) -> &str {
-        self.fields[i]
+        &self.fields[i]
     }
 
     /// Field `i` as a finite number.
@@ -114,7 +114,7 @@ impl Row<'_> {
                 "column {} ({}): expected a finite number, got {:?}",
                 i + 1,
                 self.columns[i],
-                self.fields[i]
+                &self.fields[i]
             ))),
         }
     }
@@ -127,7 +127,7 @@ impl Row<'_> {
                 "column {} ({}): expected a number or ±inf, got {:?}",
                 i + 1,
                 self.columns[i],
-                self.fields[i]
+                &self.fields[i]
             ))),
         }
     }
@@ -139,7 +139,7 @@ impl Row<'_> {
                 "column {} ({}): expected an integer, got {:?}",
                 i + 1,
                 self.columns[i],
-                self.fields[i]
+                &self.fields[i]
             ))
         })
     }
@@ -153,7 +153,7 @@ impl Row<'_> {
                 i + 1,
                 self.columns[i],
                 limit.saturating_sub(1),
-                self.fields[i]
+                &self.fields[i]
             ))),
         }
     }
@@ -167,7 +167,7 @@ impl Row<'_> {
                 "column {} ({}): expected {expected}, got {:?}",
                 i + 1,
                 self.columns[i],
-                self.fields[i]
+                &self.fields[i]
             )))
         }
     }

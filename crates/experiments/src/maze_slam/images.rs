@@ -44,14 +44,11 @@ pub fn read(path: &Path, updates: usize) -> Result<Vec<TactileImage>> {
         |line: usize, msg: String| Error::Input(format!("{}: line {line}: {msg}", path.display()));
     let text = std::fs::read_to_string(path)
         .map_err(|e| Error::Input(format!("{}: cannot read images: {e}", path.display())))?;
-    let mut lines = text.lines();
-    if lines.next() != Some(header().as_str()) {
+    if text.lines().next() != Some(header().as_str()) {
         return Err(bad(1, format!("expected the header {}", header())));
     }
     let mut images = Vec::with_capacity(updates);
-    for (i, line) in lines.enumerate() {
-        let number = i + 2;
-        let fields: Vec<&str> = line.split(',').collect();
+    for (i, (number, fields)) in whisker_slam::csv_records::records(&text).enumerate() {
         if fields.len() != 1 + ROWS * COLUMNS {
             return Err(bad(
                 number,
@@ -65,11 +62,11 @@ pub fn read(path: &Path, updates: usize) -> Result<Vec<TactileImage>> {
         if fields[0].trim().parse::<usize>() != Ok(i) {
             return Err(bad(
                 number,
-                format!("expected update {i}, got {:?}", fields[0]),
+                format!("expected update {i}, got {:?}", &fields[0]),
             ));
         }
         let mut image = TactileImage::default();
-        for (p, f) in image.pixels.iter_mut().zip(&fields[1..]) {
+        for (p, f) in image.pixels.iter_mut().zip(fields.iter().skip(1)) {
             *p = f
                 .trim()
                 .parse()

@@ -69,18 +69,18 @@ const OBJECTS_TRUTH: [&str; 4] = ["correct", "wrong", "none", "wall"];
 
 /// `csv` with the columns named `names` left empty.
 fn blank(csv: String, names: &[&str]) -> String {
-    let mut lines = csv.lines();
-    let header = lines.next().unwrap_or_default();
+    use whisker_slam::csv_records::{header, records};
+    let header = header(&csv);
     let gone: Vec<usize> = header
-        .split(',')
+        .iter()
         .enumerate()
         .filter(|(_, h)| names.contains(h))
         .map(|(i, _)| i)
         .collect();
-    let mut out = format!("{header}\n");
-    for line in lines {
-        let cells: Vec<&str> = line
-            .split(',')
+    let mut out = header.iter().collect::<Vec<_>>().join(",") + "\n";
+    for (_, record) in records(&csv) {
+        let cells: Vec<&str> = record
+            .iter()
             .enumerate()
             .map(|(i, c)| if gone.contains(&i) { "" } else { c })
             .collect();

@@ -97,11 +97,10 @@ pub fn to_csv(samples: &[RadialSample]) -> String {
 
 /// Reads the documented format; errors name the line (1-based) and the column.
 pub fn from_csv(text: &str) -> Result<Vec<RadialSample>, String> {
-    let mut lines = text.lines().enumerate();
     let columns: Vec<&str> = HEADER.split(',').collect();
-    match lines.next() {
-        Some((_, h)) if h.trim_end() == HEADER => {}
-        Some((_, h)) => {
+    match text.lines().next() {
+        Some(h) if h.trim_end() == HEADER => {}
+        Some(h) => {
             return Err(format!(
                 "line 1: expected the header `{HEADER}`, got `{}`",
                 h.chars().take(80).collect::<String>()
@@ -110,11 +109,16 @@ pub fn from_csv(text: &str) -> Result<Vec<RadialSample>, String> {
         None => return Err("the file is empty (expected a header line)".into()),
     }
     let mut out = Vec::new();
-    for (i, line) in lines {
-        if line.trim().is_empty() {
+    for (line, record) in crate::csv_records::records(text) {
+        // Blank lines are skipped; trailing white space is not part of the last value.
+        let i = line - 1;
+        let mut cells: Vec<&str> = record.iter().collect();
+        if let Some(last) = cells.last_mut() {
+            *last = last.trim_end();
+        }
+        if cells.len() == 1 && cells[0].trim().is_empty() {
             continue;
         }
-        let cells: Vec<&str> = line.trim_end().split(',').collect();
         if cells.len() != columns.len() {
             return Err(format!(
                 "line {}: expected {} comma-separated values, got {}",

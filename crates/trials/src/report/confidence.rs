@@ -13,8 +13,7 @@ use whisker_slam::stats::boxplot::prctile;
 /// The `ic_<object>` columns of a closed-loop trial's `explore.csv`.
 fn ic_series(dir: &Path, key: &str) -> Option<BTreeMap<String, Vec<f64>>> {
     let text = std::fs::read_to_string(dir.join(RUNS).join(key).join("explore.csv")).ok()?;
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next()?.split(',').collect();
+    let header = whisker_slam::csv_records::header(&text);
     let columns: Vec<(usize, String)> = header
         .iter()
         .enumerate()
@@ -24,8 +23,7 @@ fn ic_series(dir: &Path, key: &str) -> Option<BTreeMap<String, Vec<f64>>> {
         return None;
     }
     let mut out: BTreeMap<String, Vec<f64>> = BTreeMap::new();
-    for line in lines {
-        let cells: Vec<&str> = line.split(',').collect();
+    for (_, cells) in whisker_slam::csv_records::records(&text) {
         for (i, name) in &columns {
             let v = cells
                 .get(*i)
