@@ -87,7 +87,7 @@ fn main() -> ExitCode {
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| dispatch(command, ctx)));
     let failed = !matches!(result, Ok(Ok(())));
     if failed && !keep_on_failure {
-        whisker_scenario::output::discard_created();
+        whisker_scenario::files::discard_created();
     }
     match result {
         Ok(Ok(())) => {

@@ -137,7 +137,7 @@ pub fn header(root: &clap::Command, matches: &ArgMatches) -> String {
 
 /// The closing lines: the files written (those still there) and the recording.
 pub fn closing(missing: Option<NoRecording>) -> String {
-    let written: Vec<_> = whisker_scenario::output::written()
+    let written: Vec<_> = whisker_scenario::files::written()
         .into_iter()
         .filter(|p| p.exists())
         .collect();

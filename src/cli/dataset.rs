@@ -2,8 +2,8 @@
 
 use super::{choice, print_json};
 use std::path::PathBuf;
-use whisker_experiments::datasets::noise::Settings as NoiseSettings;
-use whisker_experiments::datasets::{self, ScenarioDataset};
+use whisker_experiments::dataset_runs::noise::Settings as NoiseSettings;
+use whisker_experiments::dataset_runs::{self, ScenarioDataset};
 use whisker_experiments::object_slam::Placement;
 use whisker_experiments::object_slam::dataset::ObjectDataset;
 use whisker_experiments::record::Context;
@@ -133,7 +133,7 @@ pub struct SlamArgs {
 /// `whisker dataset …`.
 pub fn run(a: &Args, ctx: Context) -> Result {
     let written = match &a.command {
-        Some(Command::Noise(n)) => datasets::noise::run(&NoiseSettings {
+        Some(Command::Noise(n)) => dataset_runs::noise::run(&NoiseSettings {
             input: n.input.clone(),
             seed: n.seed,
             out: n.out.clone(),
@@ -154,7 +154,7 @@ pub fn run(a: &Args, ctx: Context) -> Result {
                 radial_model: o.radial_model.clone(),
                 placement: o.placement,
             };
-            datasets::write_objects(&settings, ctx)?
+            dataset_runs::write_objects(&settings, ctx)?
         }
         None => {
             let w = &a.write;
@@ -170,7 +170,7 @@ pub fn run(a: &Args, ctx: Context) -> Result {
                 clean: w.clean,
                 set: w.set.clone(),
             };
-            datasets::write_scenario(&settings, ctx)?
+            dataset_runs::write_scenario(&settings, ctx)?
         }
     };
     eprint!("{written}");
@@ -179,7 +179,7 @@ pub fn run(a: &Args, ctx: Context) -> Result {
 
 /// `whisker slam DIR`.
 pub fn slam(a: &SlamArgs, ctx: Context) -> Result {
-    let report = datasets::slam(&a.dataset, a.out.as_deref(), ctx)?;
+    let report = dataset_runs::slam(&a.dataset, a.out.as_deref(), ctx)?;
     match a.json {
         true => print_json(&report, false),
         false => print!("{report}"),

@@ -2,7 +2,7 @@
 
 use super::{RrdArgs, choice, print_json};
 use std::path::PathBuf;
-use whisker_experiments::dataset::manifest::Manifest;
+use whisker_experiments::dataset_format::manifest::Manifest;
 use whisker_experiments::maze_slam::{self, Settings};
 use whisker_experiments::record::Context;
 use whisker_scenario::SensingMode;

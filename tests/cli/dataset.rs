@@ -64,7 +64,7 @@ pub fn rehash(dir: &Path, rel: &str) {
         .find(|f| f["path"] == rel)
         .unwrap();
     entry["bytes"] = bytes.len().into();
-    entry["sha256"] = whisker_experiments::dataset::manifest::sha256(&bytes).into();
+    entry["sha256"] = whisker_experiments::dataset_format::manifest::sha256(&bytes).into();
     std::fs::write(dir.join("dataset.json"), m.to_string()).unwrap();
 }
 
@@ -190,12 +190,12 @@ fn kinematic_maze_dataset_replays_the_live_run() {
             .unwrap_or_else(|| panic!("{rel} not listed"));
         // An independent SHA-256 (FIPS 180-4 test vector first).
         assert_eq!(
-            whisker_experiments::dataset::manifest::sha256(b"abc"),
+            whisker_experiments::dataset_format::manifest::sha256(b"abc"),
             "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
         );
         assert_eq!(
             listed["sha256"],
-            whisker_experiments::dataset::manifest::sha256(&f1[rel])
+            whisker_experiments::dataset_format::manifest::sha256(&f1[rel])
         );
         let seed_changes = f1[rel] != f3[rel];
         assert_eq!(seed_changes, rel.starts_with("log/"), "{rel}");

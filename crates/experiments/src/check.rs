@@ -91,7 +91,7 @@ pub fn check(path: &Path, meshes: Option<&Path>, ctx: Context) -> Result {
 /// `environment` to `dir/NAME.obj`.
 fn write_meshes(file: &ScenarioFile, environment: &Environment, dir: &Path) -> Result {
     let scenario = &file.scenario;
-    whisker_scenario::output::create_dir(dir)?;
+    whisker_scenario::files::create_dir(dir)?;
     let names = scenario.object_names();
     for (i, (name, piece)) in names.iter().zip(&environment.pieces).enumerate() {
         // A file name per object: separators replaced, and the index added to a name
@@ -115,7 +115,7 @@ fn write_meshes(file: &ScenarioFile, environment: &Environment, dir: &Path) -> R
                 file.path.display()
             ),
         );
-        whisker_scenario::output::write_atomic(&path, text.as_bytes())?;
+        whisker_scenario::files::write_atomic(&path, text.as_bytes())?;
     }
     Ok(())
 }

@@ -5,8 +5,8 @@
 //! pipeline, one contacts-CSV writer), the experiments — the scripted [`run`], the closed
 //! loop of Chapter 6 ([`closed_loop`]), [`maze_slam`] (Ch 3), [`object_slam`] (Ch 5),
 //! [`navigation`] (Fig 5.1), [`radial`] distance (Ch 4), [`characterize`] — and datasets
-//! (the format in [`dataset`], each experiment's writer/reader beside it, dispatch and
-//! noise in [`datasets`]). Batches, benchmarks and soak tests are `whisker-trials`.
+//! (the format in [`dataset_format`], each experiment's writer/reader beside it; writing,
+//! noising and replaying one by its manifest in [`dataset_runs`]). Batches, benchmarks and soak tests are `whisker-trials`.
 //!
 //! It prints nothing and knows neither clap nor Rerun: it takes plain settings, returns
 //! typed `Serialize` reports (with a `Display` for the console), says what it does through
@@ -18,8 +18,8 @@ pub mod assets;
 pub mod characterize;
 pub mod check;
 pub mod closed_loop;
-pub mod dataset;
-pub mod datasets;
+pub mod dataset_format;
+pub mod dataset_runs;
 pub mod maze_slam;
 pub mod navigation;
 pub mod object_slam;

@@ -17,7 +17,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::Result;
-use whisker_scenario::output;
+use whisker_scenario::files;
 use whisker_scenario::overrides::Override;
 use whisker_scenario::plan::Plan;
 use whisker_scenario::{Experiment, Sensing};
@@ -71,7 +71,7 @@ pub fn execute(file: &ScenarioFile, dir: &Path, rrd: &Target, ctx: Context) -> R
         Experiment::ClosedLoop(e) => ctx.say(&crate::closed_loop::describe(file, e)?),
         Experiment::Scripted => {}
     }
-    output::create_dir(dir)?;
+    files::create_dir(dir)?;
     match experiment {
         Experiment::Navigate(config) => {
             crate::navigation::outputs::write(file, config, (&plan, &environment), dir, rrd, ctx)
@@ -150,9 +150,9 @@ fn scripted(
         }
     }
     let summary = log.summary(file, plan, environment, &sensors);
-    output::write_atomic(&dir.join("path.csv"), log.csv.as_bytes())?;
+    files::write_atomic(&dir.join("path.csv"), log.csv.as_bytes())?;
     let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
-    output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
+    files::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
     let finished = sensors.finish(dir, recording.as_deref())?;
     if let Some(rec) = recording {
         rec.tip_path(&log.tip_path)?;

@@ -24,7 +24,7 @@ pub mod world;
 
 use std::path::{Path, PathBuf};
 use whisker_scenario::error::{Error, Result};
-use whisker_scenario::output;
+use whisker_scenario::files;
 
 use nalgebra::Isometry3;
 pub use whisker_experiments::record::SIM_TIME;
@@ -67,9 +67,9 @@ impl Recording {
     /// on `layout` in the viewer.
     pub fn create(path: &Path, recording_id: &str, layout: blueprint::Viewer) -> Result<Self> {
         if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-            output::create_dir(parent)?;
+            files::create_dir(parent)?;
         }
-        let tmp = output::temporary(path);
+        let tmp = files::temporary(path);
         let stream = rerun::RecordingStreamBuilder::new("whisker")
             .recording_id(recording_id)
             .batcher_config(rerun::log::ChunkBatcherConfig::NEVER)
@@ -187,7 +187,7 @@ impl Recording {
         self.checkpoint()?;
         self.stream.disconnect();
         self.finished = true;
-        output::commit(&self.tmp, &self.path)
+        files::commit(&self.tmp, &self.path)
     }
 }
 

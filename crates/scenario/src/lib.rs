@@ -9,7 +9,7 @@
 //! or the office — is chosen then. From it come the arm's [`Plan`] (IK of every
 //! waypoint, the joint trajectory) and the batch [`grid`] of its `[trials]`.
 //!
-//! Beside the language sit the pieces every command shares: [`output`] (files written
+//! Beside the language sit the pieces every command shares: [`files`] (output files written
 //! atomically, nothing left behind by a failed command), [`console`] (the one shape of
 //! every command's text), named [`choice`]s, and the radial-distance model a scenario's
 //! front end names ([`radial_model`]).
@@ -30,12 +30,12 @@ pub mod console;
 pub mod environment;
 pub mod error;
 pub mod explore;
+pub mod files;
 pub mod grid;
 pub mod maze_slam;
 pub mod navigate;
 pub mod object_mode;
 pub mod office;
-pub mod output;
 pub mod overrides;
 pub mod plan;
 pub mod radial_model;

@@ -318,7 +318,7 @@ impl NavigateConfig {
         let length: f64 = self.legs().iter().map(|(a, b)| (b - a).norm()).sum();
         let h = self.headings();
         let turns: f64 = (0..h.len())
-            .map(|i| whisker_slam::ratslam::experience_map::wrap(h[(i + 1) % h.len()] - h[i]).abs())
+            .map(|i| whisker_slam::pose::wrap(h[(i + 1) % h.len()] - h[i]).abs())
             .sum();
         let time = length / self.base.speed_m_s + turns.to_degrees() / self.base.turn_rate_deg_s;
         (length, time)

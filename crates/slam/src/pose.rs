@@ -1,12 +1,16 @@
-//! Pose conventions and conversions (DESIGN.md "Conventions").
+//! Pose conventions and conversions (docs/design.md, "Rules every crate keeps").
 //!
 //! Poses are [`Isometry3<f64>`]. Roll/pitch/yaw angles follow URDF and ROS:
 //! R = Rz(yaw)·Ry(pitch)·Rx(roll) (extrinsic x-y-z), which is nalgebra's
 //! [`UnitQuaternion::from_euler_angles`]. Degrees appear only at the edges (config, output).
+//! Planar poses (RatSLAM's maps, the mobile base) are [`Pose2`], with the composition and
+//! difference of thesis Eq 3.3.
 
 use nalgebra::{
     Isometry3, Matrix3, Matrix4, Point3, Rotation3, Translation3, UnitQuaternion, Vector3,
 };
+use serde::{Deserialize, Serialize};
+use std::f64::consts::{PI, TAU};
 
 /// A pose from a position (m) and roll, pitch, yaw (rad).
 pub fn from_xyz_rpy(xyz: [f64; 3], rpy: [f64; 3]) -> Isometry3<f64> {
@@ -76,6 +80,47 @@ pub fn rigid_fit(from: &[Point3<f64>], to: &[Point3<f64>]) -> Option<Isometry3<f
         Translation3::from(t),
         UnitQuaternion::from_rotation_matrix(&r),
     ))
+}
+
+/// A planar pose in the map frame: x, y (m), θ (rad, from +x towards +y).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Pose2 {
+    /// x (m).
+    pub x: f64,
+    /// y (m).
+    pub y: f64,
+    /// Heading (rad).
+    pub th: f64,
+}
+
+/// An angle wrapped to (−π, π].
+pub fn wrap(a: f64) -> f64 {
+    let w = (a + PI).rem_euclid(TAU) - PI;
+    if w == -PI { PI } else { w }
+}
+
+impl Pose2 {
+    /// `b` expressed in this pose's frame (b ⊖ self, Eq 3.3).
+    pub fn relative(&self, b: &Pose2) -> Pose2 {
+        let (dx, dy) = (b.x - self.x, b.y - self.y);
+        let (s, c) = self.th.sin_cos();
+        Pose2 {
+            x: c * dx + s * dy,
+            y: -s * dx + c * dy,
+            th: wrap(b.th - self.th),
+        }
+    }
+
+    /// `b`, given in this pose's frame, in the frame this pose is given in (self ⊕ b: the
+    /// inverse of [`relative`](Self::relative)).
+    pub fn compose(&self, b: &Pose2) -> Pose2 {
+        let (s, c) = self.th.sin_cos();
+        Pose2 {
+            x: self.x + c * b.x - s * b.y,
+            y: self.y + s * b.x + c * b.y,
+            th: wrap(self.th + b.th),
+        }
+    }
 }
 
 #[cfg(test)]

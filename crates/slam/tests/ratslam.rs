@@ -3,10 +3,9 @@
 //! Algorithm 1 and Eq 3.2 on hand-built logs.
 
 use std::f64::consts::{FRAC_PI_2, PI};
+use whisker_slam::pose::Pose2;
 use whisker_slam::pose_grid::{PoseGrid, gaussian_kernel, population_index};
-use whisker_slam::ratslam::experience_map::{
-    Experience, ExperienceMap, ExperienceMapParams, Link, Pose2,
-};
+use whisker_slam::ratslam::experience_map::{Experience, ExperienceMap, ExperienceMapParams, Link};
 use whisker_slam::ratslam::metrics::{consecutive, energy_metric, experience_metric};
 use whisker_slam::ratslam::posecells3d::{PlanarCellParams, PoseCells3};
 
@@ -228,10 +227,10 @@ fn relaxation_spreads_a_heading_error_evenly_too() {
     }
     map.relax(200, 0.5);
     for l in &map.links {
-        let turn = whisker_slam::ratslam::experience_map::wrap(
+        let turn = whisker_slam::pose::wrap(
             map.experiences[l.to].pose.th - map.experiences[l.from].pose.th,
         );
-        let residual = whisker_slam::ratslam::experience_map::wrap(turn - l.facing);
+        let residual = whisker_slam::pose::wrap(turn - l.facing);
         assert!((residual + 1f64.to_radians()).abs() < 1e-9, "{residual}");
     }
 }

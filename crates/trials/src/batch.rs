@@ -64,7 +64,7 @@ pub struct Outcome {
 /// Runs (or resumes) `batch` into `o.out`.
 pub fn run(batch: &Batch, o: &Settings, ctx: Context, progress: &dyn Progress) -> Result<Outcome> {
     let dir = &o.out;
-    whisker_scenario::output::create_dir(dir)?;
+    whisker_scenario::files::create_dir(dir)?;
     let meta = Meta::of(batch, o.shard);
     prepare(dir, &meta, o)?;
     let mut entries = journal::read(dir)?;
@@ -213,7 +213,7 @@ fn one(
     journal.log(entry.status.name(), &trial.key)?;
     progress.trial(&entry);
     entries.push(entry);
-    whisker_scenario::output::write_atomic(
+    whisker_scenario::files::write_atomic(
         &dir.join(CSV),
         journal::csv(&meta.factors, entries).as_bytes(),
     )
@@ -228,9 +228,9 @@ pub fn run_trial(
 ) -> Result<serde_json::Value, String> {
     let work = || -> Result<serde_json::Value> {
         let scenario = batch.scenario(trial)?;
-        whisker_scenario::output::create_dir(dir)?;
+        whisker_scenario::files::create_dir(dir)?;
         let path = dir.join("stdout.txt");
-        whisker_scenario::output::wrote(&path);
+        whisker_scenario::files::wrote(&path);
         let mut file = std::fs::File::create(&path)
             .map_err(|e| Error::Failure(format!("{}: {e}", path.display())))?;
         use std::io::Write;

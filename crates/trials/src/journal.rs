@@ -97,7 +97,7 @@ impl Meta {
     /// Writes `dir/trials.json` (atomically).
     pub fn write(&self, dir: &Path) -> Result {
         let text = serde_json::to_string_pretty(self).expect("plain JSON") + "\n";
-        whisker_scenario::output::write_atomic(&dir.join(META), text.as_bytes())
+        whisker_scenario::files::write_atomic(&dir.join(META), text.as_bytes())
     }
 }
 
@@ -240,7 +240,7 @@ pub fn read(dir: &Path) -> Result<Vec<Entry>> {
 /// Replaces `dir/journal.jsonl` with `entries` (atomically).
 pub fn rewrite(dir: &Path, entries: &[Entry]) -> Result {
     let text: String = entries.iter().map(line).collect();
-    whisker_scenario::output::write_atomic(&dir.join(JOURNAL), text.as_bytes())
+    whisker_scenario::files::write_atomic(&dir.join(JOURNAL), text.as_bytes())
 }
 
 /// An entry as one journal line.
@@ -274,7 +274,7 @@ impl Journal {
     pub fn open(dir: &Path) -> Result<Self> {
         let open = |name: &str| {
             // Appended line by line (each line complete), so listed as written at once.
-            whisker_scenario::output::wrote(&dir.join(name));
+            whisker_scenario::files::wrote(&dir.join(name));
             OpenOptions::new()
                 .create(true)
                 .append(true)

@@ -132,7 +132,7 @@ fn problems(metas: &[Meta], found: &Found) -> Vec<String> {
 /// Writes the merged directory: every trial's outputs, the metadata without a shard, the
 /// journal in trial order, `trials.csv` and the report.
 fn write_merged(first: &Meta, found: Found, out: &Path) -> Result<usize> {
-    whisker_scenario::output::create_dir(out)?;
+    whisker_scenario::files::create_dir(out)?;
     let mut entries: Vec<(&Path, Entry)> = found.into_values().flatten().collect();
     entries.sort_by_key(|(_, e)| e.index);
     for (d, e) in &entries {
@@ -146,7 +146,7 @@ fn write_merged(first: &Meta, found: Found, out: &Path) -> Result<usize> {
     meta.write(out)?;
     let entries: Vec<Entry> = entries.into_iter().map(|(_, e)| e).collect();
     journal::rewrite(out, &entries)?;
-    whisker_scenario::output::write_atomic(
+    whisker_scenario::files::write_atomic(
         &out.join(journal::CSV),
         journal::csv(&meta.factors, &entries).as_bytes(),
     )?;

@@ -81,7 +81,7 @@ pub fn notched_boxes(
 ) -> Result {
     let mut svg = String::new();
     draw_boxes(&mut svg, path, (title, y_label), groups, colours, reference)?;
-    whisker_scenario::output::write_atomic(path, svg.as_bytes())
+    whisker_scenario::files::write_atomic(path, svg.as_bytes())
 }
 
 /// Draws [`notched_boxes`] into `svg` (`path` names it in errors).
@@ -241,7 +241,7 @@ pub fn band_curves(
 ) -> Result {
     let mut svg = String::new();
     draw_bands(&mut svg, path, labels, curves, reference)?;
-    whisker_scenario::output::write_atomic(path, svg.as_bytes())
+    whisker_scenario::files::write_atomic(path, svg.as_bytes())
 }
 
 /// Draws [`band_curves`] into `svg` (`path` names it in errors).

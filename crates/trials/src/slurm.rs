@@ -56,8 +56,8 @@ pub fn write(o: &Settings) -> Result<PathBuf> {
     let scenario = absolute(&o.scenario)?;
     let out = absolute(&o.out)?;
     let dir = out.join("slurm");
-    whisker_scenario::output::create_dir(&dir.join("logs"))?;
-    whisker_scenario::output::create_dir(&out.join("shards"))?;
+    whisker_scenario::files::create_dir(&dir.join("logs"))?;
+    whisker_scenario::files::create_dir(&out.join("shards"))?;
     let q = |p: &Path| quote(&p.display().to_string());
     let extra: String = o.sbatch.iter().map(|s| format!("#SBATCH {s}\n")).collect();
     let array = format!(
@@ -117,7 +117,7 @@ pub fn write(o: &Settings) -> Result<PathBuf> {
         ("submit.sh", submit),
     ] {
         let path = dir.join(name);
-        whisker_scenario::output::write_atomic(&path, text.as_bytes())?;
+        whisker_scenario::files::write_atomic(&path, text.as_bytes())?;
         set_executable(&path)?;
     }
     Ok(dir.join("submit.sh"))

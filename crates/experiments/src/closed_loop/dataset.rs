@@ -15,12 +15,12 @@
 //! `truth/summary.json` (the live run's own log, its policy decisions and the true
 //! object), `truth/scenario.toml`.
 
-use crate::dataset::manifest::{
+use crate::dataset_format::manifest::{
     ClosedLoopInfo, ContactNoiseInfo, Experiment, Level, Manifest, NoiseInfo, Role, SensorInfo,
     SensorNoise,
 };
-use crate::dataset::whisks::{WhiskFiles, put_model, replay_sensing};
-use crate::dataset::{Staging, array_info, records};
+use crate::dataset_format::whisks::{WhiskFiles, put_model, replay_sensing};
+use crate::dataset_format::{Staging, array_info, records};
 use crate::object_slam::dataset::{odometry_csv, pose_log, read_odometry};
 use nalgebra::Point3;
 use rayon::prelude::*;
@@ -118,7 +118,7 @@ fn manifest(
     configs: &[whisker_sim::sensing::physics::WhiskerConfig],
     outcome: &super::Outcome,
     maps: Vec<String>,
-    array: crate::dataset::manifest::ArrayInfo,
+    array: crate::dataset_format::manifest::ArrayInfo,
 ) -> Result<Manifest> {
     let scenario = &file.scenario;
     let physics = scenario.sensing == whisker_scenario::Sensing::Physics;
@@ -288,7 +288,7 @@ impl std::fmt::Display for ReplaySummary {
 /// Replays a closed-loop dataset open loop: WhiskerRatSLAM and recognition on its contacts
 /// and odometry.
 pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<ReplaySummary> {
-    let file = dir.join(crate::dataset::manifest::FILE);
+    let file = dir.join(crate::dataset_format::manifest::FILE);
     let Some(info) = m.closed_loop.as_ref() else {
         return Err(Error::field(&file, "closed_loop", "missing"));
     };
@@ -343,7 +343,7 @@ fn read_cycles(dir: &Path, m: &Manifest, n: usize) -> Result<Vec<ContactCycle>> 
             (0..n)
                 .into_par_iter()
                 .map(|k| {
-                    let streams = crate::dataset::whisk_streams(dir, m, "log/whisks", k)?;
+                    let streams = crate::dataset_format::whisk_streams(dir, m, "log/whisks", k)?;
                     Ok(p.contacts(k, &streams, m.seed, &format!("explore/physics/{k}")))
                 })
                 .collect::<Result<Vec<_>>>()?
@@ -459,13 +459,13 @@ fn write_replay(
     slam: &WhiskerRatSlam,
     info: &ClosedLoopInfo,
 ) -> Result {
-    whisker_scenario::output::create_dir(out)?;
-    whisker_scenario::output::write_atomic(&out.join("replay.csv"), csv.as_bytes())?;
+    whisker_scenario::files::create_dir(out)?;
+    whisker_scenario::files::write_atomic(&out.join("replay.csv"), csv.as_bytes())?;
     let value = serde_json::to_value(summary).expect("plain data");
     let text = serde_json::to_string_pretty(&value).expect("plain JSON") + "\n";
-    whisker_scenario::output::write_atomic(&out.join("summary.json"), text.as_bytes())?;
+    whisker_scenario::files::write_atomic(&out.join("summary.json"), text.as_bytes())?;
     if info.task == "map" {
-        whisker_scenario::output::write_json(&out.join("map.json"), &slam.map.rested())?;
+        whisker_scenario::files::write_json(&out.join("map.json"), &slam.map.rested())?;
     }
     Ok(())
 }

@@ -86,12 +86,12 @@ pub fn write(
         ctx.reporter,
     )?;
     let wall = started.elapsed().as_secs_f64();
-    whisker_scenario::output::write_atomic(&dir.join(CSV_NAME), out.csv.as_bytes())?;
-    whisker_scenario::output::write_atomic(&dir.join("contacts.csv"), out.contacts_csv.as_bytes())?;
+    whisker_scenario::files::write_atomic(&dir.join(CSV_NAME), out.csv.as_bytes())?;
+    whisker_scenario::files::write_atomic(&dir.join("contacts.csv"), out.contacts_csv.as_bytes())?;
     let text = serde_json::to_string_pretty(&out.summary).expect("plain JSON") + "\n";
-    whisker_scenario::output::write_atomic(&dir.join(SUMMARY_NAME), text.as_bytes())?;
+    whisker_scenario::files::write_atomic(&dir.join(SUMMARY_NAME), text.as_bytes())?;
     if let Some(map) = &out.map {
-        whisker_scenario::output::write_json(&dir.join("map.json"), map)?;
+        whisker_scenario::files::write_json(&dir.join("map.json"), map)?;
     }
     if let Some(rec) = recording {
         record_arm(rec.as_ref(), &frames, &out)?;

@@ -13,13 +13,13 @@
 //! physics) and `truth/scenario.toml`.
 
 use super::physics_images::{self as maze_physics, ImageFrontEnd};
-use crate::dataset::manifest::{
+use crate::dataset_format::manifest::{
     ContactNoiseInfo, Experiment, Level, Manifest, MazeInfo, NoiseInfo, Role, SensorInfo,
     SensorNoise,
 };
-use crate::dataset::records::{self, POSE_COLUMNS};
-use crate::dataset::table::{Table, columns};
-use crate::dataset::{Staging, array_info, rigid_whiskers};
+use crate::dataset_format::records::{self, POSE_COLUMNS};
+use crate::dataset_format::table::{Table, columns};
+use crate::dataset_format::{Staging, array_info, rigid_whiskers};
 use crate::maze_slam::path::Sample;
 use crate::maze_slam::{
     Geometry, Sensed, Settings, Setup, UPDATE_HZ, kinematic_contacts, kinematic_whiskers,
@@ -37,8 +37,8 @@ use whisker_sim::sensing::kinematic::KinematicArray;
 use whisker_sim::sensing::noise::ContactNoise;
 use whisker_sim::sensing::physics::DT;
 use whisker_sim::whisker::control::WhiskingPattern;
+use whisker_slam::pose::wrap;
 use whisker_slam::ratslam::RatSlamParams;
-use whisker_slam::ratslam::experience_map::wrap;
 use whisker_slam::ratslam::odometry::{noisy_steps, true_steps};
 use whisker_slam::rng::substream_key;
 use whisker_slam::sensor::SAMPLE_RATE_HZ;
@@ -377,7 +377,7 @@ fn pose_log(
 /// kidnapped variant.
 pub fn read(dir: &Path, m: &Manifest) -> Result<(Sensed, RatSlamParams, bool)> {
     let info = m.maze_section(dir)?;
-    let file = dir.join(crate::dataset::manifest::FILE);
+    let file = dir.join(crate::dataset_format::manifest::FILE);
     check_info(&file, info, m.level)?;
     let n = info.updates;
     let g = geometry(info);
@@ -538,7 +538,7 @@ fn stream_images(
     let by_cycle = (0..sensor.whisks)
         .into_par_iter()
         .map(|c| {
-            let streams = crate::dataset::whisk_streams(dir, m, "log/whisks", c)?;
+            let streams = crate::dataset_format::whisk_streams(dir, m, "log/whisks", c)?;
             Ok(front.cycle(&streams, g))
         })
         .collect::<Result<Vec<_>>>()?;

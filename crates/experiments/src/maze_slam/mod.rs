@@ -34,7 +34,7 @@ use std::fmt;
 use std::path::Path;
 use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::{Error, Result};
-use whisker_slam::ratslam::experience_map::Pose2;
+use whisker_slam::pose::Pose2;
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::ratslam::metrics::{
     ExperienceMetric, consecutive, energy_metric, experience_metric,
@@ -214,13 +214,13 @@ pub fn run(o: &Settings, ctx: Context) -> Result<Report> {
 pub fn replay(
     o: &Settings,
     dir: &Path,
-    manifest: &crate::dataset::manifest::Manifest,
+    manifest: &crate::dataset_format::manifest::Manifest,
     ctx: Context,
 ) -> Result<Report> {
-    if manifest.experiment != crate::dataset::manifest::Experiment::MazeSlam {
+    if manifest.experiment != crate::dataset_format::manifest::Experiment::MazeSlam {
         return Err(Error::Input(format!(
             "{}: not a maze-slam dataset",
-            dir.join(crate::dataset::manifest::FILE).display()
+            dir.join(crate::dataset_format::manifest::FILE).display()
         )));
     }
     let (sensed, params, kidnap) = crate::maze_slam::dataset::read(dir, manifest)?;
@@ -369,7 +369,7 @@ pub fn trial(file: &ScenarioFile, dir: &Path, rrd: &Target, ctx: Context) -> Res
         summary.insert(name, serde_json::Value::Object(figures));
     }
     let text = serde_json::to_string_pretty(&summary).expect("plain JSON") + "\n";
-    whisker_scenario::output::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
+    whisker_scenario::files::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
     let line = serde_json::to_value(&report).map_err(|e| Error::Failure(e.to_string()))?;
     ctx.say(&line.to_string());
     Ok(())
@@ -425,9 +425,9 @@ fn run_sensed(
     ctx: Context,
 ) -> Result<Vec<RunResult>> {
     if let Some(dir) = out {
-        whisker_scenario::output::create_dir(dir)?;
+        whisker_scenario::files::create_dir(dir)?;
         for (images_name, images) in &sensed.image_sets {
-            whisker_scenario::output::write_atomic(
+            whisker_scenario::files::write_atomic(
                 &images::path(dir, images_name, sensed.seed),
                 images::to_csv(images).as_bytes(),
             )?;
@@ -486,7 +486,7 @@ pub fn slam_runs(
                 )?;
                 if let Some(dir) = out {
                     let tag = images_name.replace('/', "-") + &tuning;
-                    whisker_scenario::output::write_atomic(
+                    whisker_scenario::files::write_atomic(
                         &dir.join(format!("trajectory-{tag}-{name}-{seed}.csv")),
                         run.trajectory_csv(truth.as_deref()).as_bytes(),
                     )?;

@@ -3,7 +3,7 @@
 //! size (15 mm) or 10° of turn at 1.5 Hz (§3.1.2, §3.2.1).
 
 use std::f64::consts::PI;
-use whisker_slam::ratslam::experience_map::{Pose2, wrap};
+use whisker_slam::pose::{Pose2, wrap};
 
 /// Pose-cell size and distance per update (m), and turn per update at corners (rad).
 pub const STEP_M: f64 = 0.015;

@@ -19,7 +19,7 @@ use whisker_sim::sensing::kinematic::RigidWhisker;
 use whisker_sim::sensing::physics::{DT, EnvironmentPiece, PhysicsArray, WhiskerConfig};
 use whisker_sim::whisker::control::RcpThreshold;
 use whisker_slam::frontend::contact::FrontEndParams;
-use whisker_slam::ratslam::experience_map::wrap;
+use whisker_slam::pose::wrap;
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::sensor::Sample as Reading;
 

@@ -4,7 +4,8 @@
 //! otherwise; and, for the kidnapped robot, when it first re-localised truly onto an
 //! experience made before the carry.
 
-use whisker_slam::ratslam::experience_map::{MapEvent, Pose2};
+use whisker_slam::pose::Pose2;
+use whisker_slam::ratslam::experience_map::MapEvent;
 
 /// True closures land within this of where the experience was made (m): three of the
 /// office's 0.1 m pose cells.

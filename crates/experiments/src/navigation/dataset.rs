@@ -20,11 +20,11 @@
 use super::object_mode::LoopLog;
 use super::outputs::{self, Known};
 use super::terrain::{self, TerrainRun};
-use crate::dataset::manifest::{
+use crate::dataset_format::manifest::{
     ContactNoiseInfo, Experiment, Level, Manifest, NavigateInfo, NavigateObjectInfo, NoiseInfo,
     PostureInfo, Role,
 };
-use crate::dataset::{Staging, array_info, records};
+use crate::dataset_format::{Staging, array_info, records};
 use crate::object_slam::dataset::{odometry_csv, pose_log};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use std::fmt::Write;
@@ -32,7 +32,7 @@ use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::{Error, Result};
 use whisker_scenario::navigate::NavigateConfig;
 use whisker_scenario::object_mode::DockBy;
-use whisker_slam::ratslam::experience_map::Pose2;
+use whisker_slam::pose::Pose2;
 
 /// The header of `log/odometry.csv`.
 pub const ODOMETRY_COLUMNS: &str = "update,time_s,rot1_rad,trans_m,rot2_rad";

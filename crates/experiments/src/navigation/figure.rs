@@ -8,7 +8,7 @@ use plotters::prelude::*;
 use std::path::Path;
 use whisker_scenario::error::{Error, Result};
 use whisker_sim::environment::floor_plan::FloorPlan;
-use whisker_slam::ratslam::experience_map::Pose2;
+use whisker_slam::pose::Pose2;
 
 /// Pixels per metre.
 const SCALE: f64 = 150.0;

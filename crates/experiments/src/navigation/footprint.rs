@@ -7,7 +7,7 @@
 use nalgebra::{Isometry3, Vector3};
 use parry3d_f64::shape::Cylinder;
 use whisker_sim::environment::Environment;
-use whisker_slam::ratslam::experience_map::Pose2;
+use whisker_slam::pose::Pose2;
 
 /// Gap left under the footprint so that the floor slab it stands on does not count (m).
 const ABOVE_FLOOR_M: f64 = 1e-3;

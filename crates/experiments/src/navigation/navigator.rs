@@ -22,7 +22,7 @@ use whisker_sim::sensing::kinematic::RigidWhisker;
 use whisker_slam::contact::ContactCycle;
 use whisker_slam::navigation::base_odometry::BaseMotion;
 use whisker_slam::navigation::mode_switch::{Decision, ModeSwitch, Verdict};
-use whisker_slam::ratslam::experience_map::Pose2;
+use whisker_slam::pose::Pose2;
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::ratslam::{RatSlam, RatSlamParams, Step};
 

@@ -38,7 +38,7 @@ use whisker_scenario::plan::Plan;
 use whisker_scenario::{Experiment, ScenarioFile};
 use whisker_sim::environment::Environment;
 use whisker_slam::navigation::base_odometry::{BaseMotion, BaseOdometryNoise};
-use whisker_slam::ratslam::experience_map::{Pose2, wrap};
+use whisker_slam::pose::{Pose2, wrap};
 use whisker_slam::ratslam::{RatSlam, Step};
 use whisker_slam::rng::{substream, substream_key};
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;

@@ -11,8 +11,8 @@ use serde_json::json;
 use std::path::Path;
 use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::Result;
+use whisker_scenario::files;
 use whisker_scenario::navigate::NavigateConfig;
-use whisker_scenario::output;
 use whisker_scenario::plan::Plan;
 use whisker_sim::environment::Environment;
 use whisker_slam::navigation::map_error::MapError;
@@ -212,7 +212,7 @@ pub fn write(
     let record_stop =
         |name: &str, focus: &Environment| -> Result<Box<dyn crate::record::Recorder>> {
             let dir = stops_dir.as_ref().expect("only with a recording");
-            output::create_dir(dir)?;
+            files::create_dir(dir)?;
             let id = format!("{}-stop-{name}", crate::record::id(&stem, scenario.seed));
             // The object and the arm's base.
             let eye = Eye::of(focus, &[[0.0; 3]]);
@@ -246,8 +246,8 @@ pub fn write(
     }
     let flags = (config.object.is_some(), config.fusion, config.kidnap);
     let (path, stops, summary) = tables(&run, scenario.seed, flags, Known::ALL);
-    output::write_atomic(&dir.join("path.csv"), path.as_bytes())?;
-    output::write_atomic(&dir.join("stops.csv"), stops.as_bytes())?;
+    files::write_atomic(&dir.join("path.csv"), path.as_bytes())?;
+    files::write_atomic(&dir.join("stops.csv"), stops.as_bytes())?;
     let floor = floor_plan(file)?;
     let objects: Vec<(String, [f64; 2], [f64; 2])> = environment.pieces[..scenario.objects.len()]
         .iter()
@@ -265,8 +265,8 @@ pub fn write(
         run.odometry_error.map_or(f64::NAN, |e| e.rms_m),
     );
     let svg = super::figure::path_svg(&figure, &floor, &objects, &run, &title)?;
-    output::write_atomic(&figure, svg.as_bytes())?;
-    output::write_json(&dir.join("summary.json"), &summary)?;
+    files::write_atomic(&figure, svg.as_bytes())?;
+    files::write_json(&dir.join("summary.json"), &summary)?;
     ctx.say(&console(&summary, Some(start.elapsed().as_secs_f64())));
     Ok(())
 }

@@ -10,7 +10,7 @@ use whisker_scenario::navigate::TerrainConfig;
 use whisker_sim::kinematics::Chain;
 use whisker_sim::kinematics::ik::{self, IkOptions};
 use whisker_slam::pose;
-use whisker_slam::ratslam::experience_map::Pose2;
+use whisker_slam::pose::Pose2;
 
 /// The arm holding the array for terrain mode.
 #[derive(Debug, Clone)]

@@ -23,9 +23,9 @@ use super::outputs::{self, Known};
 use super::posture::Posture;
 use super::terrain::{Stop, TerrainRun, Update};
 use crate::closed_loop::dataset::run_slam;
-use crate::dataset::manifest::{FILE, Manifest, NavigateObjectInfo};
-use crate::dataset::records;
-use crate::dataset::table::{Table, columns};
+use crate::dataset_format::manifest::{FILE, Manifest, NavigateObjectInfo};
+use crate::dataset_format::records;
+use crate::dataset_format::table::{Table, columns};
 use crate::object_slam::dataset::read_odometry;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use std::collections::BTreeMap;
@@ -33,7 +33,7 @@ use std::path::Path;
 use whisker_scenario::error::{Error, Result};
 use whisker_slam::navigation::base_odometry::BaseMotion;
 use whisker_slam::navigation::map_error;
-use whisker_slam::ratslam::experience_map::Pose2;
+use whisker_slam::pose::Pose2;
 use whisker_slam::ratslam::metrics::{
     ExperienceMetric, consecutive, energy_metric, experience_metric,
 };
@@ -79,7 +79,7 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<Report> {
         .as_ref()
         .ok_or_else(|| Error::field(&file, "navigate", "missing"))?;
     let n = info.updates;
-    let whiskers = crate::dataset::rigid_whiskers(dir, &m.array)?;
+    let whiskers = crate::dataset_format::rigid_whiskers(dir, &m.array)?;
     // The odometry first: its rows must number the manifest's updates.
     let readings = read_readings(&m.file(dir, "log/odometry.csv")?, n)?;
     let cycles = records::read_contacts(&m.file(dir, "log/contacts.csv")?, n, &m.array.labels)?;
@@ -241,10 +241,10 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<Report> {
     let flags = (info.object.is_some(), info.fusion, info.kidnap);
     let (path, stops, summary) = outputs::tables(&run, m.seed, flags, known);
     if let Some(out) = out {
-        whisker_scenario::output::create_dir(out)?;
-        whisker_scenario::output::write_atomic(&out.join("path.csv"), path.as_bytes())?;
-        whisker_scenario::output::write_atomic(&out.join("stops.csv"), stops.as_bytes())?;
-        whisker_scenario::output::write_json(&out.join("summary.json"), &summary)?;
+        whisker_scenario::files::create_dir(out)?;
+        whisker_scenario::files::write_atomic(&out.join("path.csv"), path.as_bytes())?;
+        whisker_scenario::files::write_atomic(&out.join("stops.csv"), stops.as_bytes())?;
+        whisker_scenario::files::write_json(&out.join("summary.json"), &summary)?;
     }
     Ok(Report(summary))
 }

@@ -12,7 +12,7 @@
 
 use whisker_scenario::navigate::NavigateConfig;
 use whisker_slam::navigation::base_odometry::{BaseMotion, BaseOdometryNoise};
-use whisker_slam::ratslam::experience_map::{Pose2, wrap};
+use whisker_slam::pose::{Pose2, wrap};
 use whisker_slam::rng::substream;
 
 /// The true pose of the base at every update, the start first, for updates `period_s`

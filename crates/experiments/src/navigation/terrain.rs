@@ -57,7 +57,8 @@ use whisker_slam::contact::ContactCycle;
 use whisker_slam::navigation::base_odometry::BaseMotion;
 use whisker_slam::navigation::map_error::{self, MapError};
 use whisker_slam::navigation::mode_switch::Verdict;
-use whisker_slam::ratslam::experience_map::{MapEvent, Pose2};
+use whisker_slam::pose::Pose2;
+use whisker_slam::ratslam::experience_map::MapEvent;
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::ratslam::metrics::{
     ExperienceMetric, consecutive, energy_metric, experience_metric,

@@ -10,14 +10,14 @@
 //! `truth/<object>/<A|B>/poses.csv`, `odometry.csv` (noise-free) and `contacts.csv` (the
 //! rigid sweep without noise).
 
-use crate::dataset::manifest::{
+use crate::dataset_format::manifest::{
     ContactNoiseInfo, Experiment, Level, Manifest, NoiseInfo, ObjectSlamInfo, Odometry6Noise, Role,
     SensorInfo, SensorNoise, WalkInfo,
 };
-use crate::dataset::records::{self, POSE_COLUMNS};
-use crate::dataset::table::{Row, Table, columns};
-use crate::dataset::whisks::{WhiskFiles, put_model, replay_sensing};
-use crate::dataset::{Staging, array_info};
+use crate::dataset_format::records::{self, POSE_COLUMNS};
+use crate::dataset_format::table::{Row, Table, columns};
+use crate::dataset_format::whisks::{WhiskFiles, put_model, replay_sensing};
+use crate::dataset_format::{Staging, array_info};
 use crate::object_slam::{self, Sensed, Walk};
 use crate::record::Context;
 use crate::sensing::held::PhysicsSensing;
@@ -189,7 +189,7 @@ fn write_walk(
 fn manifest(
     o: &ObjectDataset,
     walks: Vec<WalkInfo>,
-    array: crate::dataset::manifest::ArrayInfo,
+    array: crate::dataset_format::manifest::ArrayInfo,
 ) -> Manifest {
     let physics = o.sensing == SensingMode::Physics;
     let first = sensing_configs().swap_remove(0);
@@ -274,7 +274,7 @@ pub fn pose_log(
 
 /// Reads an object dataset into the walks `whisker object-slam` analyses.
 pub fn read(dir: &Path, m: &Manifest) -> Result<Vec<Sensed<'static>>> {
-    let file = dir.join(crate::dataset::manifest::FILE);
+    let file = dir.join(crate::dataset_format::manifest::FILE);
     let Some(info) = m
         .object_slam
         .as_ref()
@@ -303,7 +303,7 @@ pub fn read(dir: &Path, m: &Manifest) -> Result<Vec<Sensed<'static>>> {
             "expected \"thesis\" or \"centred\"",
         ));
     }
-    crate::dataset::rigid_whiskers(dir, &m.array)?;
+    crate::dataset_format::rigid_whiskers(dir, &m.array)?;
     let truth = m.has_truth(dir);
     let mut out = Vec::new();
     for pair in info.walks.chunks(2) {
@@ -392,7 +392,7 @@ pub fn whisks(m: &Manifest, walk: &str) -> Result<usize> {
         .ok_or_else(|| {
             Error::Input(format!(
                 "{}: field `object_slam.walks`: no walk {walk}",
-                crate::dataset::manifest::FILE
+                crate::dataset_format::manifest::FILE
             ))
         })
 }
@@ -434,7 +434,7 @@ fn read_walk(
             .into_par_iter()
             .map(|k| {
                 let streams =
-                    crate::dataset::whisk_streams(dir, m, &format!("log/{base}/whisks"), k)?;
+                    crate::dataset_format::whisk_streams(dir, m, &format!("log/{base}/whisks"), k)?;
                 let stream = object_slam::stream(&w.object, trajectory(&w.trajectory));
                 Ok(p.contacts(k, &streams, m.seed, &format!("{stream}/physics/{k}")))
             })

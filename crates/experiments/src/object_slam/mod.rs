@@ -71,7 +71,7 @@ pub fn run(o: &Settings, ctx: Context) -> Result<Report> {
 /// `whisker object-slam --dataset DIR`: the walks of the dataset in `dir` (its objects and
 /// seed), then [`analyse`] with the settings of `o` that do not sense.
 pub fn replay(o: &Settings, dir: &Path, ctx: Context) -> Result<Report> {
-    let manifest = crate::dataset::manifest::Manifest::read(dir)?;
+    let manifest = crate::dataset_format::manifest::Manifest::read(dir)?;
     let data = crate::object_slam::dataset::read(dir, &manifest)?;
     let o = Settings {
         seed: manifest.seed,
@@ -165,7 +165,7 @@ pub fn sense(
 /// Localisation and identification on sensed walks (§5.2.2): reports and `--out` files.
 pub fn analyse(o: &Settings, data: &[Sensed], ctx: Context) -> Result<Report> {
     if let Some(dir) = &o.out {
-        whisker_scenario::output::create_dir(dir)?;
+        whisker_scenario::files::create_dir(dir)?;
     }
     let modules = array::modules();
     // Localisation: every object × every parameter set.

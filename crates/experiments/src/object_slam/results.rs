@@ -179,12 +179,12 @@ pub fn localisation(
             && *combo == Combo::BEST
         {
             let maps = dir.join("maps");
-            whisker_scenario::output::create_dir(&maps)?;
-            whisker_scenario::output::write_json(&maps.join(format!("{}.json", asset.name)), &map)?;
+            whisker_scenario::files::create_dir(&maps)?;
+            whisker_scenario::files::write_json(&maps.join(format!("{}.json", asset.name)), &map)?;
         }
     }
     if let Some(dir) = &o.out {
-        whisker_scenario::output::write_atomic(&dir.join("localisation.csv"), csv.as_bytes())?;
+        whisker_scenario::files::write_atomic(&dir.join("localisation.csv"), csv.as_bytes())?;
     }
     Ok(rows)
 }
@@ -230,7 +230,7 @@ pub fn identification(
         });
     }
     if let Some(dir) = &o.out {
-        whisker_scenario::output::write_atomic(&dir.join("identification.csv"), csv.as_bytes())?;
+        whisker_scenario::files::write_atomic(&dir.join("identification.csv"), csv.as_bytes())?;
     }
     Ok(rows)
 }

@@ -29,7 +29,7 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use whisker_scenario::error::{Error, Result};
-use whisker_scenario::output::write_atomic;
+use whisker_scenario::files::write_atomic;
 use whisker_sim::environment::assets::{CATALOGUE, placed};
 use whisker_sim::environment::{Environment, Piece};
 use whisker_sim::sensing::kinematic::{Intersect, RigidWhisker, SweepTarget};

@@ -17,7 +17,7 @@ use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
 use whisker_scenario::error::{Error, Result};
-use whisker_scenario::output::{create_dir, write_atomic};
+use whisker_scenario::files::{create_dir, write_atomic};
 use whisker_slam::frontend::features::Feature;
 use whisker_slam::radial::RadialEstimator;
 use whisker_slam::radial::cross_validation::{mse, r2};

@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::Result;
-use whisker_scenario::output;
+use whisker_scenario::files;
 use whisker_scenario::plan::Plan;
 use whisker_sim::environment::Environment;
 use whisker_sim::kinematics::Chain;
@@ -183,7 +183,7 @@ impl ArraySimulation {
         if let (Some(cols), Some(rec)) = (&mut self.columns, recording) {
             cols.send(rec)?;
         }
-        output::write_atomic(&dir.join("whiskers.csv"), self.csv.as_bytes())?;
+        files::write_atomic(&dir.join("whiskers.csv"), self.csv.as_bytes())?;
         self.frontend.finish(dir)
     }
 }

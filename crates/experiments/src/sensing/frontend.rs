@@ -17,7 +17,7 @@ use nalgebra::Isometry3;
 use std::path::Path;
 use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::Result;
-use whisker_scenario::output;
+use whisker_scenario::files;
 use whisker_sim::sensing::kinematic::RigidWhisker;
 use whisker_sim::sensing::physics::WhiskerConfig;
 use whisker_sim::whisker::control::WhiskingPattern;
@@ -146,6 +146,6 @@ impl FrontEnd {
 
     /// Writes `frontend.csv` into `dir`.
     pub fn finish(self, dir: &Path) -> Result {
-        output::write_atomic(&dir.join("frontend.csv"), self.csv.as_bytes())
+        files::write_atomic(&dir.join("frontend.csv"), self.csv.as_bytes())
     }
 }

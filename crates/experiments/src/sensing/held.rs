@@ -287,7 +287,7 @@ mod tests {
     /// simulated read no deflection and give no contact.
     #[test]
     fn contacts_from_a_whisk_file_equal_the_live_ones() {
-        use crate::dataset::records;
+        use crate::dataset_format::records;
         let asset = CATALOGUE.iter().find(|a| a.name == "box").unwrap();
         let (environment, shape) = placed(asset).unwrap();
         let (near, _) = viewpoints::busiest(&environment, &shape, asset.size).unwrap();

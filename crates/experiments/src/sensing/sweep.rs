@@ -13,7 +13,7 @@ use crate::record::Recorder;
 use std::path::Path;
 use whisker_scenario::ScenarioFile;
 use whisker_scenario::error::Result;
-use whisker_scenario::output;
+use whisker_scenario::files;
 use whisker_scenario::plan::Plan;
 use whisker_sim::environment::Environment;
 use whisker_sim::kinematics::Chain;
@@ -124,6 +124,6 @@ impl ContactSensing {
 
     /// Writes the CSV into `dir`.
     pub fn finish(self, dir: &Path) -> Result {
-        output::write_atomic(&dir.join(self.name), self.csv.as_bytes())
+        files::write_atomic(&dir.join(self.name), self.csv.as_bytes())
     }
 }

@@ -17,7 +17,7 @@
 //! differential-drive base: 5 % of each turn and of each distance, 2.9° of heading per
 //! metre driven, 1 cm of distance per radian turned. They are scenario fields.
 
-use crate::ratslam::experience_map::{Pose2, wrap};
+use crate::pose::{Pose2, wrap};
 use crate::rng::StreamRng;
 use rand_distr::{Distribution, Normal};
 use serde::{Deserialize, Serialize};

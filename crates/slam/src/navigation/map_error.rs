@@ -5,7 +5,7 @@
 //! Umeyama 1991 without scale, in closed form). Used for the office run's map and for its
 //! dead-reckoned baseline alike (issue #36).
 
-use crate::ratslam::experience_map::{Pose2, wrap};
+use crate::pose::{Pose2, wrap};
 use serde::Serialize;
 
 /// The best rigid motion of the plane mapping `from` onto `to` (paired by index): the

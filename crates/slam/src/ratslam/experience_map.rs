@@ -15,8 +15,8 @@
 //! is at the origin with heading 0.
 
 use super::posecells3d::{Cell3, PoseCells3};
+use crate::pose::{Pose2, wrap};
 use serde::{Deserialize, Serialize};
-use std::f64::consts::{PI, TAU};
 
 /// Parameters of the experience map.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -37,47 +37,6 @@ impl Default for ExperienceMapParams {
             delta_pc_threshold: 1.0,
             correction: 0.5,
             loops: 10,
-        }
-    }
-}
-
-/// A planar pose in the map frame: x, y (m), θ (rad, from +x towards +y).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-pub struct Pose2 {
-    /// x (m).
-    pub x: f64,
-    /// y (m).
-    pub y: f64,
-    /// Heading (rad).
-    pub th: f64,
-}
-
-/// An angle wrapped to (−π, π].
-pub fn wrap(a: f64) -> f64 {
-    let w = (a + PI).rem_euclid(TAU) - PI;
-    if w == -PI { PI } else { w }
-}
-
-impl Pose2 {
-    /// `b` expressed in this pose's frame (b ⊖ self, Eq 3.3).
-    pub fn relative(&self, b: &Pose2) -> Pose2 {
-        let (dx, dy) = (b.x - self.x, b.y - self.y);
-        let (s, c) = self.th.sin_cos();
-        Pose2 {
-            x: c * dx + s * dy,
-            y: -s * dx + c * dy,
-            th: wrap(b.th - self.th),
-        }
-    }
-
-    /// `b`, given in this pose's frame, in the frame this pose is given in (self ⊕ b: the
-    /// inverse of [`relative`](Self::relative)).
-    pub fn compose(&self, b: &Pose2) -> Pose2 {
-        let (s, c) = self.th.sin_cos();
-        Pose2 {
-            x: self.x + c * b.x - s * b.y,
-            y: self.y + s * b.x + c * b.y,
-            th: wrap(self.th + b.th),
         }
     }
 }

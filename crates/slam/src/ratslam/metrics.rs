@@ -2,7 +2,7 @@
 //! (Algorithm 1: average rate of re-localisation ARR and of correct re-localisation ARCR)
 //! and the Energy Metric (Eq 3.2–3.3, after Kümmerle et al. 2009).
 
-use super::experience_map::Pose2;
+use crate::pose::Pose2;
 
 /// The Experience Metric's result.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -54,7 +54,7 @@ pub fn experience_metric(
         if relocalised.contains(&e) {
             let j = past.iter().rposition(|&x| x == e).expect("seen before");
             let dp = (truth[i].x - truth[j].x).hypot(truth[i].y - truth[j].y);
-            let dth = super::experience_map::wrap(truth[i].th - truth[j].th).abs();
+            let dth = crate::pose::wrap(truth[i].th - truth[j].th).abs();
             let within = valid.contains(&e) && dp < max_position && dth < max_angle;
             let staying_correct = e == prev && correct_set.contains(&prev);
             if within || staying_correct {

@@ -18,7 +18,7 @@
 //! estimated loop is about twice the true one. That is what the thesis' numbers say,
 //! although its Fig 3.3 calls the drift "small"; `linear_lognormal` changes it.
 
-use super::experience_map::{Pose2, wrap};
+use crate::pose::{Pose2, wrap};
 use crate::rng::{StreamRng, substream};
 use rand_distr::{Distribution, LogNormal, Normal};
 use serde::{Deserialize, Serialize};

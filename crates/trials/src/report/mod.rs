@@ -55,7 +55,7 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         std::fs::remove_dir_all(&figures)
             .map_err(|e| Error::Failure(format!("cannot clear {}: {e}", figures.display())))?;
     }
-    whisker_scenario::output::create_dir(&figures)?;
+    whisker_scenario::files::create_dir(&figures)?;
     let mut md = String::new();
     let _ = writeln!(md, "# Batch report: {}\n", meta.scenario);
     let failed: Vec<&Entry> = entries
@@ -148,7 +148,7 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         confidence::curves(&mut md, dir, &figures, name, &groups)?;
     }
     let path = dir.join(REPORT);
-    whisker_scenario::output::write_atomic(&path, md.as_bytes())?;
+    whisker_scenario::files::write_atomic(&path, md.as_bytes())?;
     Ok(path)
 }
 

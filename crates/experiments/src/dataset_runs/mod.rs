@@ -2,13 +2,13 @@
 //! run the scenario describes with the writer of its experiment, `whisker dataset
 //! object-slam` the object walks, [`noise`] adds noise to a clean dataset of any of them,
 //! and `whisker slam DIR` runs the replay its manifest names. The format is
-//! [`crate::dataset`]; each experiment's writer and reader sit beside the experiment
+//! [`crate::dataset_format`]; each experiment's writer and reader sit beside the experiment
 //! (`maze_slam::dataset`, `object_slam::dataset`, `closed_loop::dataset`).
 
 pub mod noise;
 
-use crate::dataset::manifest::{Experiment, Manifest};
-use crate::dataset::{self, Written};
+use crate::dataset_format::manifest::{Experiment, Manifest};
+use crate::dataset_format::{self, Written};
 use std::path::{Path, PathBuf};
 use whisker_scenario::Experiment as Runs;
 use whisker_scenario::ScenarioFile;
@@ -42,7 +42,7 @@ pub fn write_scenario(w: &ScenarioDataset, ctx: crate::record::Context) -> Resul
     file.scenario.seed = w.seed.unwrap_or(file.scenario.seed);
     let file = &file;
     let path = file.path.display();
-    dataset::timed(&w.out, |staging| match &file.scenario.experiment {
+    dataset_format::timed(&w.out, |staging| match &file.scenario.experiment {
         Runs::ClosedLoop(_) if w.clean => Err(Error::Input(format!(
             "{path}: --clean: a closed loop's path depends on its noise; write it with the \
              noise it runs with"
@@ -73,7 +73,7 @@ pub fn write_objects(
     o: &crate::object_slam::dataset::ObjectDataset,
     ctx: crate::record::Context,
 ) -> Result<Written> {
-    dataset::timed(&o.out, |staging| {
+    dataset_format::timed(&o.out, |staging| {
         crate::object_slam::dataset::write(o, staging, ctx)
     })
 }

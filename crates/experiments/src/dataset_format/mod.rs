@@ -78,7 +78,7 @@ impl Staging {
     pub fn put(&mut self, path: &str, role: Role, bytes: &[u8]) -> Result {
         let full = self.dir.join(path);
         if let Some(parent) = full.parent() {
-            whisker_scenario::output::create_dir(parent)?;
+            whisker_scenario::files::create_dir(parent)?;
         }
         std::fs::write(&full, bytes)
             .map_err(|e| Error::Failure(format!("cannot write {}: {e}", full.display())))?;
@@ -117,7 +117,7 @@ pub fn write(out: &Path, fill: impl FnOnce(&mut Staging) -> Result<Manifest>) ->
         .unwrap_or_else(|| "dataset".into());
     let staging = out.with_file_name(format!(".{name}.partial-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&staging);
-    whisker_scenario::output::create_dir(&staging)?;
+    whisker_scenario::files::create_dir(&staging)?;
     let mut s = Staging {
         dir: staging.clone(),
         files: Vec::new(),
@@ -125,11 +125,11 @@ pub fn write(out: &Path, fill: impl FnOnce(&mut Staging) -> Result<Manifest>) ->
     let result = fill(&mut s).and_then(|mut manifest| {
         manifest.files = std::mem::take(&mut s.files);
         let text = serde_json::to_string_pretty(&manifest).expect("plain JSON") + "\n";
-        whisker_scenario::output::write_atomic(&staging.join(manifest::FILE), text.as_bytes())?;
+        whisker_scenario::files::write_atomic(&staging.join(manifest::FILE), text.as_bytes())?;
         std::fs::rename(&staging, out).map_err(|e| {
             Error::Failure(format!("cannot move the dataset to {}: {e}", out.display()))
         })?;
-        whisker_scenario::output::wrote(out);
+        whisker_scenario::files::wrote(out);
         Ok(manifest)
     });
     if result.is_err() {

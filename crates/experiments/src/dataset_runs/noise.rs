@@ -13,10 +13,10 @@
 //!   from sub-stream `maze-slam/odometry` of M — the same draws as a noisy dataset
 //!   written with seed M; the pose log is dead-reckoned again from it.
 
-use crate::dataset::manifest::{
+use crate::dataset_format::manifest::{
     ContactNoiseInfo, Experiment, Level, Manifest, NoiseInfo, Odometry6Noise, Role, SensorNoise,
 };
-use crate::dataset::records;
+use crate::dataset_format::records;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 use std::path::PathBuf;
@@ -50,10 +50,10 @@ pub struct Settings {
 }
 
 /// `whisker dataset noise`.
-pub fn run(o: &Settings) -> Result<crate::dataset::Written> {
+pub fn run(o: &Settings) -> Result<crate::dataset_format::Written> {
     let m = Manifest::read(&o.input)?;
     let contact_noise = check(o, &m)?;
-    crate::dataset::timed(&o.out, |s| {
+    crate::dataset_format::timed(&o.out, |s| {
         let mut out = m.clone();
         out.noise = NoiseInfo {
             added_with_seed: Some(o.seed),
@@ -83,14 +83,18 @@ fn check(o: &Settings, m: &Manifest) -> Result<ContactNoise> {
         return Err(Error::Input(format!(
             "{}: field `noise`: the dataset already holds noise; write it with \
              `whisker dataset --clean` to noise it later",
-            o.input.join(crate::dataset::manifest::FILE).display()
+            o.input
+                .join(crate::dataset_format::manifest::FILE)
+                .display()
         )));
     }
     if m.experiment == Experiment::ClosedLoop {
         return Err(Error::Input(format!(
             "{}: a closed loop's path depends on its noise: its dataset is written with the \
              noise it ran with and cannot be noised later",
-            o.input.join(crate::dataset::manifest::FILE).display()
+            o.input
+                .join(crate::dataset_format::manifest::FILE)
+                .display()
         )));
     }
     let contact_noise = ContactNoise {
@@ -110,7 +114,9 @@ fn check(o: &Settings, m: &Manifest) -> Result<ContactNoise> {
         return Err(Error::Input(format!(
             "{}: field `array.labels`: {l:?} is not a whisker of the standard array (A1 … F3), \
              whose shaft --point-noise along-whisker needs",
-            o.input.join(crate::dataset::manifest::FILE).display()
+            o.input
+                .join(crate::dataset_format::manifest::FILE)
+                .display()
         )));
     }
     // σ up to a whole 12-bit range of counts and a whole turn.
@@ -134,9 +140,9 @@ fn check(o: &Settings, m: &Manifest) -> Result<ContactNoise> {
 fn noisy_file(
     o: &Settings,
     m: &Manifest,
-    entry: &crate::dataset::manifest::FileEntry,
+    entry: &crate::dataset_format::manifest::FileEntry,
     contact_noise: ContactNoise,
-    s: &mut crate::dataset::Staging,
+    s: &mut crate::dataset_format::Staging,
     noise: &mut NoiseInfo,
 ) -> Result<Option<Vec<u8>>> {
     let path = o.input.join(&entry.path);
@@ -209,7 +215,7 @@ fn noisy_streams(
     o: &Settings,
     m: &Manifest,
     sigma: SensorNoise,
-    s: &mut crate::dataset::Staging,
+    s: &mut crate::dataset_format::Staging,
 ) -> Result {
     let sensor = m.sensor_section(&o.input)?;
     let files: Vec<Result<(String, String)>> = (0..sensor.whisks)
