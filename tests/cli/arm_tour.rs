@@ -111,7 +111,7 @@ fn the_arm_tour_reaches_its_waypoints_within_the_joint_speed_limit() {
 /// frame is logged once per sample on the `sim_time` timeline, and there is no wall-clock
 /// `log_time` timeline.
 fn check_recording(path: &Path, samples: usize) {
-    let chunks = super::recording::checked(
+    let chunks = recording::checked(
         path,
         &[
             "world/arm/skeleton",

@@ -101,7 +101,7 @@ fn office_dataset_replays_the_live_run() {
     );
     assert!(stops.iter().any(|s| !s[15].is_empty()), "something mapped");
     assert!(stops.iter().any(|s| !s[12].is_empty()), "a landmark made");
-    let m = super::dataset::manifest(&d);
+    let m = dataset::manifest(&d);
     assert_eq!(m["experiment"], "navigate");
     assert_eq!(m["navigate"]["object"]["stops"], stops.len());
     for s in &stops {
@@ -195,7 +195,7 @@ fn office_dataset_replays_the_live_run() {
 fn kidnapped_office_dataset_replays_the_live_run() {
     let tmp = tempfile::tempdir().unwrap();
     let edit = |s: String| {
-        super::office::swap(s, "seed = 0", "seed = 2")
+        office::swap(s, "seed = 0", "seed = 2")
             .replacen("laps = 2", "laps = 2\nkidnap = true", 1)
             .replacen(
                 "[navigate.object.explore]",
@@ -211,7 +211,7 @@ fn kidnapped_office_dataset_replays_the_live_run() {
         .filter(|s| s[4].parse::<f64>().unwrap() > 0.0)
         .count();
     assert!(drives > 0, "the base drove to dock");
-    let m = super::dataset::manifest(&d);
+    let m = dataset::manifest(&d);
     assert_eq!(m["navigate"]["kidnap"], true);
     assert_eq!(m["navigate"]["object"]["dock"], "base");
 }

@@ -316,7 +316,7 @@ fn comparable(line: &str, out: &str) -> String {
 #[test]
 fn the_quickstart_runs_the_closed_loop_and_writes_its_outputs() {
     let tmp = tempfile::tempdir().unwrap();
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_whisker"))
+    let o = Command::new(env!("CARGO_BIN_EXE_whisker"))
         .current_dir(repo(""))
         .args([
             "run",

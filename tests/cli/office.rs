@@ -292,7 +292,7 @@ fn the_office_run_maps_the_route_closer_than_its_odometry() {
     let tmp = tempfile::tempdir().unwrap();
     let (dir, summary) = office_run(tmp.path(), "run", |s| s);
     // The recording: every entity documented, one tactile image per update.
-    let chunks = super::recording::checked(
+    let chunks = recording::checked(
         &dir.join("run.rrd"),
         &[
             "slam/office/tactile_image",
@@ -445,7 +445,7 @@ fn stop_recordings_agree(dir: &Path) {
         if s[7].is_empty() || !s[15].is_empty() {
             continue;
         }
-        let chunks = super::recording::checked(
+        let chunks = recording::checked(
             &file("recognise"),
             &[
                 "world/arm/skeleton",

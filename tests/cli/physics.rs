@@ -55,7 +55,7 @@ fn physics_runs_write_reproducible_2_khz_whisker_streams() {
     // The console explains the lines, lists the files and shows progress while it runs
     // (a line a tenth off a terminal).
     let out = tmp.path().join("out-physics");
-    super::console::assert_console(&o, "Run a scenario", &["front end", "whisking"], Some(&out));
+    console::assert_console(&o, "Run a scenario", &["front end", "whisking"], Some(&out));
     assert!(
         stdout(&o).contains("recording  none (switched off"),
         "{}",

@@ -19,12 +19,12 @@ fn a_physics_validation_set_is_detected_near_the_anticipated_contacts_and_evalua
         "--out",
         data.to_str().unwrap(),
     ]);
-    super::console::assert_console(&o, "Radial distance", &[], Some(tmp.path()));
+    console::assert_console(&o, "Radial distance", &[], Some(tmp.path()));
     let set = rows(&data);
     assert!(set.len() >= 3, "{} contacts", set.len());
     // The recording beside the data set: each simulation's whisker streams, one whisk
     // (1 Hz: 2000 samples), and its ground-truth contact.
-    let chunks = super::recording::checked(&tmp.path().join("validation.rrd"), &[]);
+    let chunks = recording::checked(&tmp.path().join("validation.rrd"), &[]);
     let entities = whisker_recording::decode::entities(&chunks);
     let streams: Vec<&String> = entities
         .keys()
@@ -97,7 +97,7 @@ fn a_physics_validation_set_is_detected_near_the_anticipated_contacts_and_evalua
         "--models",
         repo("assets/models").to_str().unwrap(),
     ]);
-    super::console::assert_console(
+    console::assert_console(
         &o,
         "Validate trained regressors",
         &["model", "δr", "d", "p(tip), p(random)"],
@@ -137,7 +137,7 @@ fn training_writes_loadable_models_and_bad_input_is_refused() {
         "--models",
         "poly8,svr12",
     ]);
-    super::console::assert_console(
+    console::assert_console(
         &o,
         "Train the twelve regressors",
         &["PC1…", "R² train", "RMSE", "chosen"],

@@ -102,7 +102,7 @@ fn kettle_run(dir: &Path, name: &str, threads: &str) -> PathBuf {
     let out = dir.join(format!("out-{name}"));
     let text = with_urdf(&body).replace("OUT", &format!("{:?}", out.display().to_string()));
     std::fs::write(&path, text).unwrap();
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_whisker"))
+    let o = Command::new(env!("CARGO_BIN_EXE_whisker"))
         .args(["run", path.to_str().unwrap()])
         .env("RAYON_NUM_THREADS", threads)
         .output()
@@ -225,7 +225,7 @@ fn a_closed_loop_records_its_map_confidence_and_contacts() {
     let tmp = tempfile::tempdir().unwrap();
     let run = |name: &str, threads: &str| {
         let out = tmp.path().join(name);
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_whisker"))
+        let o = Command::new(env!("CARGO_BIN_EXE_whisker"))
             .args([
                 "run",
                 repo("scenarios/quickstart.toml").to_str().unwrap(),
@@ -329,7 +329,7 @@ fn a_closed_loop_records_its_map_confidence_and_contacts() {
 
 /// Runs `whisker` with `threads` threads; must succeed; returns stdout.
 fn ok_with(threads: &str, args: &[&str]) -> String {
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_whisker"))
+    let o = Command::new(env!("CARGO_BIN_EXE_whisker"))
         .args(args)
         .env("RAYON_NUM_THREADS", threads)
         .output()

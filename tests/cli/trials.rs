@@ -109,7 +109,7 @@ fn rows_do_not_depend_on_jobs_and_equal_single_runs() {
     let f = file.to_str().unwrap();
     ok(&trials(&[f, "--out", a.to_str().unwrap(), "--jobs", "1"]));
     let o = trials(&[f, "--out", b.to_str().unwrap(), "--jobs", "2"]);
-    super::console::assert_console(
+    console::assert_console(
         &o,
         "Batch trials",
         &["trials.csv", "report.md", "figures/", "runs/"],

@@ -74,8 +74,12 @@ pub struct Report {
 pub fn run(s: &Settings) -> Result<Report> {
     let beam = s.beam;
     // The design names its bad field; the command line knows it as an option.
-    beam.check().map_err(|(field, e)| {
-        Error::Input(format!("characterize: --{}: {e}", field.replace('_', "-")))
+    beam.check().map_err(|e| {
+        Error::Input(format!(
+            "characterize: --{}: {}",
+            e.field.replace('_', "-"),
+            e.message
+        ))
     })?;
     // The first mode depends on all of them.
     check_first_mode(&beam).map_err(|e| {

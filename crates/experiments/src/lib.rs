@@ -14,6 +14,10 @@
 //! `whisker-recording` crate implements on Rerun. Errors are `whisker_scenario::Error`: bad input or
 //! a failure; the `whisker` binary maps them to exit codes 2 and 1.
 
+// A library says what it does through its caller (reports, `Reporter`), never on the
+// console itself.
+#![deny(clippy::print_stdout, clippy::print_stderr)]
+
 pub mod assets;
 pub mod characterize;
 pub mod check;

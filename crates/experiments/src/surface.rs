@@ -6,7 +6,7 @@ use nalgebra::{Point3, Vector3};
 use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::query::Ray;
 use parry3d_f64::shape::SharedShape;
-use whisker_sim::environment::Mesh;
+use whisker_sim::environment::{Mesh, ShapeError};
 use whisker_slam::exploration::goal_mesh::Surface;
 
 /// How far out from `centre` (inside the solid `shape`) along `dir` its outermost
@@ -45,7 +45,7 @@ pub struct MeshSurface {
 
 impl MeshSurface {
     /// The triangles of `mesh` (world) seen from `centre`, as a two-sided triangle mesh.
-    pub fn new(mesh: &Mesh, centre: Point3<f64>) -> Result<Self, String> {
+    pub fn new(mesh: &Mesh, centre: Point3<f64>) -> Result<Self, ShapeError> {
         Ok(Self {
             shape: whisker_sim::environment::solids::soup_shape(mesh)?,
             centre,

@@ -12,13 +12,16 @@ fn main() -> ExitCode {
         return ExitCode::from(2);
     };
     let read = |p: &str| whisker_recording::decode::read(std::path::Path::new(p));
-    let result = read(a).and_then(|(id_a, chunks_a)| {
-        let (id_b, chunks_b) = read(b)?;
+    let result = || -> Result<(), Box<dyn std::error::Error>> {
+        let ((id_a, chunks_a), (id_b, chunks_b)) = (read(a)?, read(b)?);
         if id_a != id_b {
-            return Err(format!("recording ids differ: {id_a} against {id_b}"));
+            return Err(format!("recording ids differ: {id_a} against {id_b}").into());
         }
-        whisker_recording::decode::same_content(&chunks_a, &chunks_b)
-    });
+        Ok(whisker_recording::decode::same_content(
+            &chunks_a, &chunks_b,
+        )?)
+    };
+    let result = result();
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

@@ -9,10 +9,40 @@ use rerun::log::LogMsg;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
+/// An `.rrd` that could not be read: the file and what the decoder said.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DecodeError {
+    pub path: std::path::PathBuf,
+    pub message: String,
+}
+
+impl std::fmt::Display for DecodeError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.path.display(), self.message)
+    }
+}
+
+impl std::error::Error for DecodeError {}
+
+/// Where two recordings' contents first differ (chunk, entity, component).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Difference(pub String);
+
+impl std::fmt::Display for Difference {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Difference {}
+
 /// The recording store's chunks of the `.rrd` at `path`, and its recording id.
-pub fn read(path: &Path) -> Result<(String, Vec<Chunk>), String> {
+pub fn read(path: &Path) -> Result<(String, Vec<Chunk>), DecodeError> {
     use rerun::external::re_log_encoding::DecoderApp;
-    let fail = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    let fail = |e: &dyn std::fmt::Display| DecodeError {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    };
     let file = std::fs::File::open(path).map_err(|e| fail(&e))?;
     let mut chunks = Vec::new();
     let mut id = String::new();
@@ -184,7 +214,7 @@ pub fn points(chunks: &[Chunk], entity: &str) -> Vec<(f64, Vec<[f32; 3]>)> {
 /// chunk ids ignored; a NaN equals the same NaN, which Rerun's own `Chunk::ensure_similar`
 /// does not allow). The recording's name (`/__properties`) is its identity, not content,
 /// and is left out. Returns the first difference.
-pub fn same_content(a: &[Chunk], b: &[Chunk]) -> Result<(), String> {
+pub fn same_content(a: &[Chunk], b: &[Chunk]) -> Result<(), Difference> {
     use rerun::external::arrow::array::Array;
     // Chunks of one entity in the order of their timelines, first times and components:
     // a flush writes the chunks of different timeline or component sets in no fixed order.
@@ -219,20 +249,24 @@ pub fn same_content(a: &[Chunk], b: &[Chunk]) -> Result<(), String> {
     }
     let (a, b) = (sorted(a), sorted(b));
     if a.len() != b.len() {
-        return Err(format!("{} chunks against {}", a.len(), b.len()));
+        return Err(Difference(format!(
+            "{} chunks against {}",
+            a.len(),
+            b.len()
+        )));
     }
     for (x, y) in a.iter().zip(&b) {
         let at = || format!("{} (static: {})", x.entity_path(), x.is_static());
         if x.entity_path() != y.entity_path() || x.is_static() != y.is_static() {
-            return Err(format!("{} against {}", at(), y.entity_path()));
+            return Err(Difference(format!("{} against {}", at(), y.entity_path())));
         }
         if x.num_rows() != y.num_rows() {
-            return Err(format!(
+            return Err(Difference(format!(
                 "{}: {} rows against {}",
                 at(),
                 x.num_rows(),
                 y.num_rows()
-            ));
+            )));
         }
         let times = |c: &Chunk| -> BTreeMap<String, Vec<i64>> {
             c.timelines()
@@ -241,20 +275,23 @@ pub fn same_content(a: &[Chunk], b: &[Chunk]) -> Result<(), String> {
                 .collect()
         };
         if times(x) != times(y) {
-            return Err(format!("{}: different times", at()));
+            return Err(Difference(format!("{}: different times", at())));
         }
         for (id, column) in x.components().iter() {
             let Some(other) = y.components().get(*id) else {
-                return Err(format!("{}: {id} missing from the second", at()));
+                return Err(Difference(format!(
+                    "{}: {id} missing from the second",
+                    at()
+                )));
             };
             if column.descriptor != other.descriptor
                 || column.list_array.to_data() != other.list_array.to_data()
             {
-                return Err(format!("{}: component {id} differs", at()));
+                return Err(Difference(format!("{}: component {id} differs", at())));
             }
         }
         if x.components().len() != y.components().len() {
-            return Err(format!("{}: different components", at()));
+            return Err(Difference(format!("{}: different components", at())));
         }
     }
     Ok(())

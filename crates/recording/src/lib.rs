@@ -16,6 +16,10 @@
 //! The file is written to a hidden temporary sibling and renamed into place by
 //! [`Recording::finish`]; a recording dropped unfinished (an error) removes it.
 
+// A library says what it does through its caller (reports, `Reporter`), never on the
+// console itself.
+#![deny(clippy::print_stdout, clippy::print_stderr)]
+
 pub mod blueprint;
 pub mod decode;
 pub mod sensors;

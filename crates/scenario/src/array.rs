@@ -192,11 +192,11 @@ impl ArrayConfig {
                 centre_shift: shift.map_or(d.centre_shift, f64::to_radians),
                 release_cycles: w.release_cycles.unwrap_or(d.release_cycles),
             };
-            sr.check(pattern).map_err(|(name, e)| {
+            sr.check(pattern).map_err(|e| {
                 field_error(
                     file,
-                    &format!("array.whisking.{name}"),
-                    format!("{e} (the stroke of {ring_field})"),
+                    &format!("array.whisking.{}", e.field),
+                    format!("{} (the stroke of {ring_field})", e.message),
                 )
             })?;
             Some(sr)
@@ -384,9 +384,9 @@ impl ArrayConfig {
             BendingConfig::Spatial => Bending::Spatial,
             BendingConfig::SweepPlane => Bending::SweepPlane,
         };
-        b.check().map_err(|(field, e)| {
+        b.check().map_err(|e| {
             // The design names its own field; the scenario's carries its unit.
-            let name = match field {
+            let name = match e.field.as_str() {
                 "length" => "length_m",
                 "base_diameter" => "base_diameter_m",
                 "tip_diameter" => "tip_diameter_m",
@@ -397,7 +397,7 @@ impl ArrayConfig {
             field_error(
                 file,
                 &format!("array.{name}"),
-                format!("whisker {pixel}: {e}"),
+                format!("whisker {pixel}: {}", e.message),
             )
         })
     }

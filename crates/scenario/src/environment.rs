@@ -197,13 +197,13 @@ impl KinematicConfig {
             detection_probability: self.detection_probability,
             point_model: self.point_noise,
         };
-        model.validate().map_err(|(f, m)| {
-            let name = match f.as_str() {
+        model.validate().map_err(|e| {
+            let name = match e.field.as_str() {
                 "point_fraction" => "point_noise_fraction",
                 "slope_sigma" => "slope_noise",
                 other => other,
             };
-            Error::field(file, &format!("kinematic.{name}"), m)
+            Error::field(file, &format!("kinematic.{name}"), &e.message)
         })?;
         Ok(if self.noise {
             model

@@ -1,8 +1,7 @@
 //! `[explore]`: the closed loop of thesis Chapter 6 — the robot chooses where to whisk,
 //! moves there with the arm and either builds an object map (§6.1.3) or recognises the
 //! object against loaded maps (§6.1.2, §6.2). Documented field by field in
-//! `scenarios/README.md`; the readings of the thesis' gaps are in
-//! `shared/notes/chapter6.md`.
+//! `scenarios/README.md`, with the reading taken wherever the thesis gives no value.
 
 use crate::error::{Error, Result};
 use crate::paths::relative_to;
@@ -12,6 +11,7 @@ use std::path::{Path, PathBuf};
 use whisker_slam::exploration::lsr::LsrParams;
 use whisker_slam::exploration::odometry_noise::OdometryNoise;
 use whisker_slam::exploration::placement::PlacementParams;
+use whisker_slam::invalid::Invalid;
 use whisker_slam::recognition::RecognitionParams;
 
 /// What the loop is for.
@@ -258,8 +258,8 @@ impl ExploreConfig {
                 format!("expected a positive number, got {r}"),
             );
         }
-        let sub = |name: &str, r: Result<(), (String, String)>| {
-            r.map_err(|(f, m)| Error::field(file, &format!("explore.{name}.{f}"), m))
+        let sub = |name: &str, r: Result<(), Invalid>| {
+            r.map_err(|e| Error::field(file, &format!("explore.{name}.{}", e.field), e.message))
         };
         sub("placement", self.placement.validate())?;
         sub("odometry", self.odometry.validate())?;

@@ -71,9 +71,11 @@ impl ScenarioFile {
                 // A table has no lines, and toml names the field of only some errors
                 // (not those of enums or untagged enums): the path-keeping reading does.
                 return Err(match crate::strict::check::<Scenario>(&table) {
-                    Err((field, message)) if !field.is_empty() => Error::Input(format!(
-                        "{} ({context}): field `{field}`: {message}",
-                        path.display()
+                    Err(e) if !e.field.is_empty() => Error::Input(format!(
+                        "{} ({context}): field `{}`: {}",
+                        path.display(),
+                        e.field,
+                        e.message
                     )),
                     _ => Error::Input(format!(
                         "{} ({context}): {}",

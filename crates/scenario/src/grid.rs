@@ -15,6 +15,7 @@ use crate::trials::{Outputs, TrialCommand, TrialsConfig};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 use toml::{Table, Value};
+use whisker_slam::invalid::Invalid;
 
 /// One factor: a scenario field and the values it takes.
 #[derive(Debug, Clone)]
@@ -165,7 +166,8 @@ impl Batch {
     pub fn scenario(&self, trial: &Trial) -> Result<ScenarioFile> {
         let mut table = self.table.clone();
         for o in self.overrides(trial) {
-            o.apply(&mut table).map_err(Error::Input)?;
+            o.apply(&mut table)
+                .map_err(|e| Error::Input(e.to_string()))?;
         }
         table.insert("seed".into(), Value::Integer(trial.seed as i64));
         let mut file =
@@ -213,8 +215,12 @@ pub struct Shard {
 
 impl Shard {
     /// Parses `I/K` with 0 ≤ I < K.
-    pub fn parse(s: &str) -> Result<Self, String> {
-        let bad = || format!("expected I/K with 0 ≤ I < K (e.g. 0/4), got \"{s}\"");
+    pub fn parse(s: &str) -> Result<Self, Invalid> {
+        let bad = || {
+            Invalid::new(format!(
+                "expected I/K with 0 ≤ I < K (e.g. 0/4), got \"{s}\""
+            ))
+        };
         let (i, k) = s.split_once('/').ok_or_else(bad)?;
         let (index, count) = (
             i.trim().parse().map_err(|_| bad())?,

@@ -16,6 +16,10 @@
 //!
 //! The experiments themselves are `whisker-experiments`; batches are `whisker-trials`.
 
+// A library says what it does through its caller (reports, `Reporter`), never on the
+// console itself.
+#![deny(clippy::print_stdout, clippy::print_stderr)]
+
 mod base;
 mod experiment;
 mod file;

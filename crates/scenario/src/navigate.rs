@@ -16,6 +16,7 @@ use serde::Deserialize;
 use std::path::Path;
 use whisker_sim::environment::Environment;
 use whisker_sim::environment::floor_plan::{FloorPlan, segment_distance};
+use whisker_slam::invalid::Invalid;
 use whisker_slam::navigation::base_odometry::BaseOdometryNoise;
 use whisker_slam::navigation::mode_switch::ModeSwitch;
 use whisker_slam::ratslam::RatSlamParams;
@@ -94,18 +95,18 @@ impl Default for TerrainConfig {
 
 impl TerrainConfig {
     /// Checks the fields; names the field.
-    fn validate(&self) -> std::result::Result<(), (String, String)> {
+    fn validate(&self) -> std::result::Result<(), Invalid> {
         let finite = self.array_position_m.iter().chain(&self.array_rpy_deg);
         if !finite.clone().all(|v| v.is_finite()) {
-            return Err((
-                "array_position_m / array_rpy_deg".into(),
-                "expected finite numbers".into(),
+            return Err(Invalid::field(
+                "array_position_m / array_rpy_deg",
+                "expected finite numbers",
             ));
         }
         let h = self.mount_height_m;
         if !(h.is_finite() && h > 0.0) {
-            return Err((
-                "mount_height_m".into(),
+            return Err(Invalid::field(
+                "mount_height_m",
                 format!("{h}: expected a length > 0 (m)"),
             ));
         }
@@ -241,7 +242,7 @@ impl NavigateConfig {
             .map_err(|e| Error::field(file, "navigate.switch", e))?;
         self.terrain
             .validate()
-            .map_err(|(f, e)| Error::field(file, &format!("navigate.terrain.{f}"), e))?;
+            .map_err(|e| Error::field(file, &format!("navigate.terrain.{}", e.field), e.message))?;
         self.ratslam
             .validate()
             .map_err(|e| Error::field(file, "navigate.ratslam", e))

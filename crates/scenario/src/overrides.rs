@@ -5,6 +5,7 @@
 //! been written in the file.
 
 use toml::{Table, Value};
+use whisker_slam::invalid::Invalid;
 
 /// One change: the path's keys and the new value.
 #[derive(Debug, Clone, PartialEq)]
@@ -23,7 +24,7 @@ impl Override {
 
     /// Parses `PATH=VALUE`: VALUE is a TOML value (`3`, `0.5`, `true`, `"feh"`, `[1, 2]`,
     /// `{ min_contacts = 3 }`); anything that does not parse as one is a string (`feh`).
-    pub fn parse(arg: &str) -> Result<Self, String> {
+    pub fn parse(arg: &str) -> Result<Self, Invalid> {
         let (path, value) = arg.split_once('=').ok_or_else(|| {
             format!("expected PATH=VALUE (e.g. explore.strategy=feh), got \"{arg}\"")
         })?;
@@ -38,7 +39,7 @@ impl Override {
 
     /// Sets the value in `table`, creating missing tables on the way; an error when a key
     /// on the way holds something other than a table.
-    pub fn apply(&self, table: &mut Table) -> Result<(), String> {
+    pub fn apply(&self, table: &mut Table) -> Result<(), Invalid> {
         let (last, parents) = self.path.split_last().expect("paths are not empty");
         let mut at = table;
         for (i, key) in parents.iter().enumerate() {
@@ -53,7 +54,8 @@ impl Override {
                         self.path[..=i].join("."),
                         other.type_str(),
                         self.dotted()
-                    ));
+                    )
+                    .into());
                 }
             };
         }
@@ -63,12 +65,13 @@ impl Override {
 }
 
 /// `a.b.c` → `["a", "b", "c"]`; an error for an empty path or an empty key.
-pub fn split_path(path: &str) -> Result<Vec<String>, String> {
+pub fn split_path(path: &str) -> Result<Vec<String>, Invalid> {
     let keys: Vec<String> = path.split('.').map(|k| k.trim().to_string()).collect();
     if keys.iter().any(String::is_empty) {
         return Err(format!(
             "expected a dotted path of scenario fields (e.g. explore.strategy), got \"{path}\""
-        ));
+        )
+        .into());
     }
     Ok(keys)
 }
@@ -122,7 +125,8 @@ mod tests {
         let e = Override::parse("seed.x=1")
             .unwrap()
             .apply(&mut t)
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("`seed` is a integer"), "{e}");
     }
 }

@@ -200,8 +200,7 @@ impl Scenario {
     /// read positionally (see `strict`); after the `toml` reading, whose errors carry
     /// the line.
     pub(crate) fn check_shapes(path: &Path, table: &toml::Table) -> Result {
-        crate::strict::check::<Self>(table)
-            .map_err(|(field, message)| Error::field(path, &field, message))
+        crate::strict::check::<Self>(table).map_err(|e| Error::field(path, &e.field, e.message))
     }
 
     /// The 18 whiskers' configurations of `[array]` (RCP thresholds not yet calibrated):

@@ -12,17 +12,18 @@
 
 use serde::de::{self, DeserializeSeed, IntoDeserializer, MapAccess, SeqAccess, Visitor};
 use std::fmt;
+use whisker_slam::invalid::Invalid;
 
 /// Reads `table` as a `T`, refusing arrays (or any non-table) where `T` reads a struct.
 /// On failure: (dotted field, message).
-pub fn check<T: de::DeserializeOwned>(table: &toml::Table) -> Result<(), (String, String)> {
+pub fn check<T: de::DeserializeOwned>(table: &toml::Table) -> Result<(), Invalid> {
     let root = Strict {
         value: Borrowed::Table(table),
         path: String::new(),
     };
     match T::deserialize(root) {
         Ok(_) => Ok(()),
-        Err(e) => Err((e.path, e.message)),
+        Err(e) => Err(Invalid::field(e.path, e.message)),
     }
 }
 
@@ -262,7 +263,7 @@ fn at(mut e: StrictError, path: String) -> StrictError {
 
 #[cfg(test)]
 mod tests {
-    use super::check;
+    use super::{Invalid, check};
     use serde::Deserialize;
 
     #[derive(Deserialize)]
@@ -284,7 +285,7 @@ mod tests {
         xyz: Option<[f64; 3]>,
     }
 
-    fn run(text: &str) -> Result<(), (String, String)> {
+    fn run(text: &str) -> Result<(), Invalid> {
         check::<Outer>(&toml::from_str(text).unwrap())
     }
 
@@ -299,15 +300,18 @@ mod tests {
         // Both of these are accepted by toml + serde's derive (read positionally).
         let positional = "inner = [1.0, true]\n";
         assert!(toml::from_str::<Outer>(positional).is_ok());
-        let (path, msg) = run(positional).unwrap_err();
-        assert_eq!(path, "inner");
+        let e = run(positional).unwrap_err();
+        assert_eq!(e.field, "inner");
         assert!(
-            msg.contains("expected a table") && msg.contains("an array"),
-            "{msg}"
+            e.message.contains("expected a table") && e.message.contains("an array"),
+            "{e}"
         );
-        let (path, _) = run("[[list]]\na = 1\n[[list]]\na = 2\nlist2 = 0\n").unwrap_err();
-        assert_eq!(path, "list[1]", "an unknown field inside the second entry");
-        let (path, _) = run("list = [{ a = 1 }, [2.0]]\n").unwrap_err();
-        assert_eq!(path, "list[1]");
+        let e = run("[[list]]\na = 1\n[[list]]\na = 2\nlist2 = 0\n").unwrap_err();
+        assert_eq!(
+            e.field, "list[1]",
+            "an unknown field inside the second entry"
+        );
+        let e = run("list = [{ a = 1 }, [2.0]]\n").unwrap_err();
+        assert_eq!(e.field, "list[1]");
     }
 }

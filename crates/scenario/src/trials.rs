@@ -3,6 +3,7 @@
 
 use serde::Deserialize;
 use toml::Table;
+use whisker_slam::invalid::Invalid;
 
 /// `[trials]`.
 #[derive(Debug, Clone, Deserialize)]
@@ -50,7 +51,7 @@ pub enum Seeds {
 
 impl Seeds {
     /// The seeds in order; an error for an empty, reversed or repeating list.
-    pub fn list(&self) -> Result<Vec<u64>, String> {
+    pub fn list(&self) -> Result<Vec<u64>, Invalid> {
         let v = match self {
             Seeds::List(v) => v.clone(),
             Seeds::Range { from, to } if from <= to && to - from < 1_000_000 => {
@@ -59,7 +60,7 @@ impl Seeds {
             Seeds::Range { from, to } => {
                 return Err(format!(
                     "expected from ≤ to and fewer than a million seeds, got from = {from}, to = {to}"
-                ));
+                ).into());
             }
         };
         if v.is_empty() {
@@ -68,7 +69,7 @@ impl Seeds {
         let mut sorted = v.clone();
         sorted.sort_unstable();
         if let Some(w) = sorted.windows(2).find(|w| w[0] == w[1]) {
-            return Err(format!("seed {} is listed twice", w[0]));
+            return Err(format!("seed {} is listed twice", w[0]).into());
         }
         Ok(v)
     }

@@ -5,6 +5,10 @@
 //! the simulated world that holds them ([`world`]). It produces data in the sensor data
 //! model of `whisker-slam`.
 
+// A library says what it does through its caller (reports, `Reporter`), never on the
+// console itself.
+#![deny(clippy::print_stdout, clippy::print_stderr)]
+
 pub mod arm;
 pub mod environment;
 pub mod kinematic_body;

@@ -1,5 +1,5 @@
 //! The simulated whisker against beam theory: statics against the tapered-cantilever
-//! formulas (shared/notes/physics.md), the first natural frequency against an
+//! formulas (docs/physics.md), the first natural frequency against an
 //! independent finite-element modal solve of the tapered Euler–Bernoulli beam (written
 //! here, 60 Hermite elements), and the follicle reading against moment balance.
 
@@ -9,7 +9,7 @@ use whisker_sim::whisker::beam::Bending;
 use whisker_sim::whisker::characterize::{characterize, static_load};
 use whisker_sim::whisker::{BeamDesign, FollicleDesign};
 
-/// Tapered cantilever clamped at the base, point force F at a (shared/notes/physics.md).
+/// Tapered cantilever clamped at the base, point force F at a (docs/physics.md).
 struct Cantilever {
     ei_base: f64,
     apex: f64,

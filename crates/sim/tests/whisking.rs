@@ -261,7 +261,7 @@ fn streams_are_bit_identical_with_one_and_two_threads() {
         one.iter().flatten().any(|s| s.y > 40.0),
         "some contact happened"
     );
-    let bits = |v: &Vec<Vec<whisker_slam::sensor::Sample>>| -> Vec<u64> {
+    let bits = |v: &Vec<Vec<Sample>>| -> Vec<u64> {
         v.iter()
             .flatten()
             .flat_map(|s| [s.angle_rad.to_bits(), s.x.to_bits(), s.y.to_bits()])

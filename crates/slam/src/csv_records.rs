@@ -108,6 +108,41 @@ impl Records<'_> {
     }
 }
 
+/// What is wrong in a CSV file: on which line (1-based; none for the whole file) and
+/// what was expected (naming the column where there is one).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LineError {
+    /// The line, 1-based, the header line 1.
+    pub line: Option<usize>,
+    /// What is wrong and what was expected.
+    pub message: String,
+}
+
+impl LineError {
+    /// An error about line `line`.
+    pub fn at(line: usize, message: impl Into<String>) -> Self {
+        Self {
+            line: Some(line),
+            message: message.into(),
+        }
+    }
+}
+
+impl std::fmt::Display for LineError {
+    /// `line N: message` (`line N, column …` where the message starts with the column).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.line {
+            None => f.write_str(&self.message),
+            Some(n) if self.message.starts_with("column") => {
+                write!(f, "line {n}, {}", self.message)
+            }
+            Some(n) => write!(f, "line {n}: {}", self.message),
+        }
+    }
+}
+
+impl std::error::Error for LineError {}
+
 #[cfg(test)]
 mod tests {
     use super::*;

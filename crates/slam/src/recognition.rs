@@ -13,10 +13,11 @@
 //! thresholds of 3 and 4), the integrated confidence IC_k(t) = Σ_{τ≤t} RC_k(τ), and the
 //! identified object: the first whose IC reaches the threshold (300, Fig 6.7). SRT is the
 //! iteration at which the true object's IC first reaches it; the identity margin IM is the
-//! first crossing of any other object minus the true object's (`shared/notes/chapter6.md`
-//! §6). A crossing that has not happened by the end of a run is censored at the run's last
+//! first crossing of any other object minus the true object's (our reading of §6.2, which
+//! gives no formula). A crossing that has not happened by the end of a run is censored at the run's last
 //! iteration.
 
+use crate::invalid::Invalid;
 use std::collections::BTreeMap;
 
 /// Per-object identification confidence.
@@ -92,16 +93,19 @@ impl Default for RecognitionParams {
 
 impl RecognitionParams {
     /// Checks the values; returns the offending field and what was expected.
-    pub fn validate(&self) -> Result<(), (String, String)> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         if !(self.decay.is_finite() && (0.0..1.0).contains(&self.decay)) {
-            return Err((
-                "decay".into(),
+            return Err(Invalid::field(
+                "decay",
                 format!("expected 0 ≤ decay < 1, got {}", self.decay),
             ));
         }
         for (f, v) in [("impulse", self.impulse), ("threshold", self.threshold)] {
             if !(v.is_finite() && v > 0.0) {
-                return Err((f.into(), format!("expected a positive number, got {v}")));
+                return Err(Invalid::field(
+                    f,
+                    format!("expected a positive number, got {v}"),
+                ));
             }
         }
         Ok(())

@@ -404,7 +404,7 @@ fn bad_pose_cell_parameters_name_the_field() {
             "global_inhibition",
         ),
     ] {
-        let e = p.validate().unwrap_err();
+        let e = p.validate().unwrap_err().to_string();
         assert!(e.contains(field), "{e}");
     }
 }

@@ -308,13 +308,13 @@ fn object_maps_round_trip_through_their_file_and_bad_files_are_named() {
         "{\n \"format\": \"whisker-slam object map\",\n \"version\": 1,\n oops",
     )
     .unwrap();
-    let e = ObjectMap::load(&bad).unwrap_err();
+    let e = ObjectMap::load(&bad).unwrap_err().to_string();
     assert!(e.contains("bad.json") && e.contains("line 4"), "{e}");
     // A link to a missing experience: the field.
     let mut broken = map.clone();
     broken.links[0].to = 7;
     broken.save(&bad).unwrap();
-    let e = ObjectMap::load(&bad).unwrap_err();
+    let e = ObjectMap::load(&bad).unwrap_err().to_string();
     assert!(e.contains("links[0]"), "{e}");
     // Features of another shape than the code computes and compares (an assertion in the
     // similarity code before #37), or not finite: the experience and field named.
@@ -341,7 +341,7 @@ fn object_maps_round_trip_through_their_file_and_bad_files_are_named() {
         let mut broken = map.clone();
         edit(&mut broken);
         std::fs::write(&bad, serde_json::to_string(&broken).unwrap()).unwrap();
-        let e = ObjectMap::load(&bad).unwrap_err();
+        let e = ObjectMap::load(&bad).unwrap_err().to_string();
         assert!(
             e.contains("bad.json") && e.contains(expected),
             "{expected}: {e}"

@@ -12,6 +12,10 @@
 //! flattened ([`journal`]). Shards are merged by [`merge`] and submitted to Slurm by
 //! [`slurm`]; [`report`] writes the statistics and [`plots`].
 
+// A library says what it does through its caller (reports, `Reporter`), never on the
+// console itself.
+#![deny(clippy::print_stdout, clippy::print_stderr)]
+
 pub mod batch;
 pub mod bench;
 pub mod journal;

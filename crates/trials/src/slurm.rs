@@ -1,6 +1,6 @@
 //! `whisker trials slurm SCENARIO --out DIR --shards K`: the scripts that run a batch on a
 //! Slurm cluster as a job array of K shards plus a merge job that waits for it
-//! (`afterok`). Conventions from ../shared/notes/slurm.md: the shard comes from an
+//! (`afterok`). The shard comes from an
 //! explicit `--shard ${SLURM_ARRAY_TASK_ID}/K` with K fixed in the script (re-running
 //! failed tasks with `--array=3,7` splits the work the same way), outputs are named
 //! `%A_%a`, and a task whose shard directory exists resumes it.

@@ -366,7 +366,7 @@ pub fn object_case(name: &str) -> Result<Case, Error> {
         .iter()
         .find(|a| a.name == name)
         .ok_or_else(|| Error::Input(format!("no catalogue object {name:?}")))?;
-    let (environment, shape) = placed(asset).map_err(Error::Failure)?;
+    let (environment, shape) = placed(asset).map_err(|e| Error::Failure(e.to_string()))?;
     let (pose, touching) =
         viewpoints::busiest(&environment, &shape, asset.size).ok_or_else(|| {
             Error::Failure(format!(
@@ -434,7 +434,7 @@ pub fn soak(o: &Settings, ctx: Context) -> Result<Vec<CaseReport>> {
             o.substeps
         )));
     }
-    let labels = whisker_sim::whisker::array::labels();
+    let labels = array::labels();
     if let Some(w) = o.whiskers.iter().find(|w| !labels.contains(w)) {
         return Err(Error::Input(format!(
             "--whiskers: no whisker {w:?}: expected labels of {} … {}",

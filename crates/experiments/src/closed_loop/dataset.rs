@@ -172,7 +172,7 @@ fn manifest(
 /// The known object maps (the robot's prior knowledge) copied to `log/maps/`; their names.
 pub(crate) fn put_maps(
     file: &Path,
-    config: &whisker_scenario::explore::ExploreConfig,
+    config: &ExploreConfig,
     s: &mut Staging,
 ) -> Result<Vec<String>> {
     let mut maps = Vec::new();

@@ -56,7 +56,7 @@ pub struct Robot {
 impl Robot {
     /// The arm of `plan` at its initial joints, clear of `environment`.
     pub fn new(plan: Plan, chain: Chain, environment: &Environment, seed: u64) -> Result<Self> {
-        let solids = Solids::new(environment).map_err(Error::Failure)?;
+        let solids = Solids::new(environment).map_err(|e| Error::Failure(e.to_string()))?;
         let shapes = LinkShapes::new(&plan.model);
         let q = plan.waypoints[0].clone();
         Ok(Self {

@@ -33,7 +33,7 @@ pub struct Outcome {
     /// The true array pose at every whisk, for the recording.
     pub poses: Vec<Isometry3<f64>>,
     /// Each whisk's contacts (world), for the recording.
-    pub contacts: Vec<Vec<crate::record::Contact>>,
+    pub contacts: Vec<Vec<Contact>>,
     /// `contacts.csv`'s text: every registered contact of every whisk.
     pub contacts_csv: String,
     /// Each whisk's time (s).
@@ -43,7 +43,7 @@ pub struct Outcome {
     /// Each whisk's contacts (array frame), as SLAM saw them.
     pub cycles: Vec<ContactCycle>,
     /// Each whisk's odometry since the previous one (Eq 6.4–6.11 noise), as SLAM saw it.
-    pub odometry: Vec<whisker_slam::sensor::Odometry>,
+    pub odometry: Vec<Odometry>,
     /// The array's pose before the first move.
     pub start: Isometry3<f64>,
 }

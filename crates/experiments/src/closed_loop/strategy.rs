@@ -44,7 +44,7 @@ pub struct LsrTally {
 
 impl LsrTally {
     /// Counts `plan`.
-    fn add(&mut self, plan: &whisker_slam::exploration::lsr::LsrPlan) {
+    fn add(&mut self, plan: &lsr::LsrPlan) {
         self.plans += 1;
         self.tied_targets += usize::from(plan.tied > 1);
         self.rows_skipped += plan.skipped;

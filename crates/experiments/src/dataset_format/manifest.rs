@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 use whisker_scenario::error::{Error, Result};
+use whisker_slam::invalid::Invalid;
 
 pub use super::sections::{
     ClosedLoopInfo, MazeInfo, NavigateInfo, NavigateObjectInfo, ObjectSlamInfo, PostureInfo,
@@ -332,8 +333,11 @@ impl Manifest {
                 .map_err(|e| Error::field(path, "maze.ratslam", e))?;
         }
         if let Some(c) = &self.closed_loop {
-            let sub = |name: &str, r: std::result::Result<(), (String, String)>| {
-                r.map_err(|(f, m)| Error::field(path, &format!("closed_loop.{name}.{f}"), m))
+            let sub = |name: &str, r: std::result::Result<(), Invalid>| {
+                r.map_err(|e| {
+                    let field = format!("closed_loop.{name}.{}", e.field);
+                    Error::field(path, &field, e.message)
+                })
             };
             sub("odometry_noise", c.odometry_noise.validate())?;
             sub("recognition", c.recognition.validate())?;
@@ -344,7 +348,7 @@ impl Manifest {
         }
         if let Some(n) = &self.navigate {
             n.check()
-                .map_err(|(f, e)| Error::field(path, &format!("navigate.{f}"), e))?;
+                .map_err(|e| Error::field(path, &format!("navigate.{}", e.field), e.message))?;
             n.ratslam
                 .validate()
                 .map_err(|e| Error::field(path, "navigate.ratslam", e))?;
@@ -352,8 +356,9 @@ impl Manifest {
                 .validate()
                 .map_err(|e| Error::field(path, "navigate.switch", e))?;
             if let Some(o) = &n.object {
-                o.recognition.validate().map_err(|(f, m)| {
-                    Error::field(path, &format!("navigate.object.recognition.{f}"), m)
+                o.recognition.validate().map_err(|e| {
+                    let field = format!("navigate.object.recognition.{}", e.field);
+                    Error::field(path, &field, e.message)
                 })?;
                 o.slam
                     .pose_cells

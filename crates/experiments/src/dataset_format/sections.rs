@@ -3,6 +3,7 @@
 //! (`object_slam`), the closed loop's `[explore]` (`closed_loop`) and the office run's robot
 //! (`navigate`). Re-exported by [`super::manifest`].
 
+use whisker_slam::invalid::Invalid;
 use serde::{Deserialize, Serialize};
 use whisker_slam::frontend::contact::FrontEndParams;
 use whisker_slam::ratslam::RatSlamParams;
@@ -115,8 +116,8 @@ pub struct NavigateInfo {
 
 impl NavigateInfo {
     /// The numbers a replay needs sane: (field, what was expected).
-    pub(super) fn check(&self) -> std::result::Result<(), (String, String)> {
-        let bad = |f: &str, e: &str| Err((f.to_string(), e.to_string()));
+    pub(super) fn check(&self) -> Result<(), Invalid> {
+        let bad = |f: &str, e: &str| Err(Invalid::field(f, e));
         if self.updates == 0 {
             return bad("updates", "expected at least 1");
         }

@@ -105,7 +105,7 @@ fn check(o: &Settings, m: &Manifest) -> Result<ContactNoise> {
     };
     contact_noise
         .validate()
-        .map_err(|(f, e)| Error::Input(format!("--{}: {e}", f.replace('_', "-"))))?;
+        .map_err(|e| Error::Input(format!("--{}: {}", e.field.replace('_', "-"), e.message)))?;
     // Along the whisker needs each whisker's shaft: the standard array's modules.
     let standard = whisker_sim::whisker::array::labels();
     if o.point_model == PointNoise::AlongWhisker

@@ -223,7 +223,7 @@ pub fn replay(
             dir.join(crate::dataset_format::manifest::FILE).display()
         )));
     }
-    let (sensed, params, kidnap) = crate::maze_slam::dataset::read(dir, manifest)?;
+    let (sensed, params, kidnap) = dataset::read(dir, manifest)?;
     if o.kidnap && sensed.starts.len() < 4 {
         return Err(Error::Input(format!(
             "--kidnap: the dataset {} has {} circuits; the kidnapped variant needs 4",
@@ -471,7 +471,7 @@ pub fn slam_runs(
                     rec,
                     name: run_recording::run_name(images_name, name, &tuning, seed),
                     z: plane.z,
-                    hz: geometry::UPDATE_HZ,
+                    hz: UPDATE_HZ,
                     graph: Default::default(),
                     landmarks: Vec::new(),
                 });

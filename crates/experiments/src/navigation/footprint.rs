@@ -6,6 +6,7 @@
 
 use nalgebra::{Isometry3, Vector3};
 use parry3d_f64::shape::Cylinder;
+use whisker_scenario::error::{Error, Result};
 use whisker_sim::environment::Environment;
 use whisker_slam::pose::Pose2;
 
@@ -20,7 +21,7 @@ pub fn collisions(
     poses: &[Pose2],
     radius: f64,
     height: f64,
-) -> Result<Vec<(usize, String)>, String> {
+) -> Result<Vec<(usize, String)>> {
     let disc = Cylinder::new(height / 2.0, radius);
     // Parry's cylinder stands along its own y axis: turned to stand along z.
     let upright =
@@ -39,10 +40,10 @@ pub fn collisions(
                 &disc,
             )
             .map_err(|_| {
-                format!(
+                Error::Failure(format!(
                     "{}: its shape cannot be tested against the base",
                     piece.name
-                )
+                ))
             })?;
             if test.intersecting {
                 hits.push((k, piece.name.clone()));

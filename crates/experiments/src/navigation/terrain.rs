@@ -285,9 +285,8 @@ pub fn run(
         &truth,
         config.base.radius_m,
         config.terrain.mount_height_m,
-    )
-    .map_err(Error::Failure)?;
-    let solids = Solids::new(environment).map_err(Error::Failure)?;
+    )?;
+    let solids = Solids::new(environment).map_err(|e| Error::Failure(e.to_string()))?;
     let shapes = LinkShapes::new(&plan.model);
     let joints = plan.model_joints(&posture.q);
 
@@ -382,9 +381,7 @@ pub fn run(
                 &[docked],
                 config.base.radius_m,
                 config.terrain.mount_height_m,
-            )
-            .map_err(Error::Failure)?
-            {
+            )? {
                 base_collisions.push((k, what));
             }
         }

@@ -72,7 +72,7 @@ pub fn run(o: &Settings, ctx: Context) -> Result<Report> {
 /// seed), then [`analyse`] with the settings of `o` that do not sense.
 pub fn replay(o: &Settings, dir: &Path, ctx: Context) -> Result<Report> {
     let manifest = crate::dataset_format::manifest::Manifest::read(dir)?;
-    let data = crate::object_slam::dataset::read(dir, &manifest)?;
+    let data = dataset::read(dir, &manifest)?;
     let o = Settings {
         seed: manifest.seed,
         ..o.clone()
@@ -146,7 +146,7 @@ pub fn sense(
             let laps = |which, n| walk(&object, which, n, &how);
             let (a, b) = (laps(Trajectory::A, 2), laps(Trajectory::B, 1));
             let truth = a.truth.as_deref().unwrap_or_default();
-            let step = trajectory::mean_step(&truth[..truth.len() / 2]);
+            let step = mean_step(&truth[..truth.len() / 2]);
             ctx.note(&format!(
                 "{}: {} poses per lap sensed",
                 asset.name,

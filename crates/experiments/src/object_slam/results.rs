@@ -27,7 +27,7 @@ pub struct IdentificationRun {
     pub object: usize,
     pub which: Trajectory,
     pub events: Vec<Event>,
-    pub series: Vec<std::collections::BTreeMap<String, f64>>,
+    pub series: Vec<BTreeMap<String, f64>>,
 }
 
 /// Percentile `p` (0–100) of a list, by nearest rank (NaN when empty).

@@ -99,7 +99,7 @@ pub fn generate(asset: &Asset) -> Mesh {
 /// one piece named after it, and its collision shape.
 pub fn placed(
     asset: &Asset,
-) -> Result<(super::Environment, parry3d_f64::shape::SharedShape), String> {
+) -> Result<(super::Environment, parry3d_f64::shape::SharedShape), super::ShapeError> {
     let mesh = generate(asset);
     let shape = super::solids::shape(&mesh)?;
     let environment = super::Environment {

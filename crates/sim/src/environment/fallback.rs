@@ -1,6 +1,7 @@
 //! Fallback solids for meshes that cannot be repaired into closed solids (issue #20): the
 //! convex hull of the file's vertices, with how far it strays from the file's surface.
 
+use super::shape_error::ShapeError;
 use super::triangles::{Mesh, signed_volume};
 use nalgebra::Point3;
 use parry3d_f64::math::Vector;
@@ -13,17 +14,17 @@ use parry3d_f64::shape::TriMesh;
 pub const SAMPLES_PER_EDGE: usize = 4;
 
 /// The convex hull of `points` as a closed, outward-oriented mesh.
-pub fn convex_hull(points: &[Point3<f64>]) -> Result<Mesh, String> {
+pub fn convex_hull(points: &[Point3<f64>]) -> Result<Mesh, ShapeError> {
     let input: Vec<Vector> = points.iter().map(|p| Vector::new(p.x, p.y, p.z)).collect();
-    let (vertices, mut triangles) = parry3d_f64::transformation::try_convex_hull(&input)
-        .map_err(|e| format!("no convex hull of the vertices ({e:?})"))?;
+    let (vertices, mut triangles) =
+        parry3d_f64::transformation::try_convex_hull(&input).map_err(ShapeError::Hull)?;
     let vertices: Vec<Point3<f64>> = vertices
         .iter()
         .map(|v| Point3::new(v.x, v.y, v.z))
         .collect();
     let volume = signed_volume(&vertices, &triangles);
     if triangles.len() < 4 || volume == 0.0 {
-        return Err("the vertices are coplanar: their convex hull has no volume".into());
+        return Err(ShapeError::Coplanar);
     }
     if volume < 0.0 {
         for t in &mut triangles {
@@ -64,7 +65,10 @@ pub fn deviation(replacement: &Mesh, original: &TriMesh, subdivisions: usize) ->
 }
 
 /// Any triangle soup as a parry triangle mesh for nearest-point queries.
-pub fn index_surface(vertices: &[Point3<f64>], triangles: &[[u32; 3]]) -> Result<TriMesh, String> {
+pub fn index_surface(
+    vertices: &[Point3<f64>],
+    triangles: &[[u32; 3]],
+) -> Result<TriMesh, ShapeError> {
     TriMesh::new(
         vertices
             .iter()
@@ -72,7 +76,7 @@ pub fn index_surface(vertices: &[Point3<f64>], triangles: &[[u32; 3]]) -> Result
             .collect(),
         triangles.to_vec(),
     )
-    .map_err(|e| format!("cannot index the surface: {e}"))
+    .map_err(ShapeError::Index)
 }
 
 /// The (max, mean) distance (m) from `points` to `surface`.

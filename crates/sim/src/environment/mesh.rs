@@ -207,8 +207,7 @@ fn decimate_loaded(path: &Path, loaded: &mut LoadedMesh, d: Decimation) -> Resul
             path,
             "decimate",
             "a triangle soup (repair = \"soup\") is kept as it is: expected a solid to decimate \
-             (repair = \"auto\", \"hull\" or \"voxel\")"
-                .into(),
+             (repair = \"auto\", \"hull\" or \"voxel\")",
         ));
     }
     let before = &loaded.mesh;
@@ -291,7 +290,7 @@ fn load_in_file_frame(path: &Path, options: &MeshOptions) -> Result<LoadedMesh, 
         return Err(MeshError::new(
             path,
             "mesh",
-            "every vertex is at the same point: expected a solid".into(),
+            "every vertex is at the same point: expected a solid",
         ));
     }
     let reach = lo.coords.amax().max(hi.coords.amax());

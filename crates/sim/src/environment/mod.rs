@@ -23,6 +23,7 @@ pub mod floor_plan;
 pub mod maze;
 pub mod mesh;
 pub mod mesh_io;
+pub mod shape_error;
 pub mod shapes;
 pub mod solids;
 pub mod topology;
@@ -31,6 +32,7 @@ pub mod voxel;
 
 use nalgebra::Isometry3;
 use parry3d_f64::shape::SharedShape;
+pub use shape_error::ShapeError;
 pub use triangles::Mesh;
 
 /// A fixed piece of the environment as the physics worlds hold it: a shape and its pose
@@ -100,13 +102,12 @@ impl Environment {
     }
 
     /// An error naming the first piece that is a triangle soup, for what needs solids.
-    pub fn require_solids(&self, what: &str) -> Result<(), String> {
+    pub fn require_solids(&self, what: &str) -> Result<(), ShapeError> {
         match self.pieces.iter().find(|p| p.soup) {
-            Some(p) => Err(format!(
-                "{} is a triangle soup (repair = \"soup\"): {what} needs closed solids \
-                 (repair = \"auto\", \"hull\" or \"voxel\")",
-                p.name
-            )),
+            Some(p) => Err(ShapeError::Soup {
+                piece: p.name.clone(),
+                what: what.to_string(),
+            }),
             None => Ok(()),
         }
     }

@@ -17,6 +17,7 @@
 
 use super::Environment;
 use super::edges::components;
+use super::shape_error::ShapeError;
 use super::triangles::Mesh;
 use nalgebra::{Isometry3, Point3};
 use parry3d_f64::math::Vector;
@@ -39,7 +40,7 @@ pub fn component_meshes(mesh: &Mesh) -> Vec<Mesh> {
 
 /// A mesh as a parry `ORIENTED` triangle mesh (one-sided contacts; an inside for point
 /// queries when the mesh is closed and outward-oriented).
-fn oriented_trimesh(mesh: &Mesh) -> Result<SharedShape, String> {
+fn oriented_trimesh(mesh: &Mesh) -> Result<SharedShape, ShapeError> {
     trimesh(mesh, TriMeshFlags::ORIENTED)
 }
 
@@ -51,24 +52,24 @@ fn oriented_trimesh(mesh: &Mesh) -> Result<SharedShape, String> {
 /// 1.9 mm at 27 s with 2 substeps); without it (2 substeps per step), the centre line
 /// stayed within 0.12 mm over 60 s. Point queries on this shape are not inside tests for
 /// meshes of several components; use [`Solids`].
-pub fn shape(mesh: &Mesh) -> Result<SharedShape, String> {
+pub fn shape(mesh: &Mesh) -> Result<SharedShape, ShapeError> {
     oriented_trimesh(&outer_surface(mesh)?)
 }
 
 /// A triangle soup as a plain, two-sided parry triangle mesh (for the arm's collision
 /// checks; no inside, so no depth queries).
-pub fn soup_shape(mesh: &Mesh) -> Result<SharedShape, String> {
+pub fn soup_shape(mesh: &Mesh) -> Result<SharedShape, ShapeError> {
     trimesh(mesh, TriMeshFlags::empty())
 }
 
-fn trimesh(mesh: &Mesh, flags: TriMeshFlags) -> Result<SharedShape, String> {
+fn trimesh(mesh: &Mesh, flags: TriMeshFlags) -> Result<SharedShape, ShapeError> {
     let vertices = mesh
         .vertices
         .iter()
         .map(|p| Vector::new(p.x, p.y, p.z))
         .collect();
     SharedShape::trimesh_with_flags(vertices, mesh.triangles.clone(), flags)
-        .map_err(|e| format!("cannot build a collision mesh: {e}"))
+        .map_err(ShapeError::Collider)
 }
 
 /// Depth (m) of `p` inside the closed solid `shape` at `pose`; 0 outside.
@@ -86,7 +87,7 @@ fn depth_in(shape: &SharedShape, pose: &Isometry3<f64>, p: &Point3<f64>) -> f64 
 /// The surface of the union of a mesh's closed components: the mesh without the
 /// triangles whose three vertices and centroid all lie inside another component.
 /// A mesh of one component is returned as it is.
-pub fn outer_surface(mesh: &Mesh) -> Result<Mesh, String> {
+pub fn outer_surface(mesh: &Mesh) -> Result<Mesh, ShapeError> {
     let parts = components(&mesh.triangles);
     if parts.len() < 2 {
         return Ok(mesh.clone());
@@ -132,7 +133,7 @@ pub struct Solids {
 impl Solids {
     /// One solid per closed component of every piece (primitive pieces — the maze's boxes
     /// and cylinders — as their exact shapes).
-    pub fn new(environment: &Environment) -> Result<Self, String> {
+    pub fn new(environment: &Environment) -> Result<Self, ShapeError> {
         environment.require_solids("a depth check")?;
         let mut parts = Vec::new();
         for piece in &environment.pieces {

@@ -1,5 +1,5 @@
 //! Making a polygon soup into the closed, outward-oriented triangle mesh the physics needs
-//! (`shared/notes/physics.md`: open or zero-thickness walls are tunnelled through).
+//! (docs/physics.md: open or zero-thickness walls are tunnelled through).
 //!
 //! Steps, each reported when it changed something: weld coincident vertices (STL stores
 //! every triangle's corners separately), drop degenerate triangles, drop duplicate

@@ -35,6 +35,7 @@ use parry3d_f64::query::PointQuery;
 use parry3d_f64::shape::TriMesh;
 use parry3d_f64::transformation::voxelization::{FillMode, VoxelValue, VoxelizedVolume};
 use std::collections::HashMap;
+use whisker_slam::invalid::Invalid;
 
 /// Taubin's smoothing factors (λ > 0 shrinks, μ < −λ inflates back) and passes.
 const TAUBIN_LAMBDA: f64 = 0.5;
@@ -244,22 +245,24 @@ pub fn remesh(
     surface: &TriMesh,
     size: f64,
     closing: usize,
-) -> Result<Mesh, String> {
+) -> Result<Mesh, Invalid> {
     if !(size.is_finite() && size > 0.0) {
-        return Err(format!("voxel size {size}: expected a positive length"));
+        return Err(Invalid::new(format!(
+            "voxel size {size}: expected a positive length"
+        )));
     }
     let (lo, hi) = super::triangles::bounds(vertices);
     let margin = 1 + closing;
     let cells = (hi - lo).map(|e| (e / size).ceil() + 1.0 + 2.0 * margin as f64);
     if cells.iter().product::<f64>() > MAX_VOXELS as f64 {
-        return Err(format!(
+        return Err(Invalid::new(format!(
             "voxel size {:.2} mm: a {} × {} × {} grid is more than {MAX_VOXELS} voxels; \
              expected a larger voxel_size",
             size * 1e3,
             cells.x,
             cells.y,
             cells.z
-        ));
+        )));
     }
     let points: Vec<Vector> = vertices
         .iter()
@@ -359,7 +362,7 @@ pub fn remesh(
         }
     }
     if mesh.triangles.is_empty() {
-        return Err("the voxelised surface is empty".into());
+        return Err(Invalid::new("the voxelised surface is empty"));
     }
     taubin(&mut mesh);
     settle(&mut mesh, surface, SETTLE_GAP * size, SETTLE_REACH * size);

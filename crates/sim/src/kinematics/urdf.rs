@@ -13,6 +13,7 @@ use super::package_path::PackagePaths;
 use nalgebra::{Isometry3, Unit, Vector3};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use whisker_slam::invalid::Invalid;
 use whisker_slam::pose;
 
 /// A problem with a URDF file: which file, which element, what is wrong.
@@ -251,7 +252,7 @@ impl RobotModel {
                 ));
             }
             parent_joint[child] = Some(joints.len());
-            joints.push(joint(j, parent, child).map_err(|m| err(&element, m))?);
+            joints.push(joint(j, parent, child).map_err(|m| err(&element, m.to_string()))?);
         }
 
         let roots: Vec<usize> = (0..links.len())
@@ -396,11 +397,11 @@ fn origin_pose(p: &urdf_rs::Pose) -> Option<Isometry3<f64>> {
     (finite(&p.xyz.0) && finite(&p.rpy.0)).then(|| pose::from_xyz_rpy(p.xyz.0, p.rpy.0))
 }
 
-fn positive(name: &str, v: f64) -> Result<f64, String> {
+fn positive(name: &str, v: f64) -> Result<f64, Invalid> {
     if v.is_finite() && v > 0.0 {
         Ok(v)
     } else {
-        Err(format!("{name} must be a positive finite number, got {v}"))
+        Err(format!("{name} must be a positive finite number, got {v}").into())
     }
 }
 
@@ -408,7 +409,7 @@ fn geometry(
     g: &urdf_rs::Geometry,
     dir: &Path,
     packages: &PackagePaths,
-) -> Result<Geometry, String> {
+) -> Result<Geometry, Invalid> {
     Ok(match g {
         urdf_rs::Geometry::Box { size } => {
             for (axis, &s) in ["x", "y", "z"].iter().zip(size.0.iter()) {
@@ -443,7 +444,7 @@ fn geometry(
     })
 }
 
-fn joint(j: &urdf_rs::Joint, parent: usize, child: usize) -> Result<Joint, String> {
+fn joint(j: &urdf_rs::Joint, parent: usize, child: usize) -> Result<Joint, Invalid> {
     use urdf_rs::JointType as T;
     let kind = match j.joint_type {
         T::Fixed => JointKind::Fixed,
@@ -457,7 +458,7 @@ fn joint(j: &urdf_rs::Joint, parent: usize, child: usize) -> Result<Joint, Strin
     let origin = origin_pose(&j.origin).ok_or("<origin> has a non-finite xyz or rpy value")?;
     let axis = Vector3::from(j.axis.xyz.0);
     if !finite(axis.as_slice()) {
-        return Err(format!("<axis xyz> has a non-finite value: {axis:?}"));
+        return Err(format!("<axis xyz> has a non-finite value: {axis:?}").into());
     }
     let axis = match Unit::try_new(axis, 1e-9) {
         Some(a) => a,
@@ -474,7 +475,8 @@ fn joint(j: &urdf_rs::Joint, parent: usize, child: usize) -> Result<Joint, Strin
         return Err(format!(
             "<limit velocity> must be a non-negative number, got {}",
             l.velocity
-        ));
+        )
+        .into());
     }
     let limits = match kind {
         JointKind::Revolute | JointKind::Prismatic => {
@@ -482,10 +484,9 @@ fn joint(j: &urdf_rs::Joint, parent: usize, child: usize) -> Result<Joint, Strin
                 return Err("<limit> lower/upper must be numbers, got NaN".into());
             }
             if l.lower > l.upper {
-                return Err(format!(
-                    "<limit> lower ({}) is above upper ({})",
-                    l.lower, l.upper
-                ));
+                return Err(
+                    format!("<limit> lower ({}) is above upper ({})", l.lower, l.upper).into(),
+                );
             }
             JointLimits {
                 lower: l.lower,

@@ -12,6 +12,7 @@
 use nalgebra::Vector3;
 use rand::RngExt;
 use serde::{Deserialize, Serialize};
+use whisker_slam::invalid::Invalid;
 use whisker_slam::rng::gauss;
 
 /// Which way the contact point's noise displaces it (§6.1.3.1.2).
@@ -61,7 +62,7 @@ impl ContactNoise {
     };
 
     /// Checks the values; names the first bad field.
-    pub fn validate(&self) -> Result<(), (String, String)> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         // σ beyond these bounds says nothing more (a point scattered over ten whisker
         // lengths, a slope over ±100) and, near the f64 limit, drew infinite values that
         // the dataset reader then refused.
@@ -70,8 +71,8 @@ impl ContactNoise {
             ("slope_sigma", self.slope_sigma, 100.0),
         ] {
             if !(v >= 0.0 && v <= max) {
-                return Err((
-                    name.into(),
+                return Err(Invalid::field(
+                    name,
                     format!(
                         "{}: expected a number from 0 to {max}",
                         whisker_slam::message::short(v)
@@ -81,8 +82,8 @@ impl ContactNoise {
         }
         let p = self.detection_probability;
         if !(0.0..=1.0).contains(&p) {
-            return Err((
-                "detection_probability".into(),
+            return Err(Invalid::field(
+                "detection_probability",
                 format!("{p}: expected a probability in [0, 1]"),
             ));
         }

@@ -8,7 +8,7 @@
 //! commanded whisk angle, the world steps by dt, and the sensors read the follicle; the
 //! controller sees each reading before the next command (RCP).
 //!
-//! Contact settings (`shared/notes/physics.md`): stiff contacts (30 kHz natural
+//! Contact settings (docs/physics.md): stiff contacts (30 kHz natural
 //! frequency, critically damped) so that mg-scale segments do not sink into surfaces,
 //! no contact recycling, a length unit of 1 cm, which sets the allowed penetration to
 //! 10 µm, penetration corrected at up to 1 m/s, and contacts predicted 0.5 mm ahead.

@@ -2,7 +2,7 @@
 //!
 //! The whiskers of [`super::physics::PhysicsArray`] share nothing, so each can run many
 //! steps in one task; but their costs differ by an order of magnitude (a whisker pressed
-//! against a surface costs many times a free one, `shared/notes/physics-speed.md` L6), and
+//! against a surface costs many times a free one), and
 //! rayon's default split of 18 tasks on 2 threads hands each thread runs of several
 //! whiskers that cannot be stolen once begun: against the Box the second thread bought
 //! only 1.3–1.8× where free whisking gets 1.9×.

@@ -6,7 +6,7 @@
 //! stiffness k_j = E·I(s_j)/l (the compliance of the beam over the segment length around
 //! it), except the base joint, which carries only the half segment above the clamp:
 //! k_0 = 2·E·I(0)/l. Against the tapered-cantilever formulas this lumping is within 0.4 %
-//! at N = 10 and 0.1 % at N = 20 (`shared/notes/physics.md`). Twist is stiff
+//! at N = 10 and 0.1 % at N = 20 (docs/physics.md). Twist is stiff
 //! (G·J/l with G = E/(2(1+ν))). I = π r⁴/4 (Eq 2.36).
 //!
 //! Damping is stiffness-proportional (Rayleigh): every joint gets c_j = β·k_j with
@@ -14,6 +14,7 @@
 //! Rayleigh quotient on the static tip-load deflection shape of the tapered cantilever.
 
 use std::f64::consts::PI;
+use whisker_slam::invalid::Invalid;
 
 /// Poisson's ratio used for the twist stiffness (polymer resins: 0.3–0.4).
 pub const POISSON_RATIO: f64 = 0.35;
@@ -84,14 +85,14 @@ impl BeamDesign {
 
     /// Checks that every value is finite and physical ([`BeamDesign::RANGES`]); the
     /// message names the first bad field.
-    pub fn validate(&self) -> Result<(), String> {
-        self.check().map_err(|(_, message)| message)
+    pub fn validate(&self) -> Result<(), Invalid> {
+        self.check().map_err(|e| Invalid::new(e.message))
     }
 
     /// As [`BeamDesign::validate`], with the bad field apart (`length`, `base_diameter`,
     /// `tip_diameter`, `youngs_modulus`, `density`, `damping_ratio`, `segments`) for callers
     /// that name it their own way (a scenario field, a command-line option).
-    pub fn check(&self) -> Result<(), (&'static str, String)> {
+    pub fn check(&self) -> Result<(), Invalid> {
         let values = [
             self.length,
             self.base_diameter,
@@ -101,8 +102,8 @@ impl BeamDesign {
         ];
         for ((name, min, max, unit), v) in Self::RANGES.iter().zip(values) {
             if !(v.is_finite() && (*min..=*max).contains(&v)) {
-                return Err((
-                    name,
+                return Err(Invalid::field(
+                    *name,
                     format!(
                         "{name} must be a number from {} to {} {unit}, got {}",
                         super::short(*min),
@@ -119,7 +120,7 @@ impl BeamDesign {
                     "base_diameter ({}) must be at most a fifth of length ({}): a beam model needs a slender shaft",
                     self.base_diameter, self.length
                 ),
-            ));
+            ).into());
         }
         if self.tip_diameter > self.base_diameter {
             return Err((
@@ -128,7 +129,8 @@ impl BeamDesign {
                     "tip_diameter ({}) must not exceed base_diameter ({})",
                     self.tip_diameter, self.base_diameter
                 ),
-            ));
+            )
+                .into());
         }
         if !(self.damping_ratio.is_finite() && (0.0..1.0).contains(&self.damping_ratio)) {
             return Err((
@@ -137,13 +139,15 @@ impl BeamDesign {
                     "damping_ratio must be in [0, 1), got {}",
                     self.damping_ratio
                 ),
-            ));
+            )
+                .into());
         }
         if !(2..=200).contains(&self.segments) {
             return Err((
                 "segments",
                 format!("segments must be between 2 and 200, got {}", self.segments),
-            ));
+            )
+                .into());
         }
         Ok(())
     }
@@ -296,10 +300,15 @@ mod tests {
     fn validation_names_the_bad_field() {
         let mut d = BeamDesign::with_length(0.1);
         d.density = -1.0;
-        assert!(d.validate().unwrap_err().contains("density"));
+        assert!(d.validate().unwrap_err().to_string().contains("density"));
         let mut d = BeamDesign::with_length(0.1);
         d.tip_diameter = 3e-3;
-        assert!(d.validate().unwrap_err().contains("tip_diameter"));
+        assert!(
+            d.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("tip_diameter")
+        );
         assert!(BeamDesign::with_length(0.06).validate().is_ok());
     }
 
@@ -314,17 +323,25 @@ mod tests {
         (rat.base_diameter, rat.tip_diameter, rat.youngs_modulus) = (150e-6, 5e-6, 3e9);
         rat.density = 1300.0;
         assert!(rat.validate().is_ok());
-        let e = BeamDesign::with_length(1e308).validate().unwrap_err();
+        let e = BeamDesign::with_length(1e308)
+            .validate()
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("length") && e.contains("to 2 m"), "{e}");
         let mut d = BeamDesign::with_length(0.1);
         d.youngs_modulus = 1e300;
-        assert!(d.validate().unwrap_err().contains("youngs_modulus"));
+        assert!(
+            d.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("youngs_modulus")
+        );
         let mut d = BeamDesign::with_length(0.005);
         d.tip_diameter = 1e-3;
-        assert!(d.validate().unwrap_err().contains("slender"));
-        assert_eq!(d.check().unwrap_err().0, "base_diameter");
+        assert!(d.validate().unwrap_err().to_string().contains("slender"));
+        assert_eq!(d.check().unwrap_err().field, "base_diameter");
         d.segments = 1;
         (d.base_diameter, d.tip_diameter) = (5e-4, 1e-4);
-        assert_eq!(d.check().unwrap_err().0, "segments");
+        assert_eq!(d.check().unwrap_err().field, "segments");
     }
 }

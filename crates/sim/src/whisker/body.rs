@@ -4,7 +4,7 @@
 //! along +Z, the whisk (rotation) axis along X and Y in the sweep plane, so that the
 //! sensor's y deflection is parallel to the sweep and x perpendicular to it (Fig 2.7).
 //!
-//! Bodies (`shared/notes/physics.md`, "Whisker chains"):
+//! Bodies (docs/physics.md, "The model"):
 //! - the **driver**, a kinematic position-based body posed at the module mount turned by
 //!   the whisk angle (a kinematic body cannot be a multibody root),
 //! - the **follicle**, root of the whisker's multibody: a light dynamic body welded to

@@ -22,6 +22,7 @@ use super::solver::SolverPath;
 use nalgebra::{Isometry3, Vector3};
 use rapier3d_f64::prelude::*;
 use std::f64::consts::TAU;
+use whisker_slam::invalid::Invalid;
 
 /// What a characterisation measured (SI units).
 #[derive(Debug, Clone, PartialEq)]
@@ -94,7 +95,7 @@ fn check(
     follicle: &Option<FollicleDesign>,
     force: f64,
     at: f64,
-) -> Result<(), String> {
+) -> Result<(), Invalid> {
     beam.validate()?;
     if let Some(f) = follicle {
         f.validate()?;
@@ -103,10 +104,11 @@ fn check(
         return Err(format!(
             "the load's arc length must be in (0, {}] m, got {at}",
             beam.length
-        ));
+        )
+        .into());
     }
     if !force.is_finite() {
-        return Err(format!("the force must be a finite number, got {force}"));
+        return Err(format!("the force must be a finite number, got {force}").into());
     }
     Ok(())
 }
@@ -119,7 +121,7 @@ fn settle(
     whisker: &mut Whisker,
     force: f64,
     at: f64,
-) -> Result<usize, String> {
+) -> Result<usize, Invalid> {
     let beam = whisker.beam;
     let dt = world.integration_parameters.dt;
     whisker.set_damping_scale(world, 1.0 / beam.damping_ratio.max(1e-3));
@@ -140,9 +142,7 @@ fn settle(
             return Ok(steps);
         }
         if steps > 1000 * window {
-            return Err(format!(
-                "the static load did not settle within {steps} steps"
-            ));
+            return Err(format!("the static load did not settle within {steps} steps").into());
         }
         last = now;
     }
@@ -155,7 +155,7 @@ fn loaded_rig(
     follicle: Option<FollicleDesign>,
     force: f64,
     at: f64,
-) -> Result<(PhysicsWorld, Whisker, StaticLoad), String> {
+) -> Result<(PhysicsWorld, Whisker, StaticLoad), Invalid> {
     check(&beam, &follicle, force, at)?;
     let dt = (TAU / beam.first_mode_estimate() / 20.0).min(5e-4);
     let (mut world, mut whisker) = test_rig(beam, follicle, dt);
@@ -176,7 +176,7 @@ pub fn static_load(
     follicle: Option<FollicleDesign>,
     force: f64,
     at: f64,
-) -> Result<StaticLoad, String> {
+) -> Result<StaticLoad, Invalid> {
     loaded_rig(beam, follicle, force, at).map(|(_, _, statics)| statics)
 }
 
@@ -191,7 +191,7 @@ pub const MIN_FIRST_MODE_HZ: f64 = 0.5;
 
 /// Refuses a design whose first mode (Euler–Bernoulli estimate) is below
 /// [`MIN_FIRST_MODE_HZ`]: its ring-down would run for hours.
-pub fn check_first_mode(beam: &BeamDesign) -> Result<(), String> {
+pub fn check_first_mode(beam: &BeamDesign) -> Result<(), Invalid> {
     let estimate = beam.first_mode_estimate() / TAU;
     if estimate >= MIN_FIRST_MODE_HZ {
         return Ok(());
@@ -201,7 +201,8 @@ pub fn check_first_mode(beam: &BeamDesign) -> Result<(), String> {
          expected at least {MIN_FIRST_MODE_HZ} Hz, a whisker-like design (its ring-down \
          would take {:.0} s of simulated time; shorten or stiffen it)",
         RING_DOWN_PERIODS / estimate
-    ))
+    )
+    .into())
 }
 
 /// Runs the whole characterisation of `beam` in `follicle` (None: rigidly clamped)
@@ -213,7 +214,7 @@ pub fn characterize(
     follicle: Option<FollicleDesign>,
     force: f64,
     at: f64,
-) -> Result<Characterization, String> {
+) -> Result<Characterization, Invalid> {
     check_first_mode(&beam)?;
     let (mut world, mut whisker, statics) = loaded_rig(beam, follicle, force, at)?;
     // Released from the settled load, now at the ring-down's finer step.

@@ -45,7 +45,7 @@ pub const MAX_STIFFNESS_NM_PER_RAD: f64 = 1e6;
 
 impl FollicleDesign {
     /// Checks that every value is finite and physical; names the first bad field.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         super::require_positive(
             "follicle ",
             &[
@@ -61,7 +61,8 @@ impl FollicleDesign {
                  {MAX_STIFFNESS_NM_PER_RAD:e} N·m/rad (softer swings freely, stiffer is rigid: \
                  0 clamps the shaft), got {}",
                 super::short(self.stiffness)
-            ));
+            )
+            .into());
         }
         Ok(())
     }
@@ -80,3 +81,4 @@ impl FollicleDesign {
         (self.pivot_depth - self.magnet_lever) / 2.0
     }
 }
+use whisker_slam::invalid::Invalid;

@@ -23,9 +23,10 @@ pub use follicle::FollicleDesign;
 /// first that is not (`prefix` is prepended to the name).
 pub use whisker_slam::message::short;
 
-pub(crate) fn require_positive(prefix: &str, values: &[(&str, f64)]) -> Result<(), String> {
+pub(crate) fn require_positive(prefix: &str, values: &[(&str, f64)]) -> Result<(), Invalid> {
     match values.iter().find(|(_, v)| !(v.is_finite() && *v > 0.0)) {
-        Some((name, v)) => Err(format!("{prefix}{name} must be a positive number, got {v}")),
+        Some((name, v)) => Err(format!("{prefix}{name} must be a positive number, got {v}").into()),
         None => Ok(()),
     }
 }
+use whisker_slam::invalid::Invalid;

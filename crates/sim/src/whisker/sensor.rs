@@ -8,6 +8,7 @@
 
 use rand::Rng;
 use rand_distr::{Distribution, Normal};
+use whisker_slam::invalid::Invalid;
 use whisker_slam::sensor::Sample;
 
 /// Parameters of a module's sensors.
@@ -41,7 +42,7 @@ impl Default for SensorModel {
 
 impl SensorModel {
     /// Checks the parameters; names the first bad field.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         super::require_positive(
             "",
             &[
@@ -55,7 +56,7 @@ impl SensorModel {
             ("angle_noise_rad", self.angle_noise_rad),
         ] {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(format!("{name} must be a number ≥ 0, got {v}"));
+                return Err(format!("{name} must be a number ≥ 0, got {v}").into());
             }
         }
         Ok(())

@@ -32,6 +32,7 @@
 //! whisker itself retracts while its side holds.
 
 use super::control::{Controller, WhiskingPattern};
+use whisker_slam::invalid::Invalid;
 
 /// Spread reduction's parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -65,12 +66,13 @@ impl SpreadReduction {
 
     /// Checks the parameters against `pattern`: the narrowed stroke must lie within the
     /// pattern's limits (the motors' range). The error names the parameter.
-    pub fn check(&self, pattern: &WhiskingPattern) -> Result<(), (&'static str, String)> {
+    pub fn check(&self, pattern: &WhiskingPattern) -> Result<(), Invalid> {
         if !(self.range_fraction > 0.0 && self.range_fraction <= 1.0) {
             return Err((
                 "range_fraction",
                 format!("expected 0 < fraction ≤ 1, got {}", self.range_fraction),
-            ));
+            )
+                .into());
         }
         if !(self.centre_shift.is_finite() && self.centre_shift >= 0.0) {
             return Err((
@@ -79,10 +81,11 @@ impl SpreadReduction {
                     "expected a finite angle ≥ 0, got {}",
                     self.centre_shift.to_degrees()
                 ),
-            ));
+            )
+                .into());
         }
         if self.release_cycles == 0 {
-            return Err(("release_cycles", "expected at least 1".into()));
+            return Err(("release_cycles", "expected at least 1".into()).into());
         }
         let (lo, hi) = self.limits(pattern);
         if hi > pattern.protracted + 1e-12 {
@@ -98,7 +101,8 @@ impl SpreadReduction {
                     self.range_fraction,
                     room.to_degrees()
                 ),
-            ));
+            )
+                .into());
         }
         Ok(())
     }
@@ -456,9 +460,9 @@ mod tests {
             centre_shift: 30f64.to_radians(),
             release_cycles: 1,
         };
-        let (name, e) = sr.check(&p).unwrap_err();
-        assert_eq!(name, "centre_shift_deg");
-        assert!(e.contains("at most 25.0°"), "{e}");
+        let e = sr.check(&p).unwrap_err();
+        assert_eq!(e.field, "centre_shift_deg");
+        assert!(e.message.contains("at most 25.0°"), "{e}");
         let ok = SpreadReduction {
             centre_shift: 25f64.to_radians(),
             ..sr
@@ -471,7 +475,7 @@ mod tests {
             }
             .check(&p)
             .unwrap_err()
-            .0,
+            .field,
             "range_fraction"
         );
         assert_eq!(
@@ -481,7 +485,7 @@ mod tests {
             }
             .check(&p)
             .unwrap_err()
-            .0,
+            .field,
             "release_cycles"
         );
     }

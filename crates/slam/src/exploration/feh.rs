@@ -5,7 +5,7 @@
 //! the experience history (the experience current after each map-building whisk) with
 //! consecutive repeats collapsed; the next target is the entry after e's occurrence at or
 //! after the last followed index (else after its first occurrence), wrapping to the start.
-//! Reaching a target makes the one after it the next (`shared/notes/chapter6.md` §5.2).
+//! Reaching a target makes the one after it the next (our reading of §6.1.2.2).
 
 use crate::whisker_ratslam::object_map::ObjectMap;
 

@@ -13,7 +13,7 @@
 //!   experience whose row ties it exactly carries "its feature" (E_smin).
 //! - Start nodes: each likely map's last re-localised experience — the array's last known
 //!   place in that map (maps of different objects are not linked, so a path into a map
-//!   starts from its own last re-localisation: `shared/notes/chapter6.md` §10.9).
+//!   starts from its own last re-localisation; our reading of §6.1.2.3).
 //! - Graph: experiences are nodes, links are edges travelled either way; the cost of
 //!   stepping onto node b is w = w_t + w_r + 1/n_l (Eq 6.3), with w_t the translation and
 //!   w_r the rotation angle between the two experiences' map poses and n_l the number of

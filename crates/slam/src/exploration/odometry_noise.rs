@@ -11,13 +11,14 @@
 //! |δ_η| = |δ| + η, η ~ N(0, σ_t),  δ_η = δ/|δ|·|δ_η|     (6.9)
 //! v_η = δ_η/Δt                                (6.10)
 //! ```
-//! so that ω_η·Δt = θ_η·e_η and v_η·Δt = δ_η. Readings of the gaps
-//! (`shared/notes/chapter6.md` §8.1, §10.21): ω is in rad/s and 0.0087 its standard
+//! so that ω_η·Δt = θ_η·e_η and v_η·Δt = δ_η. Readings of the gaps (Eq 6.4–6.11 give no
+//! units or order): ω is in rad/s and 0.0087 its standard
 //! deviation; the Euler order is MATLAB's default ZYX; a motion with |δ| ≈ 0 gives δ_η = 0;
 //! a negative |δ_η| flips the direction (the equation as written); a rotation θ_η ≈ 0 gives
 //! Δt = 1 s and ω_η = 0. Draws are made in a fixed order (ω, the three Euler angles z, y,
 //! x, then η) from the caller's stream.
 
+use crate::invalid::Invalid;
 use crate::rng::gauss;
 use crate::sensor::Odometry;
 use nalgebra::{Isometry3, Rotation3, Vector3};
@@ -59,10 +60,10 @@ impl OdometryNoise {
     };
 
     /// Checks the values; returns the offending field and what was expected.
-    pub fn validate(&self) -> Result<(), (String, String)> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         if !(self.speed_mean_rad_s.is_finite() && self.speed_mean_rad_s > 0.0) {
-            return Err((
-                "speed_mean_rad_s".into(),
+            return Err(Invalid::field(
+                "speed_mean_rad_s",
                 format!("expected a positive number, got {}", self.speed_mean_rad_s),
             ));
         }
@@ -72,7 +73,10 @@ impl OdometryNoise {
             ("translation_sigma_m", self.translation_sigma_m),
         ] {
             if !(v.is_finite() && v >= 0.0) {
-                return Err((f.into(), format!("expected a finite number ≥ 0, got {v}")));
+                return Err(Invalid::field(
+                    f,
+                    format!("expected a finite number ≥ 0, got {v}"),
+                ));
             }
         }
         Ok(())

@@ -14,7 +14,8 @@
 //! x_thesis = −x_A. Everything here is written in A: the pointing axis is z, the level
 //! axis is y.
 //!
-//! Readings of the thesis' gaps (`shared/notes/chapter6.md` §3, §10.1–4): Alg 7's typos
+//! Readings of the thesis' gaps (§6.1.1 gives no values; scenarios/README.md, `[explore]`,
+//! lists the defaults taken): Alg 7's typos
 //! are cleaned up (one `maintain_yaw`, a done flag, no result when fewer than μ contacts);
 //! the distance branch translates along the pointing axis by (d − mid)/δ_x; Alg 8 follows
 //! its maths (the level axis is the component of *up* orthogonal to the pointing axis),
@@ -22,6 +23,7 @@
 //! projected onto the plane orthogonal to the pointing axis. The thesis gives no values
 //! for the parameters; the defaults are stated on [`PlacementParams`].
 
+use crate::invalid::Invalid;
 pub use crate::stats::median;
 use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
@@ -94,8 +96,8 @@ impl Default for PlacementParams {
 
 impl PlacementParams {
     /// Checks the values; returns the offending field and what was expected.
-    pub fn validate(&self) -> Result<(), (String, String)> {
-        let bad = |f: &str, m: String| Err((f.to_string(), m));
+    pub fn validate(&self) -> Result<(), Invalid> {
+        let bad = |f: &str, m: String| Err(Invalid::field(f, m));
         if self.min_contacts < 1 {
             return bad("min_contacts", "expected at least 1".into());
         }

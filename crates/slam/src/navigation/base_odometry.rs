@@ -17,6 +17,7 @@
 //! differential-drive base: 5 % of each turn and of each distance, 2.9° of heading per
 //! metre driven, 1 cm of distance per radian turned. They are scenario fields.
 
+use crate::invalid::Invalid;
 use crate::pose::{Pose2, wrap};
 use crate::rng::StreamRng;
 use rand_distr::{Distribution, Normal};
@@ -84,14 +85,15 @@ impl Default for BaseOdometryNoise {
 
 impl BaseOdometryNoise {
     /// Checks the parameters; the message names the field.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         if self.alpha.iter().all(|a| a.is_finite() && *a >= 0.0) {
             Ok(())
         } else {
             Err(format!(
                 "alpha {:?}: expected four numbers ≥ 0 (rad/rad, rad/m, m/m, m/rad)",
                 self.alpha
-            ))
+            )
+            .into())
         }
     }
 
@@ -225,6 +227,6 @@ mod tests {
             alpha: [0.1, -0.1, 0.0, 0.0],
             ..noise
         };
-        assert!(bad.validate().unwrap_err().contains("alpha"));
+        assert!(bad.validate().unwrap_err().to_string().contains("alpha"));
     }
 }

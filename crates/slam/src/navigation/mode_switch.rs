@@ -27,6 +27,7 @@
 //! The outline's shape ([`Shape`]: a line, an arc, a corner of two lines) is reported
 //! beside the verdict for the logs and recordings; the verdict does not depend on it.
 
+use crate::invalid::Invalid;
 use nalgebra::{Point2, Vector2};
 
 /// The cue's parameters.
@@ -120,7 +121,7 @@ pub struct Decision {
 
 impl ModeSwitch {
     /// Checks the parameters; the message names the field.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         for (name, v) in [
             ("max_object_m", self.max_object_m),
             ("link_gap_m", self.link_gap_m),
@@ -128,17 +129,14 @@ impl ModeSwitch {
             ("fit_tolerance_m", self.fit_tolerance_m),
         ] {
             if !(v.is_finite() && v > 0.0) {
-                return Err(format!("{name} {v}: expected a positive length (m)"));
+                return Err(format!("{name} {v}: expected a positive length (m)").into());
             }
         }
         if self.window_whisks == 0 {
             return Err("window_whisks 0: expected at least 1".into());
         }
         if self.min_contacts < 2 {
-            return Err(format!(
-                "min_contacts {}: expected at least 2",
-                self.min_contacts
-            ));
+            return Err(format!("min_contacts {}: expected at least 2", self.min_contacts).into());
         }
         Ok(())
     }
@@ -468,7 +466,12 @@ mod tests {
             link_gap_m: -1.0,
             ..ModeSwitch::default()
         };
-        assert!(bad.validate().unwrap_err().contains("link_gap_m"));
+        assert!(
+            bad.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("link_gap_m")
+        );
         assert!(ModeSwitch::default().validate().is_ok());
     }
 }

@@ -18,6 +18,7 @@ mod decode;
 mod dense;
 mod shift;
 
+use crate::invalid::Invalid;
 use std::f64::consts::TAU;
 
 /// How a [`PoseGrid`] evaluates its operations. Both give bit-identical activities.
@@ -156,10 +157,10 @@ impl NetworkShape {
     /// Checks that every axis has at least 3 cells, the kernels are odd and no wider than
     /// the shortest axis (a wider window wraps onto itself), sizes and variances are
     /// positive and global inhibition ≥ 0; the message names the field.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         let shortest = self.shortest_axis;
         if shortest < 3 {
-            return Err(format!("{shortest} cells on an axis: expected at least 3"));
+            return Err(format!("{shortest} cells on an axis: expected at least 3").into());
         }
         for (name, w) in ["excite_width", "inhibit_width"]
             .into_iter()
@@ -168,7 +169,7 @@ impl NetworkShape {
             if w.is_multiple_of(2) || w > shortest {
                 return Err(format!(
                     "{name} {w}: expected an odd width of at most {shortest} cells (a wider window wraps onto itself)"
-                ));
+                ).into());
             }
         }
         for (name, v) in ["cell_size_m", "excite_variance", "inhibit_variance"]
@@ -176,12 +177,12 @@ impl NetworkShape {
             .zip(self.positives)
         {
             if !(v.is_finite() && v > 0.0) {
-                return Err(format!("{name} {v}: expected a positive number"));
+                return Err(format!("{name} {v}: expected a positive number").into());
             }
         }
         let g = self.global_inhibition;
         if !(g.is_finite() && g >= 0.0) {
-            return Err(format!("global_inhibition {g}: expected a number ≥ 0"));
+            return Err(format!("global_inhibition {g}: expected a number ≥ 0").into());
         }
         Ok(())
     }
@@ -197,8 +198,8 @@ impl NetworkShape {
     }
 }
 
-/// The attractor dynamics of a pose-cell network (Alg 3–5; `shared/notes/ratslam.md`
-/// steps 1–4), its kernels built once.
+/// The attractor dynamics of a pose-cell network (Alg 3–5: excitation, inhibition, global
+/// inhibition, normalisation), its kernels built once.
 #[derive(Debug, Clone)]
 pub struct Attractor {
     excite: Vec<f64>,

@@ -20,6 +20,7 @@
 //!
 //! A contact localised at radial distance r is `base + r·dir` (Eq 5.1–5.2).
 
+use crate::csv_records::LineError;
 use crate::frontend::features::ContactFeatures;
 use nalgebra::{Point3, Vector3};
 
@@ -96,22 +97,29 @@ pub fn to_csv(samples: &[RadialSample]) -> String {
 }
 
 /// Reads the documented format; errors name the line (1-based) and the column.
-pub fn from_csv(text: &str) -> Result<Vec<RadialSample>, String> {
+pub fn from_csv(text: &str) -> Result<Vec<RadialSample>, LineError> {
     let columns: Vec<&str> = HEADER.split(',').collect();
     match text.lines().next() {
         Some(h) if h.trim_end() == HEADER => {}
         Some(h) => {
-            return Err(format!(
-                "line 1: expected the header `{HEADER}`, got `{}`",
-                h.chars().take(80).collect::<String>()
+            return Err(LineError::at(
+                1,
+                format!(
+                    "expected the header `{HEADER}`, got `{}`",
+                    h.chars().take(80).collect::<String>()
+                ),
             ));
         }
-        None => return Err("the file is empty (expected a header line)".into()),
+        None => {
+            return Err(LineError {
+                line: None,
+                message: "the file is empty (expected a header line)".into(),
+            });
+        }
     }
     let mut out = Vec::new();
     for (line, record) in crate::csv_records::records(text) {
         // Blank lines are skipped; trailing white space is not part of the last value.
-        let i = line - 1;
         let mut cells: Vec<&str> = record.iter().collect();
         if let Some(last) = cells.last_mut() {
             *last = last.trim_end();
@@ -120,11 +128,13 @@ pub fn from_csv(text: &str) -> Result<Vec<RadialSample>, String> {
             continue;
         }
         if cells.len() != columns.len() {
-            return Err(format!(
-                "line {}: expected {} comma-separated values, got {}",
-                i + 1,
-                columns.len(),
-                cells.len()
+            return Err(LineError::at(
+                line,
+                format!(
+                    "expected {} comma-separated values, got {}",
+                    columns.len(),
+                    cells.len()
+                ),
             ));
         }
         let mut v = [0.0; 17];
@@ -134,25 +144,29 @@ pub fn from_csv(text: &str) -> Result<Vec<RadialSample>, String> {
                 .ok()
                 .filter(|x| x.is_finite())
                 .ok_or_else(|| {
-                    format!(
-                        "line {}, column `{}`: expected a finite number, got {cell:?}",
-                        i + 1,
-                        columns[k + 3]
+                    LineError::at(
+                        line,
+                        format!(
+                            "column `{}`: expected a finite number, got {cell:?}",
+                            columns[k + 3]
+                        ),
                     )
                 })?;
         }
         let direction = Vector3::new(v[14], v[15], v[16]);
         if (direction.norm() - 1.0).abs() > 1e-6 {
-            return Err(format!(
-                "line {}, columns `dir_x/y/z`: expected a unit vector, got length {}",
-                i + 1,
-                direction.norm()
+            return Err(LineError::at(
+                line,
+                format!(
+                    "columns `dir_x/y/z`: expected a unit vector, got length {}",
+                    direction.norm()
+                ),
             ));
         }
         if !(v[1] >= 0.0 && v[10] > 0.0) {
-            return Err(format!(
-                "line {}: expected truth_radial_m ≥ 0 and wl_m > 0",
-                i + 1
+            return Err(LineError::at(
+                line,
+                "expected truth_radial_m ≥ 0 and wl_m > 0",
             ));
         }
         out.push(RadialSample {
@@ -216,16 +230,26 @@ mod tests {
     fn malformed_files_name_the_line_and_column() {
         let good = to_csv(&[sample(1.0)]);
         let bad_number = good.replacen("2047", "2o47", 1);
-        let e = from_csv(&bad_number).unwrap_err();
+        let e = from_csv(&bad_number).unwrap_err().to_string();
         assert!(e.contains("line 2") && e.contains("`ca_counts`"), "{e}");
         let nan = good.replacen("2047", "NaN", 1);
-        assert!(from_csv(&nan).unwrap_err().contains("finite"));
+        assert!(from_csv(&nan).unwrap_err().to_string().contains("finite"));
         let short = good.replacen(",0.065", "", 1);
-        let e = from_csv(&short).unwrap_err();
+        let e = from_csv(&short).unwrap_err().to_string();
         assert!(e.contains("line 2") && e.contains("expected 20"), "{e}");
-        assert!(from_csv("").unwrap_err().contains("empty"));
-        assert!(from_csv("a,b\n").unwrap_err().contains("line 1"));
+        assert!(from_csv("").unwrap_err().to_string().contains("empty"));
+        assert!(
+            from_csv("a,b\n")
+                .unwrap_err()
+                .to_string()
+                .contains("line 1")
+        );
         let not_unit = good.replacen(&format!(",{}\n", 2.0 / 3.0), ",5\n", 1);
-        assert!(from_csv(&not_unit).unwrap_err().contains("unit vector"));
+        assert!(
+            from_csv(&not_unit)
+                .unwrap_err()
+                .to_string()
+                .contains("unit vector")
+        );
     }
 }

@@ -8,6 +8,20 @@
 use super::cross_validation::{cv_mse, folds};
 use super::standardise::Standardiser;
 use serde::{Deserialize, Serialize};
+
+/// Why an SVR could not be trained.
+#[derive(Debug, thiserror::Error)]
+pub enum TrainError {
+    /// smartcore refused the data or failed to fit (its message).
+    #[error("{0}")]
+    Smartcore(String),
+    /// smartcore's fitted model did not read back as expected.
+    #[error("reading the fitted SVR: {0}")]
+    Fitted(serde_json::Error),
+    /// No hyper-parameters to search.
+    #[error("empty grid")]
+    EmptyGrid,
+}
 use smartcore::linalg::basic::matrix::DenseMatrix;
 use smartcore::svm::Kernels;
 use smartcore::svm::svr::{SVR, SVRParameters};
@@ -51,20 +65,21 @@ struct Fitted {
 
 impl Svr {
     /// Trains on rows `x` and targets `y`; Err names smartcore's complaint.
-    pub fn fit(x: &[Vec<f64>], y: &[f64], params: SvrParams) -> Result<Self, String> {
+    pub fn fit(x: &[Vec<f64>], y: &[f64], params: SvrParams) -> Result<Self, TrainError> {
         let inputs = Standardiser::fit(x);
         let target = Standardiser::fit_column(y);
         let rows: Vec<Vec<f64>> = x.iter().map(|r| inputs.apply(r)).collect();
         let ys: Vec<f64> = y.iter().map(|&v| target.apply(&[v])[0]).collect();
-        let matrix = DenseMatrix::from_2d_vec(&rows).map_err(|e| e.to_string())?;
+        let matrix =
+            DenseMatrix::from_2d_vec(&rows).map_err(|e| TrainError::Smartcore(e.to_string()))?;
         let p = SVRParameters::default()
             .with_c(params.c)
             .with_eps(params.eps)
             .with_kernel(Kernels::rbf().with_gamma(params.gamma));
-        let model = SVR::fit(&matrix, &ys, &p).map_err(|e| e.to_string())?;
+        let model = SVR::fit(&matrix, &ys, &p).map_err(|e| TrainError::Smartcore(e.to_string()))?;
         let fitted: Fitted = serde_json::to_value(&model)
             .and_then(serde_json::from_value)
-            .map_err(|e| format!("reading the fitted SVR: {e}"))?;
+            .map_err(TrainError::Fitted)?;
         Ok(Self {
             params,
             support: fitted.instances.unwrap_or_default(),
@@ -97,7 +112,7 @@ impl Svr {
         grid: &[SvrParams],
         k: usize,
         seed: u64,
-    ) -> Result<(Self, Vec<(SvrParams, f64)>), String> {
+    ) -> Result<(Self, Vec<(SvrParams, f64)>), TrainError> {
         let f = folds(x.len(), k, seed, "radial/svr/folds");
         let scores: Vec<(SvrParams, f64)> = grid
             .iter()
@@ -116,7 +131,7 @@ impl Svr {
             .iter()
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .map(|s| s.0)
-            .ok_or("empty grid")?;
+            .ok_or(TrainError::EmptyGrid)?;
         Ok((Self::fit(x, y, best)?, scores))
     }
 

@@ -1,4 +1,4 @@
-//! RatSLAM's experience map (thesis §2.1.2, §3.2.1; `shared/notes/ratslam.md`): a graph
+//! RatSLAM's experience map (thesis §2.1.2, §3.2.1): a graph
 //! of experiences — a pose (x, y, θ) in the map frame, the local-view template and the
 //! pose cell they were made at — joined by links holding the odometric relative pose
 //! (distance, direction of travel relative to the start's heading, change of heading).

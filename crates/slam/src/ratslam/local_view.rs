@@ -1,5 +1,5 @@
 //! Local view cells on tactile images (thesis §3.1.1, §3.2.1, Eq 3.1; injection as in
-//! Eq 5.8 and `shared/notes/ratslam.md`).
+//! Eq 5.8).
 //!
 //! A tactile image is 6 × 3 8-bit pixels, columns A–F and rows 1–3 (Fig 3.2), pixel
 //! (row r, column c) being whisker 6·(r − 1) + c; its intensity is proportional to the

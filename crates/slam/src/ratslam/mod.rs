@@ -16,6 +16,7 @@ pub mod metrics;
 pub mod odometry;
 pub mod posecells3d;
 
+use crate::invalid::Invalid;
 use crate::message::short;
 use experience_map::{ExperienceMap, ExperienceMapParams, MapEvent};
 use local_view::{LocalView, LocalViewParams, TactileImage};
@@ -36,7 +37,7 @@ pub struct RatSlamParams {
 
 impl RatSlamParams {
     /// Checks every parameter; the message names the field (`pose_cells.dim_xy`, …).
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         self.pose_cells
             .validate()
             .map_err(|e| format!("pose_cells: {e}"))?;
@@ -56,7 +57,7 @@ impl RatSlamParams {
         for (name, v, zero_ok) in checks {
             if !(v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0))) {
                 let want = if zero_ok { "≥ 0" } else { "> 0" };
-                return Err(format!("{name} {}: expected a number {want}", short(v)));
+                return Err(format!("{name} {}: expected a number {want}", short(v)).into());
             }
         }
         let most = local_view::MAX_SIMILARITY;
@@ -65,13 +66,15 @@ impl RatSlamParams {
                 "local_view.match_threshold {}: expected at most {most:.1}, the largest \
                  difference of two images (Eq 3.1: 18 pixels · √255)",
                 short(lv.match_threshold)
-            ));
+            )
+            .into());
         }
         if !(em.correction > 0.0 && em.correction <= 1.0) {
             return Err(format!(
                 "experience_map.correction {}: expected a fraction in (0, 1]",
                 em.correction
-            ));
+            )
+            .into());
         }
         Ok(())
     }

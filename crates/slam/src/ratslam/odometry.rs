@@ -18,6 +18,7 @@
 //! estimated loop is about twice the true one. That is what the thesis' numbers say,
 //! although its Fig 3.3 calls the drift "small"; `linear_lognormal` changes it.
 
+use crate::invalid::Invalid;
 use crate::pose::{Pose2, wrap};
 use crate::rng::{StreamRng, substream};
 use rand_distr::{Distribution, LogNormal, Normal};
@@ -55,26 +56,29 @@ pub const REFERENCE_STEP_M: f64 = 0.015;
 
 impl OdometryNoise {
     /// Checks the parameters; the message names the field.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         let [mu, s] = self.linear_lognormal;
         let [m, sd] = self.angular_normal_deg;
         if !(mu.is_finite() && s.is_finite() && s >= 0.0) {
             return Err(format!(
                 "linear_lognormal {:?}: expected [μ, σ ≥ 0]",
                 self.linear_lognormal
-            ));
+            )
+            .into());
         }
         if !(m.is_finite() && sd.is_finite() && sd >= 0.0) {
             return Err(format!(
                 "angular_normal_deg {:?}: expected [mean, σ ≥ 0]",
                 self.angular_normal_deg
-            ));
+            )
+            .into());
         }
         if !(self.reference_step_m.is_finite() && self.reference_step_m >= 0.0) {
             return Err(format!(
                 "reference_step_m {}: expected a distance ≥ 0 (m; 0 = unscaled)",
                 self.reference_step_m
-            ));
+            )
+            .into());
         }
         Ok(())
     }
@@ -214,6 +218,7 @@ mod tests {
             }
             .validate()
             .unwrap_err()
+            .to_string()
             .contains("reference_step_m")
         );
     }

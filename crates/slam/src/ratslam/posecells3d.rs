@@ -1,4 +1,4 @@
-//! RatSLAM's planar pose cells (thesis §2.1.2, §3.2.1; `shared/notes/ratslam.md`): a
+//! RatSLAM's planar pose cells (thesis §2.1.2, §3.2.1): a
 //! periodic (x, y, θ) grid — 30 × 30 × 36 cells of 0.015 m and 10° by default (Table 3.1,
 //! read with its values shifted one row down: pc_dim_xy 30, pc_cell_x_size 0.015) —
 //! with, per update, local excitation (7 wide, variance 1) and inhibition (5 wide,
@@ -24,6 +24,7 @@
 //! experience map takes its positions from odometry, not from the packet (§2.1.2), so
 //! the pinning only delays experience creation at slow speeds.
 
+use crate::invalid::Invalid;
 use crate::pose_grid::{Attractor, NetworkShape, PoseGrid, ShiftWeights, wrapped_distance};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
@@ -67,7 +68,7 @@ impl Default for PlanarCellParams {
 
 impl PlanarCellParams {
     /// Checks the parameters; the message names the field.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         self.shape().validate()
     }
 

@@ -22,10 +22,11 @@
 use super::posecells6d::Cell6;
 use crate::features::pfh::PfhParams;
 use crate::features::similarity::Features;
+use crate::invalid::Invalid;
 use crate::sensor::WHISKERS;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The `format` tag of object map files.
 pub const FORMAT: &str = "whisker-slam object map";
@@ -272,18 +273,18 @@ impl ObjectMap {
     }
 
     /// Checks the map's consistency; the message names the first problem.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         if self.format != FORMAT {
-            return Err(format!("format {:?}: expected {FORMAT:?}", self.format));
+            return Err(format!("format {:?}: expected {FORMAT:?}", self.format).into());
         }
         if self.version != VERSION {
-            return Err(format!("version {}: expected {VERSION}", self.version));
+            return Err(format!("version {}: expected {VERSION}", self.version).into());
         }
         let n = self.experiences.len();
         for (i, e) in self.experiences.iter().enumerate() {
             let at = format!("experiences[{i}]");
             if e.id != i {
-                return Err(format!("{at}.id {}: expected {i} (its position)", e.id));
+                return Err(format!("{at}.id {}: expected {i} (its position)", e.id).into());
             }
             let numbers = e
                 .cells
@@ -291,13 +292,14 @@ impl ObjectMap {
                 .chain(&e.position_m)
                 .chain(&e.orientation_wxyz);
             if numbers.chain([&e.decay]).any(|x| !x.is_finite()) {
-                return Err(format!("{at}: non-finite number"));
+                return Err(format!("{at}: non-finite number").into());
             }
             let norm = e.orientation_wxyz.iter().map(|x| x * x).sum::<f64>().sqrt();
             if (norm - 1.0).abs() > 1e-6 {
                 return Err(format!(
                     "{at}.orientation_wxyz: norm {norm}, expected a unit quaternion"
-                ));
+                )
+                .into());
             }
             check_features(&e.features, &at)?;
         }
@@ -307,13 +309,14 @@ impl ObjectMap {
                 .chain(&l.rotation_wxyz)
                 .any(|x| !x.is_finite())
             {
-                return Err(format!("links[{i}]: non-finite number"));
+                return Err(format!("links[{i}]: non-finite number").into());
             }
             if l.from >= n || l.to >= n {
                 return Err(format!(
                     "links[{i}]: {} -> {} but there are {n} experiences",
                     l.from, l.to
-                ));
+                )
+                .into());
             }
         }
         for (i, h) in self.history.iter().enumerate() {
@@ -321,7 +324,8 @@ impl ObjectMap {
                 return Err(format!(
                     "history[{i}].experience {}: there are {n} experiences",
                     h.experience
-                ));
+                )
+                .into());
             }
         }
         Ok(())
@@ -339,31 +343,63 @@ impl ObjectMap {
     }
 
     /// Writes the map to `path` (atomically: a temporary file beside it, then renamed).
-    pub fn save(&self, path: &Path) -> Result<(), String> {
-        let text = serde_json::to_string(self).map_err(|e| e.to_string())?;
+    pub fn save(&self, path: &Path) -> Result<(), MapFileError> {
+        let text = serde_json::to_string(self).map_err(MapFileError::Encode)?;
         let tmp = path.with_extension("json.part");
         std::fs::write(&tmp, text)
             .and_then(|_| std::fs::rename(&tmp, path))
-            .map_err(|e| format!("{}: cannot write: {e}", path.display()))
+            .map_err(|source| MapFileError::Write {
+                path: path.to_path_buf(),
+                source,
+            })
     }
 
     /// Reads a map written by [`ObjectMap::save`]; errors name the file, and the line and
     /// column or the field at fault.
-    pub fn load(path: &Path) -> Result<Self, String> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-        let map: Self = serde_json::from_str(&text).map_err(|e| {
-            format!(
-                "{}: line {} column {}: {e}",
-                path.display(),
-                e.line(),
-                e.column()
-            )
+    pub fn load(path: &Path) -> Result<Self, MapFileError> {
+        let text = std::fs::read_to_string(path).map_err(|source| MapFileError::Read {
+            path: path.to_path_buf(),
+            source,
         })?;
-        map.validate()
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        let map: Self = serde_json::from_str(&text).map_err(|source| MapFileError::Json {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        map.validate().map_err(|invalid| MapFileError::Invalid {
+            path: path.to_path_buf(),
+            invalid,
+        })?;
         Ok(map)
     }
+}
+
+/// Why an object map file could not be read or written.
+#[derive(Debug, thiserror::Error)]
+pub enum MapFileError {
+    /// The file could not be read.
+    #[error("{}: cannot read: {source}", path.display())]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// The file could not be written.
+    #[error("{}: cannot write: {source}", path.display())]
+    Write {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// The file is not the map's JSON (serde names the line and column).
+    #[error("{}: line {} column {}: {source}", path.display(), source.line(), source.column())]
+    Json {
+        path: PathBuf,
+        source: serde_json::Error,
+    },
+    /// The JSON is a map, but not a consistent one.
+    #[error("{}: {invalid}", path.display())]
+    Invalid { path: PathBuf, invalid: Invalid },
+    /// The map could not be encoded (non-finite numbers).
+    #[error("{0}")]
+    Encode(serde_json::Error),
 }
 
 /// s = (r_t/σ_t)² + (r_θ/σ_θ)² of a residual of `translation` (m) and `rotation` (rad) at
@@ -379,7 +415,7 @@ pub fn standardised_residual(
 /// Checks one experience's features against what this code computes and compares
 /// (`whisk_features`): a PFH of d⁴ finite, non-negative bins (d = 3: 81), an SDA of one
 /// finite slope or null per whisker (18). `at` names the experience.
-fn check_features(features: &Features, at: &str) -> Result<(), String> {
+fn check_features(features: &Features, at: &str) -> Result<(), Invalid> {
     let bins = PfhParams::default().divisions.pow(4);
     let pfh = &features.pfh;
     if pfh.len() != bins {
@@ -387,25 +423,25 @@ fn check_features(features: &Features, at: &str) -> Result<(), String> {
             "{at}.features.pfh: {} bins, expected {bins} (d = {} divisions per feature, d⁴)",
             pfh.len(),
             PfhParams::default().divisions
-        ));
+        )
+        .into());
     }
     if let Some(k) = pfh.iter().position(|x| !(x.is_finite() && *x >= 0.0)) {
         return Err(format!(
             "{at}.features.pfh[{k}]: {}, expected a finite number ≥ 0",
             pfh[k]
-        ));
+        )
+        .into());
     }
     let sda = &features.sda.0;
     if sda.len() != WHISKERS {
         return Err(format!(
             "{at}.features.sda: {} slopes, expected {WHISKERS} (one per whisker, null without contact)",
             sda.len()
-        ));
+        ).into());
     }
     if let Some(k) = sda.iter().position(|x| x.is_some_and(|x| !x.is_finite())) {
-        return Err(format!(
-            "{at}.features.sda[{k}]: expected a finite slope or null"
-        ));
+        return Err(format!("{at}.features.sda[{k}]: expected a finite slope or null").into());
     }
     Ok(())
 }

@@ -37,6 +37,7 @@
 //! Cell i of a rotation axis of n cells stands for the angle 360°·i/n (cell 0 is 0°);
 //! cell i of a translation axis for the position i·`cell_size_m` (modulo n cells).
 
+use crate::invalid::Invalid;
 use crate::pose_grid::{Attractor, NetworkShape, PoseGrid, ShiftWeights, wrapped_distance};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
@@ -100,19 +101,17 @@ impl PoseCellParams {
     }
 
     /// Checks the parameters; the message names the field.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         if self.cells.iter().any(|&n| n < 3) {
-            return Err(format!(
-                "cells {:?}: expected at least 3 per axis",
-                self.cells
-            ));
+            return Err(format!("cells {:?}: expected at least 3 per axis", self.cells).into());
         }
         let shortest = *self.cells.iter().min().unwrap_or(&0);
         if self.decode_window.is_multiple_of(2) || self.decode_window > shortest {
             return Err(format!(
                 "decode_window {}: expected an odd width of at most {shortest} cells",
                 self.decode_window
-            ));
+            )
+            .into());
         }
         self.shape().validate()
     }

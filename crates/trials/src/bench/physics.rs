@@ -32,7 +32,7 @@
 //! Then the scaling with segment count (8, 12, 16, 24) against the Box on 2 threads by
 //! every path. Reported: the real-time factor (simulated seconds per wall-clock second),
 //! the CPU cost per whisker (thread-seconds per simulated second per whisker, the peer's
-//! unit: WHISKiT Physics needs about 7 for one whisker, `shared/notes/physics.md`), and
+//! unit: WHISKiT Physics needs about 7 for one whisker, docs/physics.md), and
 //! each path's speed-up over `released` and over the default path. Timing is a benchmark, never a test.
 
 use nalgebra::Isometry3;
@@ -49,7 +49,7 @@ use whisker_sim::whisker::array;
 use whisker_sim::whisker::beam::Bending;
 
 /// CPU-seconds per simulated second for one whisker of WHISKiT Physics, the reference
-/// simulator (`shared/notes/physics.md`, "The peer to beat").
+/// simulator (docs/physics.md, "The peer").
 const WHISKIT_CPU_S_PER_S: f64 = 7.0;
 
 /// What `whisker bench physics` times.
@@ -108,11 +108,11 @@ fn time_case(
     (path, without): (SolverPath, Option<Lever>),
     threads: usize,
     o: &Settings,
-) -> Result<(f64, StageTimes), String> {
+) -> Result<(f64, StageTimes)> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| Error::Failure(e.to_string()))?;
     pool.install(|| {
         let mut configs = whisker_sim::sensing::physics::standard_array(
             array::modules().len(),
@@ -216,7 +216,7 @@ fn measure(
         let mut walls: Vec<_> = variants.iter().map(|&v| (v, f64::INFINITY)).collect();
         for round in 1..=o.repeat {
             for (variant, best) in &mut walls {
-                let (wall, _) = time_case(case, *variant, t, o).map_err(Error::Failure)?;
+                let (wall, _) = time_case(case, *variant, t, o)?;
                 *best = best.min(wall);
                 let turn = match o.repeat {
                     1 => String::new(),
@@ -456,7 +456,7 @@ fn stages(case: &Case, o: &Settings) -> Result<Vec<Stages>> {
     };
     let mut list = Vec::new();
     for path in paths {
-        let (wall, t) = time_case(case, (path, None), 1, o).map_err(Error::Failure)?;
+        let (wall, t) = time_case(case, (path, None), 1, o)?;
         if t.step == 0.0 {
             return Err(Error::Input(
                 "--stages: this build has no stage timers; build with \

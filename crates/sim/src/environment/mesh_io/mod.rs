@@ -34,11 +34,11 @@ pub struct MeshError {
 
 impl MeshError {
     /// A new error.
-    pub fn new(file: &Path, at: &str, message: String) -> Self {
+    pub fn new(file: &Path, at: &str, message: impl std::fmt::Display) -> Self {
         Self {
             file: file.to_path_buf(),
             at: at.to_string(),
-            message,
+            message: message.to_string(),
         }
     }
 }
