@@ -3,9 +3,9 @@
 //! (`object_slam`), the closed loop's `[explore]` (`closed_loop`) and the office run's robot
 //! (`navigate`). Re-exported by [`super::manifest`].
 
-use whisker_slam::invalid::Invalid;
 use serde::{Deserialize, Serialize};
 use whisker_slam::frontend::contact::FrontEndParams;
+use whisker_slam::invalid::Invalid;
 use whisker_slam::ratslam::RatSlamParams;
 
 /// `maze`: the maze experiment's parameters (§3.1–§3.3).
