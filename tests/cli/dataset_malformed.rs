@@ -285,3 +285,66 @@ fn malformed_datasets_are_refused_naming_file_and_line() {
         refused(&o, name, expected, &out);
     }
 }
+
+/// An object walk's pose log (`log/<object>/<A|B>/poses.csv`) with garbage, a wrong
+/// column count or a row missing is refused by both replays (`slam DIR`, `object-slam
+/// --dataset DIR`) with the file, the line and the column, though the replay itself needs
+/// only the odometry (found by fuzzing, #60).
+#[test]
+fn a_malformed_object_walk_pose_log_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    let good = t.join("good");
+    ok(
+        2,
+        &[
+            "dataset",
+            "object-slam",
+            "--objects",
+            "mug",
+            "--seed",
+            "0",
+            "--out",
+            s(&good),
+        ],
+    );
+    let rel = "log/mug/A/poses.csv";
+    let log = std::fs::read_to_string(good.join(rel)).unwrap();
+    let rows = log.lines().count();
+    let cases: Vec<(&str, String, Vec<&str>)> = vec![
+        (
+            "garbage number",
+            set_field(&log, 3, 2, "x0.1"),
+            vec![rel, "line 4", "column 3 (y_m)"],
+        ),
+        (
+            "wrong column count",
+            {
+                let mut l: Vec<String> = log.lines().map(String::from).collect();
+                l[2] += ",7";
+                l.join("\n") + "\n"
+            },
+            vec![rel, "line 3", "expected 9 fields, got 10"],
+        ),
+        (
+            "a row missing",
+            {
+                let mut l: Vec<&str> = log.lines().collect();
+                l.remove(rows / 2);
+                l.join("\n") + "\n"
+            },
+            vec![rel, "poses (one per whisk"],
+        ),
+    ];
+    for (name, text, expected) in cases {
+        let d = t.join(name.replace(' ', "-"));
+        copy_dir(&good, &d);
+        std::fs::write(d.join(rel), text).unwrap();
+        rehash(&d, rel);
+        for args in [vec!["slam", s(&d)], vec!["object-slam", "--dataset", s(&d)]] {
+            let out = t.join("out");
+            let o = whisker(&[&args[..], &["--out", s(&out)]].concat());
+            refused(&o, &format!("{name} ({})", args[0]), &expected, &out);
+        }
+    }
+}

@@ -72,3 +72,40 @@ fn kidnapping_raises_the_energy_metric_and_runs_are_reproducible() {
     assert_eq!(bad.status.code(), Some(2), "{}", stderr(&bad));
     assert!(stderr(&bad).contains("quickstart.toml") && stderr(&bad).contains("maze"));
 }
+
+/// The options that change only physics whiskers are refused, saying why, when the run
+/// senses kinematically — by the scenario or by `--sensing kinematic` — instead of being
+/// ignored (#60); `--segments 0` with physics is refused by the array's own check.
+#[test]
+fn physics_only_options_are_refused_with_kinematic_sensing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let kinematic = repo("scenarios/maze_kinematic.toml");
+    let physics = repo("scenarios/maze_short.toml");
+    let run = |scenario: &Path, extra: &[&str]| {
+        let base = ["maze-slam", scenario.to_str().unwrap(), "--seeds", "0"];
+        whisker(&[&base[..], extra, &["--out", out.to_str().unwrap()]].concat())
+    };
+    for extra in [
+        &["--segments", "0"][..],
+        &["--substeps", "0"],
+        &["--bending", "sweep-plane"],
+        &["--rcp"],
+    ] {
+        let o = run(&kinematic, extra);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains(extra[0]) && e.contains("senses kinematically") && e.contains("sensing"),
+            "{extra:?}: {e}"
+        );
+        assert!(!out.exists());
+    }
+    let o = run(&physics, &["--sensing", "kinematic", "--segments", "8"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--sensing kinematic"), "{}", stderr(&o));
+    let o = run(&physics, &["--segments", "0"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("segments"), "{}", stderr(&o));
+    assert!(!out.exists());
+}

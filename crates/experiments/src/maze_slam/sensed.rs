@@ -163,6 +163,9 @@ impl Setup {
                 ));
             }
         };
+        if sensing == SensingMode::Kinematic {
+            refuse_physics_options(o)?;
+        }
         let physics = match sensing {
             SensingMode::Physics => Some(physics_configs(read, o)?),
             SensingMode::Kinematic => None,
@@ -220,6 +223,33 @@ pub struct Sensed {
     pub steps: Vec<(f64, f64)>,
     /// Each image set's name and images.
     pub image_sets: Vec<ImageSet>,
+}
+
+/// Refuses the options that change only physics whiskers (`--rcp`, `--bending`,
+/// `--segments`, `--substeps`) in a run that senses kinematically, where they would be
+/// silently ignored.
+fn refuse_physics_options(o: &Settings) -> Result {
+    let given: Vec<&str> = [
+        ("--rcp", o.rcp),
+        ("--bending", o.bending.is_some()),
+        ("--segments", o.segments.is_some()),
+        ("--substeps", o.substeps.is_some()),
+    ]
+    .into_iter()
+    .filter_map(|(name, on)| on.then_some(name))
+    .collect();
+    if given.is_empty() {
+        return Ok(());
+    }
+    let why = match o.sensing {
+        Some(_) => "--sensing kinematic".to_string(),
+        None => format!("{}: sensing = \"kinematic\"", o.scenario.display()),
+    };
+    Err(Error::Input(format!(
+        "maze-slam: {} changes the physics whiskers only, and this run senses \
+         kinematically ({why}): leave it out, or add --sensing physics",
+        given.join(", ")
+    )))
 }
 
 /// Senses one seed live (or reads `--images`).

@@ -134,7 +134,7 @@ pub fn write(o: &ObjectDataset, s: &mut Staging, ctx: Context) -> Result<Manifes
 fn write_walk(
     s: &mut Staging,
     dir: &str,
-    walk: &super::walk::Walk,
+    walk: &Walk,
     target: &SweepTarget,
     labels: &[String],
     physics: bool,
@@ -345,7 +345,7 @@ pub fn read(dir: &Path, m: &Manifest) -> Result<Vec<Sensed<'static>>> {
         let walk_b = read_walk(dir, m, b, truth, physics.as_ref())?;
         let step = walk_a.truth.as_ref().map(|t| {
             let lap = walk_a.cycles.len() / 2;
-            crate::object_slam::mean_step(&t[..lap])
+            object_slam::mean_step(&t[..lap])
         });
         out.push(Sensed {
             asset,
@@ -446,6 +446,17 @@ fn read_walk(
         )?,
     };
     let odometry = read_odometry(&m.file(dir, &format!("log/{base}/odometry.csv"))?, n)?;
+    // The pose log is not needed to replay (the odometry is), but a log the lab's tools
+    // would read must be whole: read strictly, one row per whisk.
+    let log = m.file(dir, &format!("log/{base}/poses.csv"))?;
+    let poses = records::read_poses(&log)?;
+    if poses.len() != n {
+        return Err(Error::Input(format!(
+            "{}: expected {n} poses (one per whisk, as the manifest's walk has), got {}",
+            log.display(),
+            poses.len()
+        )));
+    }
     let truth = if truth {
         Some(read_rows(
             &m.file(dir, &format!("truth/{base}/poses.csv"))?,
