@@ -8,7 +8,7 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt;
 use whisker_scenario::error::Result;
-use whisker_slam::stats::median;
+use whisker_slam::stats::{median, percentile};
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 
 /// One localisation run: an object (index into the sensed data) with a parameter set,
@@ -28,16 +28,6 @@ pub struct IdentificationRun {
     pub which: Trajectory,
     pub events: Vec<Event>,
     pub series: Vec<BTreeMap<String, f64>>,
-}
-
-/// Percentile `p` (0–100) of a list, by nearest rank (NaN when empty).
-fn percentile(mut v: Vec<f64>, p: f64) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let rank = ((p / 100.0) * v.len() as f64).ceil().max(1.0) as usize;
-    v[rank.min(v.len()) - 1]
 }
 
 /// The median, 75th percentile and maximum of a list of errors.

@@ -1,26 +1,10 @@
 //! The figures of a notched box plot, as MATLAB's `boxplot` draws them (the thesis'
-//! Figs 6.6–6.10 were MATLAB's): quartiles by MATLAB's `prctile` (the i-th smallest of n
-//! values sits at percentile 100 (i − ½)/n, linear in between, the extremes beyond),
+//! Figs 6.6–6.10 were MATLAB's): quartiles by [`super::prctile`],
 //! whiskers to the most extreme values within 1.5 IQR of the box, and the notch
 //! median ± 1.57 IQR/√n (McGill, Tukey and Larsen 1978): two medians whose notches do
 //! not overlap differ at roughly the 5 % level.
 
-/// The `pct`-th percentile (0–100) of `sorted` (ascending, not empty) by MATLAB's
-/// `prctile` definition.
-pub fn prctile(sorted: &[f64], pct: f64) -> f64 {
-    let n = sorted.len() as f64;
-    // Position (0-based, fractional) of the percentile among the order statistics.
-    let pos = pct / 100.0 * n - 0.5;
-    if pos <= 0.0 {
-        return sorted[0];
-    }
-    if pos >= n - 1.0 {
-        return sorted[sorted.len() - 1];
-    }
-    let i = pos.floor() as usize;
-    let f = pos - i as f64;
-    sorted[i] + f * (sorted[i + 1] - sorted[i])
-}
+use super::prctile;
 
 /// One box of a notched box plot, with the group's mean.
 #[derive(Debug, Clone, PartialEq)]

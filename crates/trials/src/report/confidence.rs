@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 use whisker_scenario::error::{Error, Result};
-use whisker_slam::stats::boxplot::prctile;
+use whisker_slam::stats::prctile;
 
 /// The `ic_<object>` columns of a closed-loop trial's `explore.csv`.
 fn ic_series(dir: &Path, key: &str) -> Option<BTreeMap<String, Vec<f64>>> {
