@@ -8,8 +8,8 @@ use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
 use whisker_experiments::record::Context;
 use whisker_recording::Rerun;
+use whisker_scenario::Error;
 use whisker_scenario::console::NoRecording;
-use whisker_scenario::error::Error;
 
 /// Tactile SLAM and object recognition testbed for an actively whisked artificial
 /// whisker array on a UR5 arm.
@@ -126,7 +126,7 @@ fn missing_recording(command: &Command) -> Option<NoRecording> {
 }
 
 /// Runs one command.
-fn dispatch(command: Command, ctx: Context) -> whisker_scenario::error::Result {
+fn dispatch(command: Command, ctx: Context) -> whisker_scenario::Result {
     match command {
         Command::Run(a) => cli::run::run(&a, ctx),
         Command::Check(a) => cli::run::check(&a, ctx),

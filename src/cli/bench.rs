@@ -3,7 +3,7 @@
 use super::{choice, print_json, trials::Lines};
 use std::path::PathBuf;
 use whisker_experiments::record::{Context, Silent};
-use whisker_scenario::error::Result;
+use whisker_scenario::Result;
 use whisker_scenario::overrides::Override;
 use whisker_sim::sensing::physics::SolverPath;
 use whisker_sim::whisker::beam::Bending;
@@ -197,7 +197,7 @@ pub fn run(command: &Command, ctx: Context) -> Result {
             let report = trials::run(&settings, ctx, &Lines::new())?;
             show(&report, None);
             if !report.identical {
-                return Err(whisker_scenario::error::Error::Failure(
+                return Err(whisker_scenario::Error::Failure(
                     "trials.csv differs between 1 and 2 jobs".into(),
                 ));
             }

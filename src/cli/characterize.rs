@@ -2,7 +2,7 @@
 
 use super::{choice, print_json};
 use whisker_experiments::characterize::{self, Settings};
-use whisker_scenario::error::Result;
+use whisker_scenario::Result;
 use whisker_sim::whisker::BeamDesign;
 use whisker_sim::whisker::beam::Bending;
 

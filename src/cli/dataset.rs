@@ -8,8 +8,8 @@ use whisker_experiments::object_slam::Placement;
 use whisker_experiments::object_slam::dataset::ObjectDataset;
 use whisker_experiments::record::Context;
 use whisker_scenario::SensingMode;
-use whisker_scenario::error::{Error, Result};
 use whisker_scenario::overrides::Override;
+use whisker_scenario::{Error, Result};
 use whisker_sim::sensing::noise::PointNoise;
 
 /// Write a seeded dataset in the lab's log layout with ground truth beside it

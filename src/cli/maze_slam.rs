@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use whisker_experiments::dataset_format::manifest::Manifest;
 use whisker_experiments::maze_slam::{self, Settings};
 use whisker_experiments::record::Context;
+use whisker_scenario::Result;
 use whisker_scenario::SensingMode;
-use whisker_scenario::error::Result;
 use whisker_scenario::overrides::Override;
 use whisker_sim::whisker::beam::Bending;
 

@@ -4,8 +4,8 @@ use super::{RrdArgs, choice, print_json};
 use std::path::PathBuf;
 use whisker_experiments::object_slam::{self, Placement, Settings, SlamVersion};
 use whisker_experiments::record::Context;
+use whisker_scenario::Result;
 use whisker_scenario::SensingMode;
-use whisker_scenario::error::Result;
 use whisker_sim::sensing::noise::PointNoise;
 
 /// WhiskerRatSLAM on the catalogue objects (thesis §5.2): localisation and identification.

@@ -6,7 +6,7 @@ use whisker_experiments::radial::eval::{self, EvalSettings};
 use whisker_experiments::radial::generate::{self, GenerateSettings, Set};
 use whisker_experiments::radial::train::{self, TrainSettings};
 use whisker_experiments::record::Context;
-use whisker_scenario::error::Result;
+use whisker_scenario::Result;
 use whisker_sim::sensing::physics::DEFAULT_SUBSTEPS;
 
 /// The subcommands.

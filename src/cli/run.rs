@@ -3,7 +3,7 @@
 use super::RrdArgs;
 use std::path::PathBuf;
 use whisker_experiments::record::Context;
-use whisker_scenario::error::Result;
+use whisker_scenario::Result;
 use whisker_scenario::overrides::Override;
 
 /// Run a scenario: simulate it and write its results and Rerun recording.

@@ -3,7 +3,7 @@
 use super::{choice, print_json};
 use std::path::PathBuf;
 use whisker_experiments::record::{Context, Silent};
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_sim::sensing::physics::{DEFAULT_SUBSTEPS, SolverPath};
 use whisker_sim::whisker::beam::Bending;
 use whisker_trials::soak::{self, Settings};

@@ -3,7 +3,7 @@
 use super::print_json;
 use std::path::PathBuf;
 use whisker_experiments::record::Context;
-use whisker_scenario::error::Result;
+use whisker_scenario::Result;
 
 /// `whisker assets …`.
 #[derive(clap::Subcommand)]

@@ -8,6 +8,7 @@ mod dataset;
 mod dataset_malformed;
 mod dataset_object;
 mod dataset_office;
+mod docs;
 mod environment;
 mod explore;
 mod fuzz;

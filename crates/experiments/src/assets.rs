@@ -3,7 +3,7 @@
 
 use crate::record::Context;
 use std::path::Path;
-use whisker_scenario::error::Result;
+use whisker_scenario::Result;
 use whisker_scenario::files::{create_dir, write_atomic};
 use whisker_sim::environment::assets::{CATALOGUE, obj};
 

@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 use std::fmt;
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_sim::whisker::beam::Bending;
 use whisker_sim::whisker::characterize::{Characterization, characterize, check_first_mode};
 use whisker_sim::whisker::follicle::{MAX_STIFFNESS_NM_PER_RAD, MIN_STIFFNESS_NM_PER_RAD};

@@ -4,8 +4,8 @@
 
 use crate::record::Context;
 use std::path::Path;
+use whisker_scenario::Result;
 use whisker_scenario::ScenarioFile;
-use whisker_scenario::error::Result;
 use whisker_scenario::plan::Plan;
 use whisker_scenario::{Experiment, Sensing};
 use whisker_sim::environment::Environment;

@@ -30,6 +30,6 @@ pub mod object_slam;
 pub mod radial;
 pub mod record;
 pub mod run;
-pub mod sensing;
-pub mod surface;
+mod sensing;
+mod surface;
 pub mod urdf;

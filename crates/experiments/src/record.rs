@@ -15,7 +15,7 @@
 
 use nalgebra::Isometry3;
 use std::path::{Path, PathBuf};
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_sim::environment::{Environment, Mesh};
 use whisker_sim::whisker::control::ControlState;
 use whisker_slam::pose_grid::PoseGrid;

@@ -5,7 +5,7 @@ use crate::record::Context;
 use serde::Serialize;
 use std::fmt;
 use std::path::{Path, PathBuf};
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_sim::kinematics::urdf::Geometry;
 use whisker_sim::kinematics::{Chain, PackagePaths, RobotModel};
 use whisker_slam::pose;

@@ -20,15 +20,15 @@
 // console itself.
 #![deny(clippy::print_stdout, clippy::print_stderr)]
 
-pub mod blueprint;
+mod blueprint;
 pub mod decode;
-pub mod sensors;
-pub mod slam;
-pub mod world;
+mod sensors;
+mod slam;
+mod world;
 
 use std::path::{Path, PathBuf};
-use whisker_scenario::error::{Error, Result};
 use whisker_scenario::files;
+use whisker_scenario::{Error, Result};
 
 use nalgebra::Isometry3;
 pub use whisker_experiments::record::SIM_TIME;

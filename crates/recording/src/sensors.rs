@@ -6,7 +6,7 @@
 
 use super::{Recording, SIM_TIME};
 use whisker_experiments::record::{SENSOR_SERIES, SENSOR_VALUES};
-use whisker_scenario::error::Result;
+use whisker_scenario::Result;
 
 impl Recording {
     /// Names the series of the stream at `entity` (static).

@@ -11,7 +11,7 @@
 use super::Recording;
 use nalgebra::Isometry3;
 use whisker_experiments::record::Graph;
-use whisker_scenario::error::Result;
+use whisker_scenario::Result;
 use whisker_slam::pose_grid::PoseGrid;
 use whisker_slam::ratslam::local_view::{COLUMNS, ROWS, TactileImage};
 

@@ -8,7 +8,7 @@ use super::{Recording, f32x3};
 use nalgebra::Isometry3;
 use std::collections::BTreeMap;
 use whisker_experiments::record::{Contact, ContactKind};
-use whisker_scenario::error::Result;
+use whisker_scenario::Result;
 use whisker_sim::environment::Environment;
 
 /// Colour of the ground-truth contacts (green).

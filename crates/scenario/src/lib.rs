@@ -21,8 +21,11 @@
 #![deny(clippy::print_stdout, clippy::print_stderr)]
 
 mod base;
+mod environment;
+mod error;
 mod experiment;
 mod file;
+mod office;
 mod paths;
 mod scenario;
 mod sensing;
@@ -31,23 +34,22 @@ mod strict;
 pub mod array;
 pub mod choice;
 pub mod console;
-pub mod environment;
-pub mod error;
 pub mod explore;
 pub mod files;
 pub mod grid;
 pub mod maze_slam;
 pub mod navigate;
 pub mod object_mode;
-pub mod office;
 pub mod overrides;
 pub mod plan;
 pub mod radial_model;
 pub mod trials;
 
+pub use environment::{KinematicConfig, LoadedEnvironment, MazeConfig, ObjectConfig};
 pub use error::{Error, Result};
 pub use experiment::Experiment;
 pub use file::ScenarioFile;
+pub use office::OfficeConfig;
 pub use plan::Plan;
 pub use scenario::{
     ArmConfig, DEFAULT_JOINT_SPEED_RAD_S, MAX_HOLD_S, MAX_OBJECTS, MIN_JOINT_SPEED_RAD_S,

@@ -15,9 +15,9 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use whisker_experiments::record::{Context, Reporter};
-use whisker_scenario::error::{Error, Result};
 use whisker_scenario::grid::{Batch, Shard, Trial};
 use whisker_scenario::trials::{HEAVY, Outputs, TrialCommand};
+use whisker_scenario::{Error, Result};
 
 /// How a batch runs (`whisker trials SCENARIO …`).
 #[derive(Debug, Clone)]

@@ -12,8 +12,8 @@ use std::collections::BTreeSet;
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::Path;
-use whisker_scenario::error::{Error, Result};
 use whisker_scenario::grid::{Batch, Shard};
+use whisker_scenario::{Error, Result};
 
 /// The metadata file.
 pub const META: &str = "trials.json";

@@ -20,7 +20,7 @@ pub mod batch;
 pub mod bench;
 pub mod journal;
 pub mod merge;
-pub mod plots;
+mod plots;
 pub mod report;
 pub mod slurm;
 pub mod soak;

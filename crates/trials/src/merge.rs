@@ -7,7 +7,7 @@
 use crate::journal::{self, Entry, Meta, RUNS};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 
 /// The trials found in the shard directories, by key, with the directory of each copy.
 type Found<'a> = BTreeMap<String, Vec<(&'a Path, Entry)>>;

@@ -10,8 +10,8 @@
 //! real cluster DIR must be on a filesystem every node sees.
 
 use std::path::{Path, PathBuf};
-use whisker_scenario::error::{Error, Result};
 use whisker_scenario::grid::{Batch, quote};
+use whisker_scenario::{Error, Result};
 
 /// `whisker trials slurm`.
 #[derive(Debug, Clone)]

@@ -19,7 +19,7 @@ use std::time::Instant;
 use whisker_experiments::record::SensorColumns;
 use whisker_experiments::record::{Context, Layout, Recorder};
 use whisker_scenario::ScenarioFile;
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_sim::environment::Environment;
 use whisker_sim::environment::assets::{CATALOGUE, placed};
 use whisker_sim::environment::solids::Solids;

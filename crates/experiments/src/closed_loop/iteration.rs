@@ -10,7 +10,7 @@ use super::robot::Motion;
 use super::state::Whisk;
 use super::state::{Loop, Outcome, Sensor, Tally, Whisked, relocalised_into};
 use nalgebra::{Isometry3, Point3, Translation3, Vector3};
-use whisker_scenario::error::Result;
+use whisker_scenario::Result;
 use whisker_scenario::explore::{Strategy, Task};
 use whisker_slam::rng::substream;
 

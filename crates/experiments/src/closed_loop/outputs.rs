@@ -5,9 +5,9 @@ use super::session::run_logged;
 use crate::record::Context;
 use std::path::Path;
 use whisker_scenario::ScenarioFile;
-use whisker_scenario::error::{Error, Result};
 use whisker_scenario::explore::{ExploreConfig, Task};
 use whisker_scenario::plan::Plan;
+use whisker_scenario::{Error, Result};
 use whisker_sim::environment::Environment;
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 

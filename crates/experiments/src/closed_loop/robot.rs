@@ -7,8 +7,8 @@
 //! stays where it is and the caller counts the fallback.
 
 use nalgebra::Isometry3;
-use whisker_scenario::error::{Error, Result};
 use whisker_scenario::plan::Plan;
+use whisker_scenario::{Error, Result};
 use whisker_sim::arm::LinkShapes;
 use whisker_sim::environment::Environment;
 use whisker_sim::environment::solids::Solids;

@@ -7,7 +7,7 @@
 use super::state::{Loop, Sensor, Whisk};
 use crate::record::ContactKind;
 use crate::record::Recorder;
-use whisker_scenario::error::Result;
+use whisker_scenario::Result;
 
 /// Instants per whisk at which the shafts are drawn.
 const SHAFT_FRAMES: usize = 10;

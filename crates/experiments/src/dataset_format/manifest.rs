@@ -6,7 +6,7 @@
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_slam::invalid::Invalid;
 
 pub use super::sections::{

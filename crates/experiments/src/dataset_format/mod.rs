@@ -29,7 +29,7 @@ pub mod whisks;
 
 use manifest::{FileEntry, Manifest, Role};
 use std::path::{Path, PathBuf};
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 
 /// What was written: a dataset's directory, its manifest and the time it took.
 #[derive(Debug, Clone)]

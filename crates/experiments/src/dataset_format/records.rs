@@ -6,7 +6,7 @@ use super::table::{Row, Table, columns};
 use nalgebra::{Isometry3, Point3};
 use std::fmt::Write;
 use std::path::Path;
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_slam::contact::{Contact, ContactCycle};
 use whisker_slam::sensor::Sample as Reading;
 

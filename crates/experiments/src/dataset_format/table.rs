@@ -5,7 +5,7 @@
 
 use csv::StringRecord;
 use std::path::{Path, PathBuf};
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 
 /// A CSV file of a dataset, read whole, its header checked.
 pub struct Table {

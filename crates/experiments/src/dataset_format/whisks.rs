@@ -8,7 +8,7 @@ use super::{Staging, records};
 use crate::sensing::held::{PhysicsSensing, WhiskLog};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_slam::radial::RadialEstimator;
 use whisker_slam::sensor::Sample as Reading;
 

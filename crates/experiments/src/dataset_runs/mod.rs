@@ -12,7 +12,7 @@ use crate::dataset_format::{self, Written};
 use std::path::{Path, PathBuf};
 use whisker_scenario::Experiment as Runs;
 use whisker_scenario::ScenarioFile;
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 
 /// What `whisker dataset SCENARIO --seed N --out DIR` writes.
 #[derive(Debug, Clone)]

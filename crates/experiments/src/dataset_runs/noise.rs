@@ -20,7 +20,7 @@ use crate::dataset_format::records;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 use std::path::PathBuf;
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_sim::sensing::noise::{ContactNoise, PointNoise};
 use whisker_slam::ratslam::odometry::OdometryNoise;
 use whisker_slam::ratslam::odometry::noisy_steps;

@@ -4,7 +4,7 @@
 //! back by `--images` to re-run RatSLAM on recorded images without sensing again.
 
 use std::path::{Path, PathBuf};
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_slam::ratslam::local_view::{COLUMNS, ROWS, TactileImage};
 
 /// The file of image set `name` (e.g. `open-loop/contact_angle`) and `seed` in `dir`.

@@ -33,7 +33,7 @@ use serde_json::json;
 use std::fmt;
 use std::path::Path;
 use whisker_scenario::ScenarioFile;
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_slam::pose::Pose2;
 use whisker_slam::ratslam::local_view::TactileImage;
 use whisker_slam::ratslam::metrics::{

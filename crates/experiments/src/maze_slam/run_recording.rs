@@ -8,7 +8,7 @@
 use super::path::Sample;
 use crate::record::{Graph, GraphSchedule, Recorder};
 use nalgebra::{Isometry3, Translation3};
-use whisker_scenario::error::Result;
+use whisker_scenario::Result;
 use whisker_slam::pose::Pose2;
 use whisker_slam::ratslam::experience_map::MapEvent;
 use whisker_slam::ratslam::local_view::TactileImage;

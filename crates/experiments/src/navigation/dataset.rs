@@ -29,9 +29,9 @@ use crate::object_slam::dataset::{odometry_csv, pose_log};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use std::fmt::Write;
 use whisker_scenario::ScenarioFile;
-use whisker_scenario::error::{Error, Result};
 use whisker_scenario::navigate::NavigateConfig;
 use whisker_scenario::object_mode::DockBy;
+use whisker_scenario::{Error, Result};
 use whisker_slam::pose::Pose2;
 
 /// The header of `log/odometry.csv`.

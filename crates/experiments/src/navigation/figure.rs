@@ -6,7 +6,7 @@
 use super::terrain::TerrainRun;
 use plotters::prelude::*;
 use std::path::Path;
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_sim::environment::floor_plan::FloorPlan;
 use whisker_slam::pose::Pose2;
 

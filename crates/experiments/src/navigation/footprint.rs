@@ -6,7 +6,7 @@
 
 use nalgebra::{Isometry3, Vector3};
 use parry3d_f64::shape::Cylinder;
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_sim::environment::Environment;
 use whisker_slam::pose::Pose2;
 

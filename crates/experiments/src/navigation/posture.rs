@@ -5,8 +5,8 @@
 
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use std::path::Path;
-use whisker_scenario::error::{Error, Result};
 use whisker_scenario::navigate::TerrainConfig;
+use whisker_scenario::{Error, Result};
 use whisker_sim::kinematics::Chain;
 use whisker_sim::kinematics::ik::{self, IkOptions};
 use whisker_slam::pose;

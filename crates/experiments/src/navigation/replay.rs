@@ -30,7 +30,7 @@ use crate::object_slam::dataset::read_odometry;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use std::collections::BTreeMap;
 use std::path::Path;
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_slam::navigation::base_odometry::BaseMotion;
 use whisker_slam::navigation::map_error;
 use whisker_slam::pose::Pose2;

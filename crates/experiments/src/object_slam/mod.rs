@@ -53,7 +53,7 @@ use settings::{Combo, DECAY, UNMAPPED, params};
 use std::path::Path;
 use walk::explore;
 use whisker_scenario::SensingMode;
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_sim::environment::assets::{Asset, CATALOGUE, generate};
 use whisker_sim::sensing::kinematic::SweepTarget;
 use whisker_sim::whisker::array::{self};

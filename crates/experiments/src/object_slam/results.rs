@@ -7,7 +7,7 @@ use super::walk::{Event, Sensed};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt;
-use whisker_scenario::error::Result;
+use whisker_scenario::Result;
 use whisker_slam::stats::{median, percentile};
 use whisker_slam::whisker_ratslam::object_map::ObjectMap;
 

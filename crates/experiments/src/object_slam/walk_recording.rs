@@ -16,7 +16,7 @@ use super::settings::{Combo, Settings, params};
 use super::walk::{Sensed, Walk, anticipated, features};
 use crate::record::{Contact, ContactKind, Context, GraphSchedule, Layout, Recorder};
 use nalgebra::Isometry3;
-use whisker_scenario::error::Result;
+use whisker_scenario::Result;
 use whisker_sim::environment::assets::generate;
 use whisker_sim::sensing::kinematic::SweepTarget;
 use whisker_sim::whisker::array::{self, Module};

@@ -7,7 +7,7 @@ pub mod generate;
 pub mod train;
 
 use std::path::Path;
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_slam::frontend::features::Feature;
 use whisker_slam::radial::dataset::{RadialSample, from_csv};
 use whisker_slam::radial::table_4_1_features;

@@ -3,8 +3,8 @@
 
 use std::fmt::Write as _;
 use whisker_scenario::ScenarioFile;
-use whisker_scenario::error::{Error, Result};
 use whisker_scenario::plan::Plan;
+use whisker_scenario::{Error, Result};
 use whisker_sim::kinematics::Chain;
 use whisker_sim::whisker::control::{RcpThreshold, WhiskingPattern};
 use whisker_sim::whisker::strategies::WhiskingControl;

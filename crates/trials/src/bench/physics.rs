@@ -41,7 +41,7 @@ use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
 use whisker_experiments::record::Context;
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_sim::sensing::physics::{
     DT, EnvironmentPiece, Lever, PhysicsArray, SolverPath, StageTimes,
 };

@@ -9,8 +9,8 @@ use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
 use whisker_experiments::record::{Context, Target};
+use whisker_scenario::Result;
 use whisker_scenario::ScenarioFile;
-use whisker_scenario::error::Result;
 use whisker_scenario::overrides::Override;
 
 /// What `whisker bench recording` times.

@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 use std::fmt;
 use std::time::Instant;
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_sim::environment::assets::{CATALOGUE, generate};
 use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
 use whisker_sim::sensing::viewpoints;

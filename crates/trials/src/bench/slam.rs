@@ -18,7 +18,7 @@ use rand::RngExt;
 use serde::Serialize;
 use std::fmt;
 use std::time::Instant;
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_slam::features::pfh::{PfhParams, histogram};
 use whisker_slam::pose_grid::{Evaluation, gaussian_kernel};
 use whisker_slam::rng::substream;

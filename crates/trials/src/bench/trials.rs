@@ -8,8 +8,8 @@ use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
 use whisker_experiments::record::Context;
-use whisker_scenario::error::{Error, Result};
 use whisker_scenario::grid::Batch;
+use whisker_scenario::{Error, Result};
 
 /// What `whisker bench trials` runs.
 #[derive(Debug, Clone)]

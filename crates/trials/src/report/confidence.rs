@@ -7,7 +7,7 @@ use crate::plots::{Curve, band_curves};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_slam::stats::prctile;
 
 /// The `ic_<object>` columns of a closed-loop trial's `explore.csv`.

@@ -18,7 +18,7 @@ use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use whisker_scenario::error::{Error, Result};
+use whisker_scenario::{Error, Result};
 use whisker_slam::stats::boxplot::BoxStats;
 use whisker_slam::stats::rank_tests::{holm, kruskal_wallis, mann_whitney};
 
