@@ -28,6 +28,9 @@ enum Command {
     Check(cli::run::CheckArgs),
     /// Characterise one whisker design: static point load, then ring-down.
     Characterize(cli::characterize::Args),
+    /// The physics front end against the anticipated contacts of kinematic sensing, per
+    /// whisking mode: recall, precision and the errors of onset, radial distance, point, slope.
+    Fidelity(cli::fidelity::Args),
     /// Benchmarks (timing; never part of the tests).
     Bench {
         #[command(subcommand)]
@@ -131,6 +134,7 @@ fn dispatch(command: Command, ctx: Context) -> whisker_scenario::Result {
         Command::Run(a) => cli::run::run(&a, ctx),
         Command::Check(a) => cli::run::check(&a, ctx),
         Command::Characterize(a) => cli::characterize::run(&a),
+        Command::Fidelity(a) => cli::fidelity::run(&a, ctx),
         Command::Bench { command } => cli::bench::run(&command, ctx),
         Command::Trials(a) => cli::trials::run(&a, ctx),
         Command::Soak(a) => cli::soak::run(&a, ctx),

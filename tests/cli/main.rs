@@ -18,6 +18,7 @@ mod object_slam;
 mod office;
 mod office_objects;
 mod physics;
+mod physics_loop;
 mod radial;
 mod recording;
 mod trials;

@@ -338,6 +338,8 @@ fn shards_merge_into_the_unsharded_bytes_and_a_missing_shard_is_named() {
 fn a_failing_trial_is_recorded_and_the_batch_goes_on() {
     let tmp = tempfile::tempdir().unwrap();
     // The second map "file" exists but is not a map: those trials fail when they load it.
+    // (With `explore.transfer = true` the maps' sensing is not checked, so they are first
+    // read by the run; without it the check reads them and refuses the batch up front.)
     let not_a_map = repo("assets/urdf/ur5_whisker_array.urdf");
     let extra = format!(
         "explore.maps.box_stack = [\"{}\", \"{}\"]",
@@ -345,6 +347,12 @@ fn a_failing_trial_is_recorded_and_the_batch_goes_on() {
         not_a_map.display()
     );
     let file = scenario(tmp.path(), 20, &extra);
+    let text = std::fs::read_to_string(&file).unwrap();
+    std::fs::write(
+        &file,
+        text.replace("[explore]\n", "[explore]\ntransfer = true\n"),
+    )
+    .unwrap();
     let dir = tmp.path().join("out");
     let out = trials(&[file.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
     assert_eq!(

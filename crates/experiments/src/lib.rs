@@ -4,7 +4,8 @@
 //! `whisker-scenario`: the sensing runs the experiments share ([`sensing`]: one contact
 //! pipeline, one contacts-CSV writer), the experiments — the scripted [`run`], the closed
 //! loop of Chapter 6 ([`closed_loop`]), [`maze_slam`] (Ch 3), [`object_slam`] (Ch 5),
-//! [`navigation`] (Fig 5.1), [`radial`] distance (Ch 4), [`characterize`] — and datasets
+//! [`navigation`] (Fig 5.1), [`radial`] distance (Ch 4), [`characterize`], the front end's
+//! [`fidelity`] to the anticipated contacts — and datasets
 //! (the format in [`dataset_format`], each experiment's writer/reader beside it; writing,
 //! noising and replaying one by its manifest in [`dataset_runs`]). Batches, benchmarks and soak tests are `whisker-trials`.
 //!
@@ -33,3 +34,6 @@ pub mod run;
 mod sensing;
 mod surface;
 pub mod urdf;
+
+/// `whisker fidelity`: the physics front end against the anticipated contacts.
+pub use sensing::fidelity;

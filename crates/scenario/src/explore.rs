@@ -5,6 +5,7 @@
 
 use crate::error::{Error, Result};
 use crate::paths::relative_to;
+use crate::sensing::Sensing;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -13,6 +14,7 @@ use whisker_slam::exploration::odometry_noise::OdometryNoise;
 use whisker_slam::exploration::placement::PlacementParams;
 use whisker_slam::invalid::Invalid;
 use whisker_slam::recognition::RecognitionParams;
+use whisker_slam::whisker_ratslam::object_map::{ObjectMap, SensedBy};
 
 /// What the loop is for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
@@ -78,6 +80,11 @@ pub struct ExploreConfig {
     /// scenario), e.g. `{ box = "../assets/maps/box.json" }`.
     #[serde(default)]
     pub maps: BTreeMap<String, PathBuf>,
+    /// Recognise: accept maps sensed the other way than the run senses, or whose sensing
+    /// is not recorded (the transfer experiment: kinematic maps on physics whiskers and
+    /// back) [false: such maps are refused].
+    #[serde(default)]
+    pub transfer: bool,
     /// Recognise: `"default"`, `"feh"` or `"lsr"`.
     #[serde(default)]
     pub strategy: Strategy,
@@ -172,8 +179,9 @@ fn segment() -> f64 {
 }
 
 impl ExploreConfig {
-    /// Checks the section; errors name the file and the field.
-    pub fn validate(&self, file: &Path, objects: &[String]) -> Result {
+    /// Checks the section for a run sensed by `sensing`; errors name the file and the
+    /// field.
+    pub fn validate(&self, file: &Path, objects: &[String], sensing: Sensing) -> Result {
         let bad =
             |field: &str, msg: String| Err(Error::field(file, &format!("explore.{field}"), msg));
         self.object_name(file, objects)?;
@@ -196,6 +204,7 @@ impl ExploreConfig {
         } else if !self.maps.is_empty() {
             return bad("maps", "only used with task = \"recognise\"".into());
         }
+        self.check_map_sensing(file, sensing)?;
         if !(1..=MAX_ITERATIONS).contains(&self.max_iterations) {
             return bad(
                 "max_iterations",
@@ -279,6 +288,44 @@ impl ExploreConfig {
             .pose_cells
             .validate()
             .map_err(|m| Error::field(file, "explore.slam.pose_cells", m))
+    }
+
+    /// Refuses a map sensed otherwise than the run (`sensing`), or whose sensing is not
+    /// recorded, unless `transfer` asks for it: physics contacts matched against a
+    /// kinematic map are the transfer experiment, not recognition.
+    fn check_map_sensing(&self, file: &Path, sensing: Sensing) -> Result {
+        let run = match sensing {
+            Sensing::Physics => SensedBy::Physics,
+            Sensing::Kinematic => SensedBy::Kinematic,
+            Sensing::None => return Ok(()),
+        };
+        if self.transfer || self.task != Task::Recognise {
+            return Ok(());
+        }
+        for (name, path) in self.map_files(file) {
+            let field = format!("explore.maps.{name}");
+            let map = ObjectMap::load(&path).map_err(|e| Error::field(file, &field, e))?;
+            let why = match map.sensing.map(|s| s.mode) {
+                Some(mode) if mode == run => continue,
+                Some(mode) => format!(
+                    "{} was built on {} sensing and this run senses {}: give maps built on {} \
+                     sensing, or set explore.transfer = true to match across sensing (the \
+                     transfer experiment)",
+                    path.display(),
+                    mode.name(),
+                    run.name(),
+                    run.name()
+                ),
+                None => format!(
+                    "{} records no sensing (a version 1 map): rebuild it (task = \"map\"), or \
+                     set explore.transfer = true to use it on {} sensing anyway",
+                    path.display(),
+                    run.name()
+                ),
+            };
+            return Err(Error::field(file, &field, why));
+        }
+        Ok(())
     }
 
     /// The explored object's name among the scenario's `objects`.

@@ -6,6 +6,7 @@
 
 use crate::error::{Error, Result};
 use crate::explore::{ExploreConfig, Task};
+use crate::sensing::Sensing;
 use serde::Deserialize;
 use std::path::Path;
 
@@ -84,8 +85,8 @@ fn map_whisks() -> usize {
 
 impl ObjectModeConfig {
     /// Checks the fields (`objects` the scenario's object names); errors name the field
-    /// under `navigate.object`.
-    pub fn validate(&self, file: &Path, objects: &[String]) -> Result {
+    /// under `navigate.object`; the stops are sensed by `sensing`.
+    pub fn validate(&self, file: &Path, objects: &[String], sensing: Sensing) -> Result {
         let bad = |field: &str, msg: String| {
             Err(Error::field(file, &format!("navigate.object.{field}"), msg))
         };
@@ -127,12 +128,14 @@ impl ObjectModeConfig {
                 "object mode needs objects: expected [[objects]] entries".into(),
             );
         };
-        self.episode(first).validate(file, objects).map_err(|e| {
-            Error::Input(
-                e.to_string()
-                    .replace("field `explore.", "field `navigate.object.explore."),
-            )
-        })
+        self.episode(first)
+            .validate(file, objects, sensing)
+            .map_err(|e| {
+                Error::Input(
+                    e.to_string()
+                        .replace("field `explore.", "field `navigate.object.explore."),
+                )
+            })
     }
 
     /// The closed loop's `[explore]` for a stop at the object named `object`.

@@ -305,11 +305,11 @@ impl Scenario {
         if let Some(n) = &self.navigate_section {
             n.validate(file, office.as_ref())?;
             if let Some(o) = &n.object {
-                o.validate(file, &self.object_names())?;
+                o.validate(file, &self.object_names(), self.sensing)?;
             }
         }
         if let Some(e) = &self.explore_section {
-            e.validate(file, &self.object_names())?;
+            e.validate(file, &self.object_names(), self.sensing)?;
         }
         for (k, w) in self.trajectory.waypoints.iter().enumerate() {
             let field = format!("trajectory.waypoints[{k}]");

@@ -9,7 +9,7 @@ use whisker_slam::features::similarity::Features;
 use whisker_slam::recognition::Identification;
 use whisker_slam::rng::substream;
 use whisker_slam::sensor::Odometry;
-use whisker_slam::whisker_ratslam::object_map::{Link, ObjectMap};
+use whisker_slam::whisker_ratslam::object_map::{Link, MapSensing, ObjectMap, SensedBy};
 use whisker_slam::whisker_ratslam::slam::{Params, WhiskerRatSlam};
 
 fn features() -> Features {
@@ -346,6 +346,32 @@ fn object_maps_round_trip_through_their_file_and_bad_files_are_named() {
             e.contains("bad.json") && e.contains(expected),
             "{expected}: {e}"
         );
+    }
+    // The sensing record (version 2) round-trips; a version 1 file (no record) is still
+    // read, with its sensing unknown; a record in a version 1 file, or a version beyond
+    // the code's, is refused by name.
+    let mut sensed = map.clone();
+    sensed.sensing = Some(MapSensing {
+        mode: SensedBy::Physics,
+        array: "18 whiskers, RCP at saturation".into(),
+    });
+    sensed.save(&path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(
+        text.contains(r#""sensing":{"mode":"physics""#),
+        "{text:.200}"
+    );
+    assert_eq!(ObjectMap::load(&path).unwrap(), sensed);
+    let mut old = map.clone();
+    old.version = 1;
+    std::fs::write(&bad, serde_json::to_string(&old).unwrap()).unwrap();
+    assert_eq!(ObjectMap::load(&bad).unwrap().sensing, None);
+    for (version, expected) in [(1, "sensing: not a field of version 1"), (3, "version 3")] {
+        let mut wrong = sensed.clone();
+        wrong.version = version;
+        std::fs::write(&bad, serde_json::to_string(&wrong).unwrap()).unwrap();
+        let e = ObjectMap::load(&bad).unwrap_err().to_string();
+        assert!(e.contains(expected), "{expected}: {e}");
     }
 }
 

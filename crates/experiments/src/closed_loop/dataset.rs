@@ -22,6 +22,7 @@ use crate::dataset_format::manifest::{
 use crate::dataset_format::whisks::{WhiskFiles, put_model, replay_sensing};
 use crate::dataset_format::{Staging, array_info, records};
 use crate::object_slam::dataset::{odometry_csv, pose_log, read_odometry};
+use crate::sensing::held::PhysicsSensing;
 use nalgebra::Point3;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -39,7 +40,7 @@ use whisker_slam::contact::ContactCycle;
 use whisker_slam::recognition::Outcome;
 use whisker_slam::recognition::Recognition;
 use whisker_slam::sensor::{Odometry, SAMPLE_RATE_HZ};
-use whisker_slam::whisker_ratslam::object_map::ObjectMap;
+use whisker_slam::whisker_ratslam::object_map::{MapSensing, ObjectMap, SensedBy};
 use whisker_slam::whisker_ratslam::slam::WhiskerRatSlam;
 
 /// Runs the closed loop `config` of the scenario in `file` (its `seed` the dataset's) and
@@ -155,6 +156,14 @@ fn manifest(
             odometry_noise: config.odometry,
             slam: config.slam,
             recognition: config.recognition,
+            frontend: match physics {
+                true => Some(
+                    PhysicsSensing::of_scenario(file, Vec::new())?
+                        .levels()
+                        .to_vec(),
+                ),
+                false => None,
+            },
         }),
         ..Manifest::new(
             Experiment::ClosedLoop,
@@ -325,7 +334,14 @@ pub fn replay(dir: &Path, m: &Manifest, out: Option<&Path>) -> Result<ReplaySumm
         object,
     };
     if let Some(out) = out {
-        write_replay(out, &csv, &summary, &slam, info)?;
+        let sensed = MapSensing {
+            mode: match m.level {
+                Level::Streams => SensedBy::Physics,
+                _ => SensedBy::Kinematic,
+            },
+            array: format!("replayed from the dataset in {}", dir.display()),
+        };
+        write_replay(out, &csv, &summary, (&slam, sensed), info)?;
     }
     Ok(summary)
 }
@@ -339,7 +355,8 @@ fn read_cycles(dir: &Path, m: &Manifest, n: usize) -> Result<Vec<ContactCycle>> 
         // Physics: the front end and the radial-distance model on each whisk file, with
         // the live run's draws (sub-streams `explore/physics/<k>` of its seed).
         Level::Streams => {
-            let p = replay_sensing(dir, m)?;
+            let levels = m.closed_loop.as_ref().and_then(|c| c.frontend.as_deref());
+            let p = replay_sensing(dir, m, levels.map(|l| ("closed_loop.frontend", l)))?;
             (0..n)
                 .into_par_iter()
                 .map(|k| {
@@ -451,12 +468,13 @@ fn found(r: &Recognition, truth: Option<&str>) -> ReplayRecognition {
     }
 }
 
-/// `replay.csv`, `summary.json` and, for a map task, `map.json` in `out`.
+/// `replay.csv`, `summary.json` and, for a map task, `map.json` in `out` (the map of
+/// `slam`, recording its sensing).
 fn write_replay(
     out: &Path,
     csv: &str,
     summary: &ReplaySummary,
-    slam: &WhiskerRatSlam,
+    (slam, sensed): (&WhiskerRatSlam, MapSensing),
     info: &ClosedLoopInfo,
 ) -> Result {
     whisker_scenario::files::create_dir(out)?;
@@ -465,7 +483,9 @@ fn write_replay(
     let text = serde_json::to_string_pretty(&value).expect("plain JSON") + "\n";
     whisker_scenario::files::write_atomic(&out.join("summary.json"), text.as_bytes())?;
     if info.task == "map" {
-        whisker_scenario::files::write_json(&out.join("map.json"), &slam.map.rested())?;
+        let mut map = slam.map.rested();
+        map.sensing = Some(sensed);
+        whisker_scenario::files::write_json(&out.join("map.json"), &map)?;
     }
     Ok(())
 }

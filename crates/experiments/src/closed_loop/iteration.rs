@@ -248,7 +248,9 @@ impl Loop<'_> {
             self.record_end(rec, &out.summary)?;
         }
         if self.config.task == Task::Map {
-            out.map = Some(self.slam.map.rested());
+            let mut map = self.slam.map.rested();
+            map.sensing = Some(self.sensed.clone());
+            out.map = Some(map);
         }
         Ok(out)
     }

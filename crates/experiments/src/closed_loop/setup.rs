@@ -110,6 +110,7 @@ pub fn build<'a>(
             graph: GraphSchedule::default(),
             columns,
         },
+        sensed: crate::sensing::array::map_sensing(file)?,
     })
 }
 
@@ -119,11 +120,7 @@ fn sensor(file: &ScenarioFile, environment: &Environment, log: Option<WhiskLog>)
     let scenario = &file.scenario;
     Ok(match scenario.sensing {
         Sensing::Physics => {
-            let mut p = PhysicsSensing::with_configs(
-                environment.physics_pieces(),
-                scenario.frontend.model(&file.path)?,
-                file.whisker_configs()?,
-            );
+            let mut p = PhysicsSensing::of_scenario(file, environment.physics_pieces())?;
             p.log = log;
             Sensor::Physics(Box::new(p))
         }

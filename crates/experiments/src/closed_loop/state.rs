@@ -18,7 +18,7 @@ use whisker_slam::recognition::Recognition;
 use whisker_slam::rng::StreamRng;
 use whisker_slam::sensor::Odometry;
 use whisker_slam::sensor::Sample;
-use whisker_slam::whisker_ratslam::object_map::ObjectMap;
+use whisker_slam::whisker_ratslam::object_map::{MapSensing, ObjectMap};
 use whisker_slam::whisker_ratslam::slam::Step;
 use whisker_slam::whisker_ratslam::slam::WhiskerRatSlam;
 
@@ -53,10 +53,9 @@ pub enum Sensor {
     /// The anticipated intersect with the §6.1.3.1.2 noise (sub-streams
     /// `kinematic/whisker/NN`).
     Kinematic(KinematicArray),
-    /// Physics whiskers of `[array]` held still for one whisk (RCP at the sensor's
-    /// saturation unless `[array]` sets it), the signal front end and the radial-distance
-    /// model of `[frontend]` (as `whisker object-slam --sensing physics`; sub-streams
-    /// `explore/physics/<whisk>`).
+    /// Physics whiskers of `[array]` held still for one whisk (RCP as `[array] rcp`
+    /// says), the signal front end of `[frontend]` (detection levels, radial-distance
+    /// model; sub-streams `explore/physics/<whisk>`).
     Physics(Box<PhysicsSensing>),
 }
 
@@ -113,6 +112,8 @@ pub struct Loop<'a> {
     /// Simulated time (s).
     pub(super) time: f64,
     pub(super) records: Records<'a>,
+    /// How the run senses, as a map it builds records it.
+    pub(super) sensed: MapSensing,
 }
 
 /// What a run records and says: the recording with its map schedule and buffered physics

@@ -87,6 +87,11 @@ pub struct ClosedLoopInfo {
     pub slam: whisker_slam::whisker_ratslam::slam::Params,
     /// Recognition's parameters (`[explore.recognition]`).
     pub recognition: whisker_slam::recognition::RecognitionParams,
+    /// Level streams: each whisker's detection levels as the run detected (the scenario's
+    /// `[frontend.detection]` fitted to its RCP threshold); absent in older datasets,
+    /// which were detected at the default levels.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frontend: Option<Vec<FrontEndParams>>,
 }
 
 /// `navigate`: what the replay of an office run needs (issue #36): the robot, not the

@@ -65,13 +65,30 @@ pub fn put_model(s: &mut Staging, model: &RadialEstimator) -> Result {
 }
 
 /// The front end of held-still physics whisks as the dataset in `dir` (manifest `m`) was
-/// sensed: its radial-distance model, its array's shafts, the default detection levels.
-pub fn replay_sensing(dir: &Path, m: &Manifest) -> Result<PhysicsSensing> {
+/// sensed: its radial-distance model, its array's shafts, and each whisker's detection
+/// `levels` as the manifest records them (closed loops: `closed_loop.frontend`), else the
+/// default levels of the models' training condition (object walks, §4.1.1).
+pub fn replay_sensing(
+    dir: &Path,
+    m: &Manifest,
+    levels: Option<(&str, &[whisker_slam::frontend::contact::FrontEndParams])>,
+) -> Result<PhysicsSensing> {
     let model = whisker_scenario::radial_model::load_or_default(Some(&m.file(dir, MODEL)?))?;
-    let configs = whisker_sim::whisker::array::modules()
-        .into_iter()
-        .map(whisker_sim::sensing::physics::WhiskerConfig::with_defaults)
-        .collect();
-    Ok(PhysicsSensing::with_configs(Vec::new(), model, configs)
-        .with_rigid(super::rigid_whiskers(dir, &m.array)?))
+    let sensing =
+        PhysicsSensing::new(Vec::new(), model).with_rigid(super::rigid_whiskers(dir, &m.array)?);
+    Ok(match levels {
+        None => sensing,
+        Some((_, l)) if l.len() == m.array.labels.len() => sensing.with_levels(l.to_vec()),
+        Some((field, l)) => {
+            return Err(Error::field(
+                &dir.join(super::manifest::FILE),
+                field,
+                format!(
+                    "{} whiskers' detection levels, expected one per whisker ({})",
+                    l.len(),
+                    m.array.labels.len()
+                ),
+            ));
+        }
+    })
 }

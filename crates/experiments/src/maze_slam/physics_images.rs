@@ -64,29 +64,10 @@ pub struct ImageFrontEnd {
 
 impl ImageFrontEnd {
     /// The front end of whiskers `configs` (RCP thresholds already calibrated) with the
-    /// scenario's `detection` levels. With RCP the whisker retracts as soon as |y| reaches
-    /// its threshold (20 σ of free whisking: tens of counts), so a contact's peak is
-    /// little above the threshold: the levels in counts — confirmation, prominence and
-    /// contact_angle's |dy/dt| threshold — are scaled down together so that the
-    /// confirmation is at most half each whisker's threshold (5000 counts/s would
-    /// otherwise never be reached: a third of the RCP contact_angle images came out
-    /// blank).
+    /// scenario's `detection` levels, fitted to each whisker's RCP threshold
+    /// ([`crate::sensing::detection::levels`]).
     pub fn new(configs: &[WhiskerConfig], detection: &FrontEndParams) -> Self {
-        let params = configs
-            .iter()
-            .map(|c| {
-                let mut p = *detection;
-                if let (true, Some(t)) = (c.control.rcp, c.contact_threshold)
-                    && p.confirm_counts > 0.5 * t
-                {
-                    let scale = 0.5 * t / p.confirm_counts;
-                    p.confirm_counts *= scale;
-                    p.peaks.min_prominence *= scale;
-                    p.contact_angle_rate *= scale;
-                }
-                p
-            })
-            .collect();
+        let params = crate::sensing::detection::levels(configs, detection);
         Self {
             params,
             rigid: configs.iter().map(WhiskerConfig::rigid).collect(),

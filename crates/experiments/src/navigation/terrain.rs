@@ -122,11 +122,7 @@ fn whisks(
     let configs = file.whisker_configs()?;
     Ok(match scenario.sensing {
         Sensing::Physics => {
-            let physics = PhysicsSensing::with_configs(
-                environment.physics_pieces(),
-                scenario.frontend.model(&file.path)?,
-                configs.clone(),
-            );
+            let physics = PhysicsSensing::of_scenario(file, environment.physics_pieces())?;
             let cycles = physics.sense(target, &poses(), scenario.seed, "navigate", reporter);
             let whiskers = configs.iter().map(|c| c.rigid()).collect();
             (whiskers, Whisks::Physics(cycles.into_iter()))

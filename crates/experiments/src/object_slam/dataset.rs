@@ -287,7 +287,7 @@ pub fn read(dir: &Path, m: &Manifest) -> Result<Vec<Sensed<'static>>> {
     };
     let physics = match (info.sensing.as_str(), m.level) {
         ("kinematic", Level::Contacts) => None,
-        ("physics", Level::Streams) => Some(replay_sensing(dir, m)?),
+        ("physics", Level::Streams) => Some(replay_sensing(dir, m, None)?),
         _ => {
             return Err(Error::field(
                 &file,

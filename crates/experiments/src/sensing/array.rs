@@ -4,10 +4,12 @@
 use std::fmt::Write as _;
 use whisker_scenario::ScenarioFile;
 use whisker_scenario::plan::Plan;
-use whisker_scenario::{Error, Result};
+use whisker_scenario::{Error, Result, Sensing};
 use whisker_sim::kinematics::Chain;
+use whisker_sim::sensing::noise::PointNoise;
 use whisker_sim::whisker::control::{RcpThreshold, WhiskingPattern};
 use whisker_sim::whisker::strategies::WhiskingControl;
+use whisker_slam::whisker_ratslam::object_map::{MapSensing, SensedBy};
 
 /// A description of the array of `scenario` for `whisker check`: one line per whisker.
 pub fn describe(file: &ScenarioFile) -> Result<String> {
@@ -51,6 +53,57 @@ pub fn describe(file: &ScenarioFile) -> Result<String> {
         );
     }
     Ok(s)
+}
+
+/// How a run of the scenario in `file` senses, as a map it builds records it: the mode and
+/// one line — the array as [`describe`] gives it, then the kinematic noise or the physics
+/// front end (detection levels of `[frontend.detection]`, radial-distance model).
+pub fn map_sensing(file: &ScenarioFile) -> Result<MapSensing> {
+    let scenario = &file.scenario;
+    let text = describe(file)?;
+    let first = text.lines().next().unwrap_or_default();
+    let array = first.trim_start_matches("array").trim_start();
+    Ok(match scenario.sensing {
+        Sensing::Physics => {
+            let d = &scenario.frontend.detection;
+            let model = scenario
+                .frontend
+                .radial_model
+                .as_ref()
+                .map_or("svr10 (built in)".to_string(), |m| m.display().to_string());
+            MapSensing {
+                mode: SensedBy::Physics,
+                array: format!(
+                    "{array}; detection: confirm {} counts, prominence {} counts, width {} samples, span {} samples (fitted to each RCP threshold); radial model {model}",
+                    d.confirm_counts, d.peaks.min_prominence, d.peaks.min_width, d.smoothing_span
+                ),
+            }
+        }
+        _ => {
+            let k = &scenario.kinematic;
+            let configs = file.whisker_configs()?;
+            let control = strategies(&configs[0].control, &configs[0].pattern);
+            let noise = match (k.noise, k.point_noise) {
+                (false, _) => "no noise".to_string(),
+                (true, how) => format!(
+                    "noise: contact point σ {} of the whisker length {}, slope σ {}, detection probability {}",
+                    k.point_noise_fraction,
+                    match how {
+                        PointNoise::AlongWhisker => "along the whisker",
+                        PointNoise::PerCoordinate => "per coordinate",
+                    },
+                    k.slope_noise,
+                    k.detection_probability
+                ),
+            };
+            MapSensing {
+                mode: SensedBy::Kinematic,
+                array: format!(
+                    "18 straight whiskers swept kinematically, whisking {control}; {noise}"
+                ),
+            }
+        }
+    })
 }
 
 /// The chain from the arm's base to the `whisker_array` link, which must be moved by the

@@ -29,7 +29,8 @@ use whisker_slam::sensor::Sample;
 
 /// The front end along a physics run.
 pub struct FrontEnd {
-    params: FrontEndParams,
+    /// Each whisker's detection levels ([`super::detection::levels`]).
+    params: Vec<FrontEndParams>,
     model: RadialEstimator,
     whiskers: Vec<RigidWhisker>,
     pattern: WhiskingPattern,
@@ -43,12 +44,12 @@ pub struct FrontEnd {
 }
 
 impl FrontEnd {
-    /// The front end of `scenario` for whiskers `configs`.
+    /// The front end of `scenario` for whiskers `configs` (RCP thresholds calibrated).
     pub fn new(file: &ScenarioFile, configs: &[WhiskerConfig]) -> Result<Self> {
         let scenario = &file.scenario;
         let model = scenario.frontend.model(&file.path)?;
         Ok(Self {
-            params: scenario.frontend.detection,
+            params: super::detection::levels(configs, &scenario.frontend.detection),
             model,
             whiskers: configs.iter().map(WhiskerConfig::rigid).collect(),
             pattern: configs[0].pattern,
@@ -98,7 +99,7 @@ impl FrontEnd {
                 whisker,
                 stream,
                 rate,
-                &self.params,
+                &self.params[w],
                 &self.model,
                 &mut self.rng,
                 &self.poses,

@@ -1,9 +1,13 @@
-//! Physics sensing for `whisker object-slam --sensing physics`: at each pose of a walk
-//! the array is held still and whisks once (1 Hz, RCP at saturation — the conditions the
-//! radial-distance models are trained under, §4.1.1) in Rapier; the signal front end
-//! detects each whisker's contact, the radial-distance model (default svr10) places it
-//! along the shaft at the onset's whisk angle (Eq 5.1–5.2), and the slope is the
-//! gradient of y against x deflection (§5.1.1.1.3).
+//! Physics sensing with the array held still: at each pose (of an object walk, of the
+//! closed loop, of an office tour) the array whisks once in Rapier; the signal front end
+//! detects each whisker's contact at the detection levels of [`super::detection`], the
+//! radial-distance model (default svr10) places it along the shaft at the onset's whisk
+//! angle (Eq 5.1–5.2), and the slope is the gradient of y against x deflection
+//! (§5.1.1.1.3). A scenario's run senses as its `[array]` (RCP mode and threshold, the
+//! whisking strategies) and `[frontend]` (detection, model) say
+//! ([`PhysicsSensing::of_scenario`]); `whisker object-slam --sensing physics`, which has
+//! no scenario, senses in the conditions the radial-distance models are trained under
+//! (1 Hz, RCP at the sensor's saturation, §4.1.1; [`PhysicsSensing::new`]).
 //!
 //! Only the whiskers whose rigid sweep meets the object are simulated (a bending shaft
 //! reaches no further than the straight one; the others would whisk freely and, with the
@@ -17,6 +21,8 @@ use crate::record::Reporter;
 use nalgebra::Isometry3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use whisker_scenario::{Result, ScenarioFile};
+use whisker_sim::sensing::calibration::calibrate_array_rcp;
 use whisker_sim::sensing::kinematic::{RigidWhisker, SweepTarget};
 use whisker_sim::sensing::physics::{DT, EnvironmentPiece, PhysicsArray, WhiskerConfig};
 use whisker_sim::whisker::array;
@@ -37,43 +43,79 @@ pub struct PhysicsSensing {
     pub log: Option<WhiskLog>,
     configs: Vec<WhiskerConfig>,
     rigid: Vec<RigidWhisker>,
-    params: FrontEndParams,
+    /// Each whisker's detection levels.
+    params: Vec<FrontEndParams>,
 }
 
 /// A receiver of whisks' samples: (stream, whisk number, every whisker's samples).
 pub type WhiskLog = std::sync::Arc<dyn Fn(&str, usize, &[Vec<Reading>]) + Send + Sync>;
 
 impl PhysicsSensing {
-    /// The default array (1 Hz, RCP at the sensor's saturation) against `environment`.
+    /// The default array in the radial-distance models' training condition (1 Hz, RCP at
+    /// the sensor's saturation, §4.1.1) with the default detection levels, against
+    /// `environment`.
     pub fn new(environment: Vec<EnvironmentPiece>, model: RadialEstimator) -> Self {
         let configs = array::modules()
             .into_iter()
-            .map(WhiskerConfig::with_defaults)
+            .map(|m| {
+                let mut c = WhiskerConfig::with_defaults(m);
+                c.control.rcp = true;
+                c.contact_threshold = Some(c.sensor.saturation_counts);
+                c
+            })
             .collect();
-        Self::with_configs(environment, model, configs)
+        Self::with_configs(environment, model, configs, &FrontEndParams::default())
     }
 
-    /// The array of `configs` against `environment`; a whisker without RCP gets RCP at
-    /// its sensor's saturation (the radial-distance models' training condition, §4.1.1).
+    /// The array and front end of the scenario in `file` against `environment`: its
+    /// whiskers, RCP and the whisking strategies' thresholds calibrated as `[array] rcp`
+    /// says (§3.2.2: k σ of free whisking, sub-streams `calibration/whisker/NN` of the
+    /// seed; §4.1.1: the sensor's saturation), `[frontend.detection]` and the model of
+    /// `[frontend]`.
+    pub fn of_scenario(file: &ScenarioFile, environment: Vec<EnvironmentPiece>) -> Result<Self> {
+        let scenario = &file.scenario;
+        let mut configs = file.whisker_configs()?;
+        if let Some(mode) = scenario.array.contact_mode() {
+            calibrate_array_rcp(&mut configs, mode, scenario.seed, DT);
+        }
+        let model = scenario.frontend.model(&file.path)?;
+        Ok(Self::with_configs(
+            environment,
+            model,
+            configs,
+            &scenario.frontend.detection,
+        ))
+    }
+
+    /// The array of `configs` (their RCP thresholds calibrated) against `environment`,
+    /// detecting at the levels [`super::detection::levels`] makes of `detection`.
     pub fn with_configs(
         environment: Vec<EnvironmentPiece>,
         model: RadialEstimator,
-        mut configs: Vec<WhiskerConfig>,
+        configs: Vec<WhiskerConfig>,
+        detection: &FrontEndParams,
     ) -> Self {
-        for c in &mut configs {
-            c.contact_threshold
-                .get_or_insert(c.sensor.saturation_counts);
-            c.control.rcp = true;
-        }
         let rigid = configs.iter().map(WhiskerConfig::rigid).collect();
+        let params = super::detection::levels(&configs, detection);
         Self {
             environment,
             model,
             log: None,
             configs,
             rigid,
-            params: FrontEndParams::default(),
+            params,
         }
+    }
+
+    /// The same sensing detecting at each whisker's `levels` (a dataset's, as written).
+    pub fn with_levels(mut self, levels: Vec<FrontEndParams>) -> Self {
+        self.params = levels;
+        self
+    }
+
+    /// Each whisker's detection levels.
+    pub fn levels(&self) -> &[FrontEndParams] {
+        &self.params
     }
 
     /// The same sensing with the straight shafts of `rigid` (a log's array: contact points
@@ -210,7 +252,7 @@ impl PhysicsSensing {
                 whisker,
                 samples,
                 rate,
-                &self.params,
+                &self.params[i],
                 &self.model,
                 &mut rng,
                 &held,

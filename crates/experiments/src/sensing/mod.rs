@@ -6,6 +6,8 @@
 //!   (detect → radial distance → shaft point), the `contacts.csv` rows, the anticipated
 //!   intersect for the recordings;
 //! - [`sweep`]: the kinematic sweep along a run (`contacts.csv`, `anticipated.csv`);
+//! - [`detection`]: the detection levels every physics path uses, per whisker;
+//! - [`fidelity`]: the physics front end against the anticipated contacts;
 //! - [`frontend`]: the signal front end along a physics run (`frontend.csv`);
 //! - [`array_run`]: the physics array along a run (`whiskers.csv`), and
 //!   [`whisking_metrics`], what its whisking strategy did to its contacts;
@@ -15,6 +17,8 @@
 pub mod array;
 pub mod array_run;
 pub mod contact;
+pub mod detection;
+pub mod fidelity;
 pub mod frontend;
 pub mod held;
 pub mod sweep;

@@ -7,7 +7,8 @@
 //! # File format
 //! JSON (one object), written atomically (temporary file, then rename):
 //! ```text
-//! { "format": "whisker-slam object map", "version": 1,
+//! { "format": "whisker-slam object map", "version": 2,
+//!   "sensing": { "mode": "kinematic" | "physics", "array": "<the array, one line>" },
 //!   "experiences": [ { "id": 0, "object": "kettle" | null,
 //!                      "features": { "pfh": [..d⁴ numbers..], "sda": [slope | null, ..18..] },
 //!                      "cells": [x, y, z, roll, pitch, yaw],        // pose cells
@@ -17,7 +18,8 @@
 //!   "history": [ { "sample": 0, "experience": 0, "relocalised": false }, .. ] }
 //! ```
 //! Experience ids are their positions in the list. A link's relative pose T satisfies
-//! pose(to) ≈ pose(from)·T.
+//! pose(to) ≈ pose(from)·T. `sensing` says how the map's contacts were sensed (version 2;
+//! version 1 files, which have no `sensing`, are still read: their sensing is unknown).
 
 use super::posecells6d::Cell6;
 use crate::features::pfh::PfhParams;
@@ -30,8 +32,38 @@ use std::path::{Path, PathBuf};
 
 /// The `format` tag of object map files.
 pub const FORMAT: &str = "whisker-slam object map";
-/// The file format version written.
-pub const VERSION: u32 = 1;
+/// The file format version written (1: no `sensing`, still read).
+pub const VERSION: u32 = 2;
+
+/// How a map's contacts were sensed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SensedBy {
+    /// Anticipated intersections of straight whiskers, with noise.
+    Kinematic,
+    /// Simulated compliant whiskers and the signal front end.
+    Physics,
+}
+
+impl SensedBy {
+    /// The name written in map files and scenarios.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Kinematic => "kinematic",
+            Self::Physics => "physics",
+        }
+    }
+}
+
+/// The sensing a map was built with (version 2).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MapSensing {
+    /// Kinematic or physics.
+    pub mode: SensedBy,
+    /// The array and front end, one line (as `whisker check` describes them).
+    pub array: String,
+}
 
 /// A complex experience node (§5.1.2.4.1).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -87,6 +119,10 @@ pub struct ObjectMap {
     pub format: String,
     /// File format version.
     pub version: u32,
+    /// How the contacts were sensed (None: unknown, a version 1 file, or a map not built
+    /// by one run).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensing: Option<MapSensing>,
     /// Experiences, by id.
     pub experiences: Vec<Experience>,
     /// Links.
@@ -100,6 +136,7 @@ impl Default for ObjectMap {
         Self {
             format: FORMAT.into(),
             version: VERSION,
+            sensing: None,
             experiences: Vec::new(),
             links: Vec::new(),
             history: Vec::new(),
@@ -277,8 +314,13 @@ impl ObjectMap {
         if self.format != FORMAT {
             return Err(format!("format {:?}: expected {FORMAT:?}", self.format).into());
         }
-        if self.version != VERSION {
-            return Err(format!("version {}: expected {VERSION}", self.version).into());
+        if !(1..=VERSION).contains(&self.version) {
+            return Err(format!("version {}: expected 1 to {VERSION}", self.version).into());
+        }
+        if self.version == 1 && self.sensing.is_some() {
+            return Err("sensing: not a field of version 1 (expected version 2)"
+                .to_string()
+                .into());
         }
         let n = self.experiences.len();
         for (i, e) in self.experiences.iter().enumerate() {
