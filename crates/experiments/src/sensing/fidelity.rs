@@ -140,6 +140,45 @@ pub struct Row {
     pub anticipated_fraction: Option<f64>,
     /// The largest |y| deflection of the whisker's whisk (counts): what detection saw.
     pub peak_counts: f64,
+    /// Why an anticipated contact was missed ([`Miss`]), if it was.
+    pub miss: Option<Miss>,
+}
+
+/// The classes of anticipated contacts the front end misses, each with its physical
+/// reading (docs/physics-results.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Miss {
+    /// Anticipated within 10° of full retraction: the shaft already presses on the object
+    /// as the whisk begins, so the stream has no rising edge to find an onset on.
+    Start,
+    /// Anticipated within 2.5° of full protraction: the stroke ends as the shaft arrives,
+    /// bending it by a few tens of counts at most.
+    End,
+    /// Anticipated on the last 5 % of the shaft: the tip meets the surface and slides off
+    /// it, loading the follicle little.
+    Tip,
+    /// Elsewhere, with a peak deflection below the confirmation level.
+    Weak,
+    /// None of these.
+    Other,
+}
+
+impl Miss {
+    fn of(angle: f64, fraction: f64, peak: f64, pattern: (f64, f64), confirm: f64) -> Self {
+        let (retracted, protracted) = pattern;
+        if angle <= retracted + 10f64.to_radians() {
+            Miss::Start
+        } else if angle >= protracted - 2.5f64.to_radians() {
+            Miss::End
+        } else if fraction >= 0.95 {
+            Miss::Tip
+        } else if peak < confirm {
+            Miss::Weak
+        } else {
+            Miss::Other
+        }
+    }
 }
 
 /// The figures of one object in one mode.
@@ -152,6 +191,8 @@ pub struct Summary {
     pub matched: usize,
     pub recall: f64,
     pub precision: f64,
+    /// The missed anticipated contacts by class.
+    pub misses: std::collections::BTreeMap<Miss, usize>,
     /// Median and 90th percentile of |error| over the matched contacts.
     pub onset_deg: [f64; 2],
     pub radial_mm: [f64; 2],
@@ -248,6 +289,9 @@ fn compare_pose(
                 return None;
             }
             let both = hit.zip(found);
+            let peak = streams[i].iter().map(|r| r.y.abs()).fold(0.0, f64::max);
+            let fraction = hit.map_or(0.0, |h| h.radial_distance / w.module.beam.length);
+            let pattern = sensing.pattern(i);
             Some(Row {
                 object: String::new(),
                 mode: Mode::OpenLoop,
@@ -263,8 +307,18 @@ fn compare_pose(
                     s.is_finite().then_some(c.slope - s)
                 }),
                 anticipated_angle_deg: hit.map(|h| h.angle.to_degrees()),
-                anticipated_fraction: hit.map(|h| h.radial_distance / w.module.beam.length),
-                peak_counts: streams[i].iter().map(|r| r.y.abs()).fold(0.0, f64::max),
+                anticipated_fraction: hit.map(|_| fraction),
+                peak_counts: peak,
+                miss: match (hit, found) {
+                    (Some(h), None) => Some(Miss::of(
+                        h.angle,
+                        fraction,
+                        peak,
+                        (pattern.retracted, pattern.protracted),
+                        sensing.levels()[i].confirm_counts,
+                    )),
+                    _ => None,
+                },
             })
         })
         .collect()
@@ -295,6 +349,13 @@ fn summarise(object: &str, mode: Mode, rows: &[Row]) -> Summary {
         anticipated,
         detected,
         matched: matched.len(),
+        misses: rows.iter().filter_map(|r| r.miss).fold(
+            std::collections::BTreeMap::new(),
+            |mut m, c| {
+                *m.entry(c).or_insert(0) += 1;
+                m
+            },
+        ),
         recall: ratio(matched.len(), anticipated),
         precision: ratio(matched.len(), detected),
         onset_deg: spread(matched.iter().filter_map(|r| r.onset_error_deg)),
@@ -308,19 +369,22 @@ impl Fidelity {
     /// The table printed and written as `fidelity.md`.
     pub fn table(&self) -> String {
         let mut s = String::from(
-            "| object | mode | anticipated | detected | recall | precision | onset ° (median, p90) | radial mm | point mm | slope |\n|---|---|---|---|---|---|---|---|---|---|\n",
+            "| object | mode | anticipated | detected | recall | precision | misses: start, end, tip, weak, other | onset ° (median, p90) | radial mm | point mm | slope |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
         );
         let pair = |v: [f64; 2], digits: usize| format!("{:.digits$}, {:.digits$}", v[0], v[1]);
         for m in &self.summaries {
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {:.1} % | {:.1} % | {} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {:.1} % | {:.1} % | {} | {} | {} | {} | {} |",
                 m.object,
                 m.mode.name(),
                 m.anticipated,
                 m.detected,
                 100.0 * m.recall,
                 100.0 * m.precision,
+                [Miss::Start, Miss::End, Miss::Tip, Miss::Weak, Miss::Other]
+                    .map(|c| m.misses.get(&c).copied().unwrap_or(0).to_string())
+                    .join(", "),
                 pair(m.onset_deg, 1),
                 pair(m.radial_mm, 1),
                 pair(m.point_mm, 1),
@@ -392,6 +456,7 @@ mod tests {
             let both = rows.iter().filter(|r| r.anticipated && r.detected).count();
             assert_eq!((m.anticipated, m.detected, m.matched), (a, d, both));
             assert_eq!(m.recall, both as f64 / a as f64);
+            assert_eq!(m.misses.values().sum::<usize>(), a - both);
         }
         let sat = f
             .summaries

@@ -118,6 +118,11 @@ impl PhysicsSensing {
         &self.params
     }
 
+    /// Whisker `i`'s whisking pattern.
+    pub fn pattern(&self, i: usize) -> whisker_sim::whisker::control::WhiskingPattern {
+        self.configs[i].pattern
+    }
+
     /// The same sensing with the straight shafts of `rigid` (a log's array: contact points
     /// from its base offsets).
     pub fn with_rigid(mut self, rigid: Vec<RigidWhisker>) -> Self {
