@@ -22,7 +22,6 @@ use crate::dataset_format::manifest::{
 use crate::dataset_format::whisks::{WhiskFiles, put_model, replay_sensing};
 use crate::dataset_format::{Staging, array_info, records};
 use crate::object_slam::dataset::{odometry_csv, pose_log, read_odometry};
-use crate::sensing::held::PhysicsSensing;
 use nalgebra::Point3;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -156,14 +155,7 @@ fn manifest(
             odometry_noise: config.odometry,
             slam: config.slam,
             recognition: config.recognition,
-            frontend: match physics {
-                true => Some(
-                    PhysicsSensing::of_scenario(file, Vec::new())?
-                        .levels()
-                        .to_vec(),
-                ),
-                false => None,
-            },
+            frontend: outcome.levels.clone(),
         }),
         ..Manifest::new(
             Experiment::ClosedLoop,

@@ -37,6 +37,10 @@ impl Loop<'_> {
             cycles: Vec::new(),
             odometry: Vec::new(),
             start,
+            levels: match &self.sensing {
+                Sensor::Physics(p) => Some(p.levels().to_vec()),
+                Sensor::Kinematic(_) => None,
+            },
         };
         let mut tally = Tally {
             odometry_rng: substream(seed, "explore/odometry"),

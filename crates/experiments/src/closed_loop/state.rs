@@ -46,6 +46,8 @@ pub struct Outcome {
     pub odometry: Vec<Odometry>,
     /// The array's pose before the first move.
     pub start: Isometry3<f64>,
+    /// Physics: each whisker's detection levels, as the run detected.
+    pub levels: Option<Vec<whisker_slam::frontend::contact::FrontEndParams>>,
 }
 
 /// How a whisk is sensed.
