@@ -15,13 +15,6 @@ fn load(name: &str) -> ScenarioFile {
     ScenarioFile::load(&file).unwrap()
 }
 
-fn run(file: &ScenarioFile) -> whisker_experiments::closed_loop::Outcome {
-    let plan = Plan::new(file).unwrap();
-    let env = file.environment().unwrap().environment;
-    let config = file.scenario.experiment.explore().unwrap();
-    whisker_experiments::closed_loop::run(file, config, plan, &env).unwrap()
-}
-
 /// Column `name` of every row of a CSV text.
 fn column(csv: &str, name: &str) -> Vec<String> {
     let mut lines = csv.lines();
@@ -35,7 +28,7 @@ fn column(csv: &str, name: &str) -> Vec<String> {
 #[test]
 fn map_building_of_the_box_reaches_or_counts_every_goal_and_never_collides() {
     let file = load("explore_map_box.toml");
-    let out = run(&file);
+    let out = closed_loop(&file);
     let s = &out.summary;
     assert_eq!(s["loops_completed"], 2, "{s}");
     let status = column(&out.csv, "ik_status");
@@ -147,7 +140,7 @@ fn a_map_built_at_reach_has_experiences_on_every_side_it_whisked_within_reach() 
     let explore = file.scenario.experiment.explore_mut().unwrap();
     explore.map_goals = whisker_scenario::explore::MapGoals::Reach;
     explore.slam.min_contacts = 4;
-    let out = run(&file);
+    let out = closed_loop(&file);
     let (created, contacts) = (column(&out.csv, "created"), column(&out.csv, "contacts"));
     let env = file.environment().unwrap().environment;
     let piece = &env.pieces[0];
@@ -202,7 +195,7 @@ fn without_noise_or_matches_the_map_is_where_the_array_was() {
     let e = file.scenario.experiment.explore_mut().unwrap();
     e.odometry = OdometryNoise::NONE;
     e.slam.matching.t_pfh = 0.0;
-    let out = run(&file);
+    let out = closed_loop(&file);
     let s = &out.summary;
     assert_eq!(s["loops_completed"], 2, "{s}");
     let m = &s["map_accuracy"];
@@ -268,12 +261,8 @@ fn same_seed_same_bytes_whatever_the_thread_count() {
     let outputs: Vec<(String, String)> = [1, 2]
         .iter()
         .map(|&threads| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
-                let out = run(&file);
+            on_threads(threads, || {
+                let out = closed_loop(&file);
                 (out.csv, out.summary.to_string())
             })
         })
@@ -282,7 +271,7 @@ fn same_seed_same_bytes_whatever_the_thread_count() {
     assert_eq!(column(&outputs[0].0, "iteration").len(), 250);
     // The seed matters: another seed explores differently.
     file.scenario.seed = 1;
-    let other = run(&file);
+    let other = closed_loop(&file);
     assert_ne!(other.csv, outputs[0].0);
 }
 

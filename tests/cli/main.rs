@@ -21,6 +21,7 @@ mod physics;
 mod physics_loop;
 mod radial;
 mod recording;
+mod recording_slam;
 mod trials;
 mod urdf;
 
@@ -195,3 +196,22 @@ pub fn run_bad(dir: &Path, name: &str, body: &str) -> (Output, PathBuf) {
 pub const ARM: &str = "[arm]\nurdf = URDF\ninitial_joints_deg = [0, -90, 90, -90, -90, 0]\n";
 pub const WAYPOINT: &str = "[[trajectory.waypoints]]\njoints_deg = [0, -80, 80, -90, -90, 0]\n";
 pub const OUTPUT: &str = "[output]\ndir = OUT\n";
+
+/// The closed loop of the scenario in `file`, run in process (it must succeed).
+pub fn closed_loop(
+    file: &whisker_scenario::ScenarioFile,
+) -> whisker_experiments::closed_loop::Outcome {
+    let plan = whisker_scenario::plan::Plan::new(file).unwrap();
+    let env = file.environment().unwrap().environment;
+    let config = file.scenario.experiment.explore().unwrap();
+    whisker_experiments::closed_loop::run(file, config, plan, &env).unwrap()
+}
+
+/// `f` run on a rayon pool of `threads` threads.
+pub fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}

@@ -6,7 +6,6 @@
 use super::*;
 use whisker_scenario::ScenarioFile;
 use whisker_scenario::overrides::Override;
-use whisker_scenario::plan::Plan;
 
 /// `recognise_box_physics.toml` with the fast sweep-plane whiskers, `whisks` whisks, and
 /// `extra` overrides.
@@ -23,13 +22,6 @@ fn physics_loop(whisks: usize, extra: &[&str]) -> ScenarioFile {
     ScenarioFile::load_with(&repo("scenarios/recognise_box_physics.toml"), &overrides).unwrap()
 }
 
-fn run(file: &ScenarioFile) -> whisker_experiments::closed_loop::Outcome {
-    let plan = Plan::new(file).unwrap();
-    let env = file.environment().unwrap().environment;
-    let config = file.scenario.experiment.explore().unwrap();
-    whisker_experiments::closed_loop::run(file, config, plan, &env).unwrap()
-}
-
 fn contacts(out: &whisker_experiments::closed_loop::Outcome) -> usize {
     out.cycles.iter().map(|c| c.contacts.len()).sum()
 }
@@ -42,17 +34,17 @@ fn contacts(out: &whisker_experiments::closed_loop::Outcome) -> usize {
 /// whatever the scenario said.
 #[test]
 fn the_scenarios_detection_and_rcp_change_what_the_physics_loop_detects() {
-    let base = run(&physics_loop(8, &[]));
+    let base = closed_loop(&physics_loop(8, &[]));
     assert!(contacts(&base) >= 8, "{} contacts", contacts(&base));
-    let wide = run(&physics_loop(
+    let wide = closed_loop(&physics_loop(
         8,
         &["frontend.detection.peaks.min_width=1e6"],
     ));
     assert_eq!(contacts(&wide), 0);
-    let open = run(&physics_loop(8, &["array.rcp=\"off\""]));
+    let open = closed_loop(&physics_loop(8, &["array.rcp=\"off\""]));
     assert!(contacts(&open) >= 8, "{} contacts", contacts(&open));
     assert_ne!(open.contacts_csv, base.contacts_csv);
-    let deaf = run(&physics_loop(
+    let deaf = closed_loop(&physics_loop(
         8,
         &["array.rcp=\"off\"", "frontend.detection.confirm_counts=1e6"],
     ));
@@ -66,12 +58,8 @@ fn a_physics_loop_gives_the_same_bytes_on_one_and_two_threads() {
     let outputs: Vec<(String, String, String)> = [1, 2]
         .iter()
         .map(|&threads| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
-                let out = run(&file);
+            on_threads(threads, || {
+                let out = closed_loop(&file);
                 (out.csv, out.summary.to_string(), out.contacts_csv)
             })
         })
