@@ -257,6 +257,7 @@ fn killed_three_times_and_resumed_gives_the_uninterrupted_bytes() {
     let mut finished: BTreeMap<String, usize> = BTreeMap::new();
     for line in log.lines().filter(|l| !l.is_empty()) {
         let parts: Vec<&str> = line.split(' ').collect();
+        assert_eq!(parts.len(), 4, "a torn log line: {line:?}");
         let (what, key) = (parts[2], parts[3].to_string());
         match what {
             "start" => assert!(

@@ -299,7 +299,11 @@ impl Journal {
         let t = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(0.0, |d| d.as_secs_f64());
-        writeln!(self.log, "{t:.3} {} {what} {key}", std::process::id())
+        // One write call for the whole line: `writeln!` on a `File` writes each formatted
+        // piece with its own system call, and a kill between two left a torn line.
+        let line = format!("{t:.3} {} {what} {key}\n", std::process::id());
+        self.log
+            .write_all(line.as_bytes())
             .and_then(|_| self.log.flush())
             .map_err(|e| Error::Failure(format!("{LOG}: {e}")))
     }
