@@ -102,7 +102,9 @@ fn main() -> ExitCode {
             // Bad input exits with 2, anything else with 1.
             ExitCode::from(match e {
                 Error::Input(_) => 2,
-                Error::Failure(_) => 1,
+                Error::Failure(_) | Error::Output(_) => 1,
+                // 143 for SIGTERM, 130 for SIGINT, as a shell reports a signalled process.
+                Error::Interrupted { signal, .. } => (128 + signal).clamp(1, 255) as u8,
             })
         }
         // The panic's message is printed by the default hook.

@@ -10,6 +10,7 @@ pub mod maze_slam;
 pub mod object_slam;
 pub mod radial;
 pub mod run;
+pub mod signals;
 pub mod soak;
 pub mod tools;
 pub mod trials;

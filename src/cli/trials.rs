@@ -51,6 +51,10 @@ pub struct BatchArgs {
     /// Do not write report.md and the figures at the end.
     #[arg(long)]
     pub no_report: bool,
+    /// On SIGTERM or SIGINT: seconds the running trials have to stop (each stops at its
+    /// next whisk, update or simulated second) before the process leaves them and exits
+    #[arg(long, default_value_t = super::signals::GRACE_S)]
+    pub grace: f64,
 }
 
 /// `whisker trials <command>`.
@@ -122,12 +126,13 @@ pub fn run(args: &Args, ctx: Context) -> Result {
             Ok(())
         }
         (Some(Command::Report { dir }), _, _) => {
-            report::write(dir)?;
+            report::command(dir)?;
             print!("{}", report_legend());
             Ok(())
         }
         (None, Some(scenario), Some(a)) => {
             let batch = Batch::load(scenario)?;
+            super::signals::stop_on_signals(a.grace)?;
             let settings = batch::Settings {
                 out: a.out.clone(),
                 jobs: a.jobs,

@@ -23,6 +23,7 @@ mod radial;
 mod recording;
 mod recording_slam;
 mod trials;
+mod trials_faults;
 mod urdf;
 
 // Helpers shared by the test modules.

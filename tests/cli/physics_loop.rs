@@ -26,12 +26,14 @@ fn contacts(out: &whisker_experiments::closed_loop::Outcome) -> usize {
     out.cycles.iter().map(|c| c.contacts.len()).sum()
 }
 
-/// A least peak width longer than the whisk leaves the whisks empty; turning `[array] rcp`
-/// off changes the streams and so the contacts (the shaft keeps pressing after it would
-/// have retracted), and without RCP a confirmation above the sensor's range leaves the
-/// whisks empty too (with RCP it is cut to half the threshold, `sensing::detection`).
-/// Before issue #61 the held whisk used the default detection and RCP at saturation
-/// whatever the scenario said.
+/// A least peak width longer than the whisk leaves the whisks empty; RCP at 20 σ against
+/// none changes the streams and so the contacts (the shaft keeps pressing after it would
+/// have retracted; at saturation, 2047 counts, these few whisks may never retract), and
+/// without RCP a confirmation above the sensor's range — written
+/// (`levels = "as-written"`) or as a multiple of the free-whisking σ (the default noise
+/// rule) — leaves the whisks empty too (with RCP it is cut to half the threshold,
+/// `sensing::detection`). Before issue #61 the held whisk used the default detection and
+/// RCP at saturation whatever the scenario said.
 #[test]
 fn the_scenarios_detection_and_rcp_change_what_the_physics_loop_detects() {
     let base = closed_loop(&physics_loop(8, &[]));
@@ -43,12 +45,18 @@ fn the_scenarios_detection_and_rcp_change_what_the_physics_loop_detects() {
     assert_eq!(contacts(&wide), 0);
     let open = closed_loop(&physics_loop(8, &["array.rcp=\"off\""]));
     assert!(contacts(&open) >= 8, "{} contacts", contacts(&open));
-    assert_ne!(open.contacts_csv, base.contacts_csv);
-    let deaf = closed_loop(&physics_loop(
-        8,
-        &["array.rcp=\"off\"", "frontend.detection.confirm_counts=1e6"],
-    ));
-    assert_eq!(contacts(&deaf), 0);
+    let rcp = closed_loop(&physics_loop(8, &["array.rcp=\"noise\""]));
+    assert_ne!(open.contacts_csv, rcp.contacts_csv);
+    for deaf in [
+        [
+            "frontend.levels=\"as-written\"",
+            "frontend.detection.confirm_counts=1e6",
+        ],
+        ["frontend.levels=\"noise\"", "frontend.noise_multiple=1e6"],
+    ] {
+        let deaf = closed_loop(&physics_loop(8, &["array.rcp=\"off\"", deaf[0], deaf[1]]));
+        assert_eq!(contacts(&deaf), 0);
+    }
 }
 
 /// A physics loop gives the same bytes on 1 and 2 threads.

@@ -300,6 +300,17 @@ fn scenario_front_end_settings_are_checked() {
             "frontend.radial_model",
         ),
         ("unknown", "[frontend]\nradial = 1\n", "radial"),
+        (
+            "multiple",
+            "[frontend]\nnoise_multiple = 0\n",
+            "frontend.noise_multiple",
+        ),
+        ("levels", "[frontend]\nlevels = \"loud\"\n", "levels"),
+        (
+            "ignored count",
+            "[frontend.detection]\nconfirm_counts = 100\n",
+            "frontend.detection.confirm_counts",
+        ),
     ] {
         let body = format!("sensing = \"physics\"\n{ARM}{extra}{WAYPOINT}{OUTPUT}");
         let (o, path) = run_bad(tmp.path(), name, &body);

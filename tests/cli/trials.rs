@@ -1,18 +1,15 @@
 //! `whisker trials`: rows independent of the worker count and equal to single `whisker run`s
-//! with the same overrides, resume after `kill -9` at three moments (final bytes equal to an
-//! uninterrupted batch, no trial finished twice), shards merged into the unsharded bytes
+//! with the same overrides (kills, signals, locks and write failures: trials_faults.rs),
+//! shards merged into the unsharded bytes
 //! (a missing shard named), a failing trial recorded while the batch goes on, and bad
 //! `[trials]` input.
 
 use super::*;
 use serde_json::Value;
-use std::collections::BTreeMap;
-use std::process::Stdio;
-use std::time::{Duration, Instant};
 
 /// A small closed-loop batch: recognition of the Box, 2 strategies × 3 seeds, 60 whisks a
 /// trial (about half a second each). `extra` goes into `[trials.factors]`.
-fn scenario(dir: &Path, iterations: usize, extra: &str) -> PathBuf {
+pub(super) fn scenario(dir: &Path, iterations: usize, extra: &str) -> PathBuf {
     let abs = |p: &str| repo(p).display().to_string();
     let text = format!(
         r#"version = 1
@@ -50,13 +47,13 @@ explore.strategy = ["default", "feh"]
     file
 }
 
-fn trials(args: &[&str]) -> Output {
+pub(super) fn trials(args: &[&str]) -> Output {
     let mut all = vec!["trials"];
     all.extend_from_slice(args);
     whisker(&all)
 }
 
-fn ok(out: &Output) {
+pub(super) fn ok(out: &Output) {
     assert!(
         out.status.success(),
         "{}\n{}",
@@ -65,7 +62,7 @@ fn ok(out: &Output) {
     );
 }
 
-fn read(p: &Path) -> Vec<u8> {
+pub(super) fn read(p: &Path) -> Vec<u8> {
     std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
 
@@ -175,7 +172,7 @@ fn rows_do_not_depend_on_jobs_and_equal_single_runs() {
 
 /// The small batch with `iterations` whisks a trial, run whole on 2 workers into
 /// `dir/whole`: the reference bytes.
-fn uninterrupted(dir: &Path, iterations: usize) -> (PathBuf, PathBuf) {
+pub(super) fn uninterrupted(dir: &Path, iterations: usize) -> (PathBuf, PathBuf) {
     let file = scenario(dir, iterations, "");
     let whole = dir.join("whole");
     ok(&trials(&[
@@ -186,97 +183,6 @@ fn uninterrupted(dir: &Path, iterations: usize) -> (PathBuf, PathBuf) {
         "2",
     ]));
     (file, whole)
-}
-
-/// Starts a batch and kills it with SIGKILL once `ready` holds of its directory (or at
-/// the deadline).
-fn kill_when(args: &[&str], dir: &Path, ready: impl Fn(&Path) -> bool) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_whisker"))
-        .arg("trials")
-        .args(args)
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let deadline = Instant::now() + Duration::from_secs(120);
-    while !ready(dir) && Instant::now() < deadline {
-        if child.try_wait().unwrap().is_some() {
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    let _ = child.kill(); // SIGKILL
-    child.wait().unwrap();
-}
-
-fn journal_lines(dir: &Path) -> usize {
-    std::fs::read_to_string(dir.join("journal.jsonl"))
-        .map(|t| t.matches('\n').count())
-        .unwrap_or(0)
-}
-
-fn started(dir: &Path) -> usize {
-    std::fs::read_to_string(dir.join("log.txt"))
-        .map(|t| t.lines().filter(|l| l.contains(" start ")).count())
-        .unwrap_or(0)
-}
-
-#[test]
-fn killed_three_times_and_resumed_gives_the_uninterrupted_bytes() {
-    let tmp = tempfile::tempdir().unwrap();
-    let (file, whole) = uninterrupted(tmp.path(), 80);
-    let f = file.to_str().unwrap();
-    let dir = tmp.path().join("killed");
-    let d = dir.to_str().unwrap();
-    // 1: while the first trials run, before any has finished.
-    kill_when(&[f, "--out", d, "--jobs", "2"], &dir, |p| started(p) >= 2);
-    assert_eq!(
-        journal_lines(&dir),
-        0,
-        "killed too late to test the first moment"
-    );
-    // 2: right after the second row became durable.
-    kill_when(&[f, "--out", d, "--jobs", "2", "--resume"], &dir, |p| {
-        journal_lines(p) >= 2
-    });
-    // 3: in the middle of a later trial.
-    kill_when(&[f, "--out", d, "--jobs", "1", "--resume"], &dir, |p| {
-        journal_lines(p) >= 4 && started(p) > journal_lines(p) + 2
-    });
-    assert!(
-        journal_lines(&dir) < 6,
-        "the batch finished before the third kill"
-    );
-    ok(&trials(&[f, "--out", d, "--jobs", "2", "--resume"]));
-    assert_eq!(
-        read(&dir.join("trials.csv")),
-        read(&whole.join("trials.csv"))
-    );
-    // From the log: every trial finished exactly once and never started again after.
-    let log = std::fs::read_to_string(dir.join("log.txt")).unwrap();
-    let mut finished: BTreeMap<String, usize> = BTreeMap::new();
-    for line in log.lines().filter(|l| !l.is_empty()) {
-        let parts: Vec<&str> = line.split(' ').collect();
-        assert_eq!(parts.len(), 4, "a torn log line: {line:?}");
-        let (what, key) = (parts[2], parts[3].to_string());
-        match what {
-            "start" => assert!(
-                !finished.contains_key(&key),
-                "{key} started after it finished"
-            ),
-            "ok" | "failed" => *finished.entry(key).or_default() += 1,
-            other => panic!("unexpected log line {other}"),
-        }
-    }
-    assert_eq!(finished.len(), 6);
-    assert!(finished.values().all(|&n| n == 1), "{finished:?}");
-    // Every trial's outputs are whole (the killed ones' were cleared and redone).
-    for key in finished.keys() {
-        assert_eq!(
-            read(&dir.join("runs").join(key).join("summary.json")),
-            read(&whole.join("runs").join(key).join("summary.json"))
-        );
-    }
 }
 
 #[test]

@@ -129,6 +129,7 @@ fn scripted(
     let skeleton = plan.skeleton();
     let steps = (plan.trajectory.duration() / dt).ceil() as usize;
     for k in 0..=steps {
+        whisker_scenario::stop::check()?;
         let t = (k as f64 * dt).min(plan.trajectory.duration());
         let q = plan.trajectory.sample(t);
         if k > 0 {

@@ -77,7 +77,7 @@ pub fn create_dir(dir: &Path) -> Result {
         )));
     }
     fs::create_dir_all(dir).map_err(|e| {
-        Error::Failure(format!(
+        Error::Output(format!(
             "cannot create output directory {}: {e}",
             dir.display()
         ))
@@ -88,21 +88,44 @@ pub fn create_dir(dir: &Path) -> Result {
     Ok(())
 }
 
+/// The fault hook of the output layer (issue #68's fault tests): with
+/// `WHISKER_FAIL_WRITES_FROM=N` in the environment, the N-th [`write_atomic`] of this
+/// process (counting from 1) and every later one fail as a full disk would. Never set
+/// otherwise.
+pub const FAULT_ENV: &str = "WHISKER_FAIL_WRITES_FROM";
+
+/// The writes [`write_atomic`] has begun in this process.
+static WRITES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+/// The injected failure of this write, if [`FAULT_ENV`] asks for one.
+fn injected_fault() -> std::io::Result<()> {
+    let n = WRITES.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
+    match std::env::var(FAULT_ENV)
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+    {
+        Some(from) if n >= from => Err(std::io::Error::new(
+            std::io::ErrorKind::StorageFull,
+            format!("No space left on device (injected by {FAULT_ENV}={from})"),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Writes `bytes` to `path` atomically (temporary file, then rename).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result {
     let tmp = temporary(path);
-    let result = fs::File::create(&tmp).and_then(|mut f| {
-        f.write_all(bytes)?;
-        f.sync_all()
-    });
+    let result = injected_fault()
+        .and_then(|_| fs::File::create(&tmp))
+        .and_then(|mut f| {
+            f.write_all(bytes)?;
+            f.sync_all()
+        });
     match result {
         Ok(()) => commit(&tmp, path),
         Err(e) => {
             let _ = fs::remove_file(&tmp);
-            Err(Error::Failure(format!(
-                "cannot write {}: {e}",
-                path.display()
-            )))
+            Err(Error::output(path, e))
         }
     }
 }
@@ -110,8 +133,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result {
 /// Writes `value` as compact JSON to `path` atomically: the format of
 /// `ObjectMap::save`, the way every other output is written.
 pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result {
-    let text = serde_json::to_string(value)
-        .map_err(|e| Error::Failure(format!("cannot write {}: {e}", path.display())))?;
+    let text = serde_json::to_string(value).map_err(|e| Error::output(path, e))?;
     write_atomic(path, text.as_bytes())
 }
 
@@ -120,7 +142,7 @@ pub fn commit(tmp: &Path, path: &Path) -> Result {
     let new = !path.exists();
     fs::rename(tmp, path).map_err(|e| {
         let _ = fs::remove_file(tmp);
-        Error::Failure(format!("cannot write {}: {e}", path.display()))
+        Error::output(path, e)
     })?;
     if new {
         created(path);

@@ -43,6 +43,7 @@ pub mod object_mode;
 pub mod overrides;
 pub mod plan;
 pub mod radial_model;
+pub mod stop;
 pub mod trials;
 
 pub use environment::{KinematicConfig, LoadedEnvironment, MazeConfig, ObjectConfig};
@@ -55,4 +56,4 @@ pub use scenario::{
     ArmConfig, DEFAULT_JOINT_SPEED_RAD_S, MAX_HOLD_S, MAX_OBJECTS, MIN_JOINT_SPEED_RAD_S,
     OutputConfig, SAMPLE_PERIOD_RANGE_S, Scenario, Target, TrajectoryConfig, Waypoint,
 };
-pub use sensing::{FrontEndConfig, Sensing, SensingMode};
+pub use sensing::{DetectionLevels, FrontEndConfig, LevelRule, Sensing, SensingMode};

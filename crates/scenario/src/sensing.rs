@@ -7,23 +7,116 @@ use crate::paths::relative_to;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
+/// The default `[frontend] noise_multiple`: a contact is confirmed when its peak stands
+/// 10 σ of the whisker's free whisking above the free-whisking mean. The thesis confirms
+/// against "a set threshold" above that mean (§5.1.1.1.1) and sets the RCP contact threshold
+/// at 20 σ of the same free-whisking signal (§3.2.2); half of it confirms an RCP contact,
+/// which ends as it reaches 20 σ. At 1 Hz σ is 2.1 (60 mm), 3.2 (100 mm) and 9.0 counts
+/// (160 mm whiskers; `whisker fidelity` prints them), and a free whisk's deterministic
+/// excursion (the shaft's inertial bending) stays within about 3 σ.
+pub const DEFAULT_NOISE_MULTIPLE: f64 = 10.0;
+
+/// How the detection levels in counts (confirmation, peak prominence, the
+/// `contact_angle` rate) are set.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum LevelRule {
+    /// From each whisker's free-whisking σ: confirmation and prominence `noise_multiple`
+    /// σ, the rate in the written proportion to the confirmation.
+    #[default]
+    Noise,
+    /// `[frontend.detection]`'s counts as written.
+    AsWritten,
+}
+
+/// How the detection levels are set, with the multiple of the noise rule.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DetectionLevels {
+    /// `k` σ of each whisker's free whisking (calibrated before the run).
+    NoiseMultiple(f64),
+    /// As `[frontend.detection]` writes them.
+    AsWritten,
+}
+
 /// `[frontend]`: the signal front end of `sensing = "physics"` (thesis Ch 4).
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FrontEndConfig {
     /// Radial-distance model (a `whisker radial train` output), relative to the scenario
     /// file; default: the built-in svr10.
     pub radial_model: Option<PathBuf>,
-    /// `[frontend.detection]`: contact-detection parameters (thesis defaults).
+    /// `levels`: `"noise"` (default) or `"as-written"`.
+    #[serde(default)]
+    pub levels: LevelRule,
+    /// `noise_multiple`: k of the noise rule ([`DEFAULT_NOISE_MULTIPLE`]).
+    #[serde(default = "default_noise_multiple")]
+    pub noise_multiple: f64,
+    /// `[frontend.detection]`: contact-detection parameters.
     #[serde(default)]
     pub detection: whisker_slam::frontend::contact::FrontEndParams,
 }
 
+fn default_noise_multiple() -> f64 {
+    DEFAULT_NOISE_MULTIPLE
+}
+
+impl Default for FrontEndConfig {
+    fn default() -> Self {
+        Self {
+            radial_model: None,
+            levels: LevelRule::default(),
+            noise_multiple: DEFAULT_NOISE_MULTIPLE,
+            detection: Default::default(),
+        }
+    }
+}
+
 impl FrontEndConfig {
+    /// How the detection levels are set.
+    pub fn detection_levels(&self) -> DetectionLevels {
+        match self.levels {
+            LevelRule::Noise => DetectionLevels::NoiseMultiple(self.noise_multiple),
+            LevelRule::AsWritten => DetectionLevels::AsWritten,
+        }
+    }
+
     /// Checks the detection parameters; names the offending field.
     pub fn validate(&self, file: &Path) -> Result {
         let d = &self.detection;
         let p = &d.peaks;
+        if !(self.noise_multiple.is_finite() && self.noise_multiple > 0.0) {
+            return Err(Error::field(
+                file,
+                "frontend.noise_multiple",
+                "expected a finite number > 0 (σ of free whisking)",
+            ));
+        }
+        // Counts the noise rule replaces: written, they would be silently ignored.
+        let written = whisker_slam::frontend::contact::FrontEndParams::default();
+        let derived = [
+            ("confirm_counts", d.confirm_counts, written.confirm_counts),
+            (
+                "peaks.min_prominence",
+                p.min_prominence,
+                written.peaks.min_prominence,
+            ),
+            (
+                "contact_angle_rate",
+                d.contact_angle_rate,
+                written.contact_angle_rate,
+            ),
+        ];
+        for (name, value, default) in derived {
+            if self.levels == LevelRule::Noise && value != default {
+                return Err(Error::field(
+                    file,
+                    &format!("frontend.detection.{name}"),
+                    "with frontend.levels = \"noise\" (the default) the levels in counts come from \
+                     each whisker's free-whisking σ; set frontend.levels = \"as-written\" to use \
+                     this value",
+                ));
+            }
+        }
         let checks: [(&str, bool); 7] = [
             ("peaks.max_peaks", p.max_peaks >= 1),
             ("smoothing_span", d.smoothing_span >= 1),

@@ -65,6 +65,7 @@ pub struct Outcome {
 pub fn run(batch: &Batch, o: &Settings, ctx: Context, progress: &dyn Progress) -> Result<Outcome> {
     let dir = &o.out;
     whisker_scenario::files::create_dir(dir)?;
+    let _lock = crate::lock::Lock::exclusive(dir)?;
     let meta = Meta::of(batch, o.shard);
     prepare(dir, &meta, o)?;
     let mut entries = journal::read(dir)?;
@@ -85,7 +86,7 @@ pub fn run(batch: &Batch, o: &Settings, ctx: Context, progress: &dyn Progress) -
         let half = dir.join(RUNS).join(&t.key);
         if half.exists() {
             std::fs::remove_dir_all(&half)
-                .map_err(|e| Error::Failure(format!("cannot clear {}: {e}", half.display())))?;
+                .map_err(|e| Error::Output(format!("cannot clear {}: {e}", half.display())))?;
         }
     }
     let jobs = o
@@ -115,10 +116,13 @@ pub fn run(batch: &Batch, o: &Settings, ctx: Context, progress: &dyn Progress) -
         for _ in 0..jobs.min(todo.len()) {
             scope.spawn(|| {
                 loop {
+                    if whisker_scenario::stop::requested().is_some() {
+                        break;
+                    }
                     let i = next.fetch_add(1, Ordering::SeqCst);
                     let Some(&trial) = todo.get(i) else { break };
                     if let Err(e) = one(batch, dir, trial, &meta, &shared, progress, ctx) {
-                        // The batch's own files cannot be written: stop taking trials.
+                        // The machine failed, or a signal asked: stop taking trials.
                         first_error
                             .lock()
                             .expect("no panic holds it")
@@ -131,10 +135,17 @@ pub fn run(batch: &Batch, o: &Settings, ctx: Context, progress: &dyn Progress) -
         }
     });
     progress.finish();
-    if let Some(e) = first_error.into_inner().expect("no panic holds it") {
-        return Err(e);
+    let stopped = first_error.into_inner().expect("no panic holds it");
+    if let Some(e) = stopped.or_else(|| whisker_scenario::stop::check().err()) {
+        return Err(stopped_batch(e, batch, o));
     }
     let (_, entries) = shared.into_inner().expect("no panic holds it");
+    // Written after each trial too; again here for a batch stopped between a trial's
+    // journal line and its trials.csv (nothing left to run on --resume).
+    whisker_scenario::files::write_atomic(
+        &dir.join(CSV),
+        journal::csv(&meta.factors, &entries).as_bytes(),
+    )?;
     let failed = entries
         .iter()
         .filter(|e| e.status == Status::Failed)
@@ -148,6 +159,30 @@ pub fn run(batch: &Batch, o: &Settings, ctx: Context, progress: &dyn Progress) -
         already,
         failed,
     })
+}
+
+/// The error that stopped a batch, with what was kept and the command that finishes it.
+fn stopped_batch(e: Error, batch: &Batch, o: &Settings) -> Error {
+    let resume = format!(
+        "whisker trials {} --out {}{} --resume",
+        batch.file.display(),
+        o.out.display(),
+        o.shard.map_or(String::new(), |s| format!(" --shard {s}"))
+    );
+    let kept = "the finished trials are journalled; the trials that were running are not, \
+                and --resume runs them again";
+    match e {
+        Error::Interrupted { signal, message } => Error::Interrupted {
+            signal,
+            message: format!("{message}: the batch stopped; {kept}. Finish it with: {resume}"),
+        },
+        Error::Output(m) => Error::Output(format!(
+            "{m}: the batch stopped, since this is a failure of the machine, not of a trial \
+             (no space, an I/O error, a permission); {kept}. Free the space or fix the \
+             cause, then: {resume}"
+        )),
+        other => other,
+    }
 }
 
 /// Checks (resume) or writes (new batch) the directory's metadata.
@@ -189,7 +224,9 @@ fn prepare(dir: &Path, meta: &Meta, o: &Settings) -> Result {
     }
 }
 
-/// Runs one trial and records it.
+/// Runs one trial and records it. A trial that failed is journalled `failed`; one whose
+/// outputs could not be written (the machine's failure) is not journalled: the error
+/// stops the batch and a plain `--resume` runs the trial again.
 fn one(
     batch: &Batch,
     dir: &Path,
@@ -205,7 +242,11 @@ fn one(
         .0
         .log("start", &trial.key)?;
     let started = Instant::now();
-    let result = run_trial(batch, trial, &dir.join(RUNS).join(&trial.key), ctx);
+    let result = match run_trial(batch, trial, &dir.join(RUNS).join(&trial.key), ctx) {
+        Ok(summary) => Ok(summary),
+        Err(Failed::Trial(e)) => Err(e),
+        Err(Failed::Stopped(e)) => return Err(e),
+    };
     let entry = Entry::new(batch, trial, result, started.elapsed().as_secs_f64());
     let mut guard = shared.lock().expect("no panic holds it");
     let (journal, entries) = &mut *guard;
@@ -219,20 +260,29 @@ fn one(
     )
 }
 
-/// Runs `trial` into `dir` on one thread; its summary, or the error (a panic included).
+/// Why a trial gave no row.
+#[derive(Debug)]
+pub enum Failed {
+    /// The trial itself failed (an error of its run, or a panic): journalled `failed`.
+    Trial(String),
+    /// The batch must stop: the trial's outputs could not be written ([`Error::Output`],
+    /// the machine failed), or a signal asked ([`Error::Interrupted`]).
+    Stopped(Error),
+}
+
+/// Runs `trial` into `dir` on one thread; its summary, or why not (a panic included).
 pub fn run_trial(
     batch: &Batch,
     trial: &Trial,
     dir: &Path,
     batch_ctx: Context,
-) -> Result<serde_json::Value, String> {
+) -> Result<serde_json::Value, Failed> {
     let work = || -> Result<serde_json::Value> {
         let scenario = batch.scenario(trial)?;
         whisker_scenario::files::create_dir(dir)?;
         let path = dir.join("stdout.txt");
         whisker_scenario::files::wrote(&path);
-        let mut file = std::fs::File::create(&path)
-            .map_err(|e| Error::Failure(format!("{}: {e}", path.display())))?;
+        let mut file = std::fs::File::create(&path).map_err(|e| Error::output(&path, e))?;
         use std::io::Write;
         let _ = writeln!(file, "# trial {}: {}", trial.key, batch.command(trial));
         let say = ToFile(Mutex::new(file), batch_ctx.reporter, &trial.key);
@@ -260,21 +310,22 @@ pub fn run_trial(
             drop_heavy(dir)?;
         }
         let summary = dir.join("summary.json");
-        let text = std::fs::read_to_string(&summary)
-            .map_err(|e| Error::Failure(format!("{}: {e}", summary.display())))?;
+        let text = std::fs::read_to_string(&summary).map_err(|e| Error::output(&summary, e))?;
         serde_json::from_str(&text)
             .map_err(|e| Error::Failure(format!("{}: {e}", summary.display())))
     };
     match std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)) {
-        Ok(r) => r.map_err(|e| e.to_string()),
-        Err(panic) => Err(format!(
+        Ok(Ok(summary)) => Ok(summary),
+        Ok(Err(e @ (Error::Output(_) | Error::Interrupted { .. }))) => Err(Failed::Stopped(e)),
+        Ok(Err(e)) => Err(Failed::Trial(e.to_string())),
+        Err(panic) => Err(Failed::Trial(format!(
             "panicked: {}",
             panic
                 .downcast_ref::<String>()
                 .cloned()
                 .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
                 .unwrap_or_default()
-        )),
+        ))),
     }
 }
 
@@ -300,7 +351,7 @@ impl Reporter for ToFile<'_> {
 
 /// Deletes the heavy outputs ([`HEAVY`]) of a light trial.
 fn drop_heavy(dir: &Path) -> Result {
-    let fail = |e: std::io::Error| Error::Failure(format!("{}: {e}", dir.display()));
+    let fail = |e: std::io::Error| Error::output(dir, e);
     for item in std::fs::read_dir(dir).map_err(fail)? {
         let item = item.map_err(fail)?;
         let name = item.file_name().to_string_lossy().into_owned();

@@ -225,7 +225,7 @@ pub fn read(dir: &Path) -> Result<Vec<Entry>> {
     if complete < text.len() {
         file.set_len(complete as u64)
             .and_then(|_| file.seek(SeekFrom::End(0)).map(|_| ()))
-            .map_err(|e| Error::Failure(format!("{}: {e}", path.display())))?;
+            .map_err(|e| Error::output(&path, e))?;
     }
     text[..complete]
         .lines()
@@ -279,14 +279,14 @@ impl Journal {
                 .create(true)
                 .append(true)
                 .open(dir.join(name))
-                .map_err(|e| Error::Failure(format!("{}: {e}", dir.join(name).display())))
+                .map_err(|e| Error::output(&dir.join(name), e))
         };
         let mut log = open(LOG)?;
         // A log line cut short by a kill: end it, so the next line starts on its own.
         let text = std::fs::read(dir.join(LOG)).unwrap_or_default();
         if text.last().is_some_and(|&b| b != b'\n') {
             log.write_all(b"\n")
-                .map_err(|e| Error::Failure(format!("{LOG}: {e}")))?;
+                .map_err(|e| Error::Output(format!("cannot write {LOG}: {e}")))?;
         }
         Ok(Self {
             journal: open(JOURNAL)?,
@@ -305,7 +305,7 @@ impl Journal {
         self.log
             .write_all(line.as_bytes())
             .and_then(|_| self.log.flush())
-            .map_err(|e| Error::Failure(format!("{LOG}: {e}")))
+            .map_err(|e| Error::Output(format!("cannot write {LOG}: {e}")))
     }
 
     /// Appends `entry` and waits until it is on disk.
@@ -313,7 +313,7 @@ impl Journal {
         self.journal
             .write_all(line(entry).as_bytes())
             .and_then(|_| self.journal.sync_data())
-            .map_err(|e| Error::Failure(format!("{JOURNAL}: {e}")))
+            .map_err(|e| Error::Output(format!("cannot write {JOURNAL}: {e}")))
     }
 }
 

@@ -19,6 +19,7 @@
 pub mod batch;
 pub mod bench;
 pub mod journal;
+pub mod lock;
 pub mod merge;
 mod plots;
 pub mod report;

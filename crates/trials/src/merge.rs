@@ -5,6 +5,7 @@
 //! present twice, or when the directories come from different scenarios.
 
 use crate::journal::{self, Entry, Meta, RUNS};
+use crate::lock::Lock;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use whisker_scenario::{Error, Result};
@@ -17,6 +18,13 @@ type Found<'a> = BTreeMap<String, Vec<(&'a Path, Entry)>>;
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<usize> {
     let metas: Vec<Meta> = dirs.iter().map(|d| Meta::read(d)).collect::<Result<_>>()?;
     same_batch(dirs, &metas, out)?;
+    // No shard may be running, nor anything else working on `out`.
+    let _shards: Vec<Lock> = dirs
+        .iter()
+        .map(|d| Lock::shared(d))
+        .collect::<Result<_>>()?;
+    whisker_scenario::files::create_dir(out)?;
+    let _out = Lock::exclusive(out)?;
     let mut found: Found = BTreeMap::new();
     for d in dirs {
         for e in journal::read(d)? {

@@ -5,6 +5,14 @@
 //! failed tasks with `--array=3,7` splits the work the same way), outputs are named
 //! `%A_%a`, and a task whose shard directory exists resumes it.
 //!
+//! Time limits and preemption (issue #68): the array asks for `--requeue` and
+//! `--signal=B:TERM@60`, so Slurm sends SIGTERM to the task's script 60 s before its time
+//! limit (and on preemption or `scancel --signal=TERM`). The script runs `whisker trials` in
+//! the background and passes the signal on; `whisker trials` stops its running trials
+//! cleanly within its grace (20 s) and exits 143, and the script then requeues its own
+//! task (`scontrol requeue`), which, run again, resumes its shard. A preemption with
+//! `PreemptMode=REQUEUE` requeues the task itself; the script's request is then redundant.
+//!
 //! Written into `DIR/slurm/`: `array.sh`, `merge.sh` and `submit.sh` (submits both and
 //! prints the job IDs). Shards go to `DIR/shards/<I>/`, the merged batch to `DIR/`. On a
 //! real cluster DIR must be on a filesystem every node sees.
@@ -12,6 +20,10 @@
 use std::path::{Path, PathBuf};
 use whisker_scenario::grid::{Batch, quote};
 use whisker_scenario::{Error, Result};
+
+/// Seconds before a time limit at which Slurm sends SIGTERM (`--signal=B:TERM@…`): the
+/// grace of `whisker trials` (20 s) and the requeue, with room to spare.
+pub const SIGNAL_S: u32 = 60;
 
 /// `whisker trials slurm`.
 #[derive(Debug, Clone)]
@@ -67,18 +79,34 @@ pub fn write(o: &Settings) -> Result<PathBuf> {
          #SBATCH --array=0-{last}\n\
          #SBATCH --cpus-per-task={cpus}\n\
          #SBATCH --output={logs}/%A_%a.log\n\
+         #SBATCH --requeue\n\
+         #SBATCH --open-mode=append\n\
+         #SBATCH --signal=B:TERM@{signal_s}\n\
          {extra}\
-         set -euo pipefail\n\
+         set -uo pipefail\n\
          I=${{SLURM_ARRAY_TASK_ID:?not run as a Slurm array task}}\n\
          SHARD={shards}/$I\n\
          RESUME=()\n\
          [ -e \"$SHARD/trials.json\" ] && RESUME=(--resume)\n\
-         exec {whisker} trials {scenario_q} --out \"$SHARD\" --shard \"$I/{k}\" \
-         --jobs \"${{SLURM_CPUS_PER_TASK:-{cpus}}}\" --no-report \"${{RESUME[@]}}\"\n",
+         # SIGTERM (time limit, preemption, scancel --signal=TERM) goes on to whisker, which\n\
+         # stops its running trials cleanly and exits 143; the task then requeues itself.\n\
+         {whisker} trials {scenario_q} --out \"$SHARD\" --shard \"$I/{k}\" \
+         --jobs \"${{SLURM_CPUS_PER_TASK:-{cpus}}}\" --no-report \"${{RESUME[@]}}\" &\n\
+         PID=$!\n\
+         trap 'kill -TERM \"$PID\" 2>/dev/null' TERM\n\
+         CODE=0\n\
+         wait \"$PID\" || CODE=$?\n\
+         while kill -0 \"$PID\" 2>/dev/null; do CODE=0; wait \"$PID\" || CODE=$?; done\n\
+         if [ \"$CODE\" -eq 143 ]; then\n\
+         \x20   echo \"whisker trials stopped by SIGTERM: requeueing task ${{SLURM_ARRAY_JOB_ID}}_$I\"\n\
+         \x20   scontrol requeue \"${{SLURM_ARRAY_JOB_ID}}_$I\"\n\
+         fi\n\
+         exit \"$CODE\"\n",
         n = batch.trials.len(),
         scenario = scenario.display(),
         last = k - 1,
         cpus = o.cpus_per_task,
+        signal_s = SIGNAL_S,
         logs = dir.join("logs").display(),
         shards = q(&out.join("shards")),
         whisker = q(&whisker),

@@ -56,6 +56,7 @@ impl Loop<'_> {
             if self.done() {
                 break;
             }
+            whisker_scenario::stop::check()?;
             // 1–2. Goal and move.
             let (goal, status) = self.go();
             if self.done() {

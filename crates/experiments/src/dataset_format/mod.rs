@@ -80,8 +80,7 @@ impl Staging {
         if let Some(parent) = full.parent() {
             whisker_scenario::files::create_dir(parent)?;
         }
-        std::fs::write(&full, bytes)
-            .map_err(|e| Error::Failure(format!("cannot write {}: {e}", full.display())))?;
+        std::fs::write(&full, bytes).map_err(|e| Error::output(&full, e))?;
         self.files.push(FileEntry::of(path, role, bytes));
         Ok(())
     }

@@ -50,6 +50,11 @@ pub struct ObjectSlamInfo {
     pub placement: String,
     /// Every walk, each object's A (two laps) then B (one lap).
     pub walks: Vec<WalkInfo>,
+    /// Level streams: each whisker's detection levels as the walks were detected (since
+    /// the noise rule, issue #61); absent in older datasets, which were detected at the
+    /// written defaults (500 counts).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frontend: Option<Vec<FrontEndParams>>,
 }
 
 /// `object_slam.placement` of a dataset that predates it.

@@ -5,6 +5,7 @@
 
 use super::manifest::{Manifest, Role};
 use super::{Staging, records};
+use crate::sensing::detection::Detection;
 use crate::sensing::held::{PhysicsSensing, WhiskLog};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
@@ -49,7 +50,7 @@ impl WhiskFiles {
     /// The first failure to write, if any.
     pub fn finish(&self) -> Result {
         match self.failure.lock().expect("not poisoned").take() {
-            Some(e) => Err(Error::Failure(e)),
+            Some(e) => Err(Error::Output(e)),
             None => Ok(()),
         }
     }
@@ -66,16 +67,18 @@ pub fn put_model(s: &mut Staging, model: &RadialEstimator) -> Result {
 
 /// The front end of held-still physics whisks as the dataset in `dir` (manifest `m`) was
 /// sensed: its radial-distance model, its array's shafts, and each whisker's detection
-/// `levels` as the manifest records them (closed loops: `closed_loop.frontend`), else the
-/// default levels of the models' training condition (object walks, §4.1.1).
+/// `levels` as the manifest records them (`closed_loop.frontend`, `object_slam.frontend`),
+/// else the written default levels (500 counts) older datasets were detected at.
 pub fn replay_sensing(
     dir: &Path,
     m: &Manifest,
     levels: Option<(&str, &[whisker_slam::frontend::contact::FrontEndParams])>,
 ) -> Result<PhysicsSensing> {
     let model = whisker_scenario::radial_model::load_or_default(Some(&m.file(dir, MODEL)?))?;
-    let sensing =
-        PhysicsSensing::new(Vec::new(), model).with_rigid(super::rigid_whiskers(dir, &m.array)?);
+    // A dataset without levels predates the noise rule: detected at the written defaults.
+    let written = Detection::as_written(whisker_slam::frontend::contact::FrontEndParams::default());
+    let sensing = PhysicsSensing::new(Vec::new(), model, &written)
+        .with_rigid(super::rigid_whiskers(dir, &m.array)?);
     Ok(match levels {
         None => sensing,
         Some((_, l)) if l.len() == m.array.labels.len() => sensing.with_levels(l.to_vec()),

@@ -216,7 +216,10 @@ fn physics_log(
     }
     let key = substream_key(run.seed, "maze-slam/physics");
     let configs = maze_physics::calibrated(configs, *rcp, key);
-    let front = ImageFrontEnd::new(&configs, &run.file.scenario.frontend.detection);
+    let front = ImageFrontEnd::new(
+        &configs,
+        &crate::sensing::detection::Detection::of_scenario(&run.file.scenario).at(key),
+    );
     let whiskers = front.rigid.clone();
     let labels = array_info(&whiskers).labels;
     let model = configs[0].sensor;

@@ -13,6 +13,7 @@ use super::geometry::{Geometry, UPDATE_HZ};
 use super::path::Sample;
 use crate::record::Reporter;
 use crate::sensing::contact::detect_on;
+use crate::sensing::detection::Detection;
 use nalgebra::Isometry3;
 use whisker_sim::sensing::calibration::calibrate_array_rcp;
 use whisker_sim::sensing::kinematic::RigidWhisker;
@@ -65,9 +66,9 @@ pub struct ImageFrontEnd {
 impl ImageFrontEnd {
     /// The front end of whiskers `configs` (RCP thresholds already calibrated) with the
     /// scenario's `detection` levels, fitted to each whisker's RCP threshold
-    /// ([`crate::sensing::detection::levels`]).
-    pub fn new(configs: &[WhiskerConfig], detection: &FrontEndParams) -> Self {
-        let params = crate::sensing::detection::levels(configs, detection);
+    /// ([`Detection::levels`]).
+    pub fn new(configs: &[WhiskerConfig], detection: &Detection) -> Self {
+        let params = detection.levels(configs);
         Self {
             params,
             rigid: configs.iter().map(WhiskerConfig::rigid).collect(),
@@ -175,15 +176,15 @@ pub fn images(
     path: &[Sample],
     environment: &[EnvironmentPiece],
     whiskers: &PhysicsWhiskers,
-    detection: &FrontEndParams,
+    detection: &Detection,
     seed: u64,
     g: &Geometry,
     reporter: &dyn Reporter,
-) -> Images {
+) -> whisker_scenario::Result<Images> {
     let configs = calibrated(whiskers.configs.clone(), whiskers.contact, seed);
     let front = ImageFrontEnd::new(&configs, detection);
     let mut by_cycle = Vec::new();
-    let done: Result<(), std::convert::Infallible> = simulate(
+    simulate(
         path,
         environment,
         configs,
@@ -191,12 +192,12 @@ pub fn images(
         g,
         reporter,
         |_, streams| {
+            whisker_scenario::stop::check()?;
             by_cycle.push(front.cycle(&streams, g));
-            Ok(())
+            Ok::<(), whisker_scenario::Error>(())
         },
-    );
-    let Ok(()) = done;
-    front.per_update(&by_cycle, path.len())
+    )?;
+    Ok(front.per_update(&by_cycle, path.len()))
 }
 
 #[cfg(test)]
@@ -233,7 +234,7 @@ mod tests {
             Some(8),
             2,
         );
-        let detection = FrontEndParams::default();
+        let detection = Detection::default_at(0);
         let (max, contact) = images(
             &path,
             &environment.physics_pieces(),
@@ -245,7 +246,8 @@ mod tests {
             0,
             &g,
             &crate::record::Silent,
-        );
+        )
+        .unwrap();
         let target = whisker_sim::sensing::kinematic::SweepTarget::of(&environment);
         let whiskers = super::super::kinematic_whiskers();
         let kinematic: Vec<TactileImage> = super::super::kinematic_contacts(

@@ -291,11 +291,12 @@ pub(super) fn sense(
                 truth,
                 &environment.physics_pieces(),
                 whiskers,
-                &scenario.frontend.detection,
+                &crate::sensing::detection::Detection::of_scenario(scenario)
+                    .at(substream_key(seed, "maze-slam/physics")),
                 substream_key(seed, "maze-slam/physics"),
                 g,
                 ctx.reporter,
-            );
+            )?;
             physics_sets(&config.images, &setup.set_names, max, contact)
         }
     };

@@ -308,6 +308,7 @@ pub fn run(
     };
     let mut clock = 0.0;
     for (k, b) in truth.iter().enumerate() {
+        whisker_scenario::stop::check()?;
         let reading = match k {
             0 => BaseMotion::default(),
             _ => readings[k - 1],

@@ -20,6 +20,7 @@ use crate::dataset_format::whisks::{WhiskFiles, put_model, replay_sensing};
 use crate::dataset_format::{Staging, array_info};
 use crate::object_slam::{self, Sensed, Walk};
 use crate::record::Context;
+use crate::sensing::detection::Detection;
 use crate::sensing::held::PhysicsSensing;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use rayon::prelude::*;
@@ -227,6 +228,7 @@ fn manifest(
             sensing: if physics { "physics" } else { "kinematic" }.into(),
             placement: o.placement.name().into(),
             walks,
+            frontend: physics.then(|| Detection::default_at(o.seed).levels(&sensing_configs())),
         }),
         ..Manifest::new(Experiment::ObjectSlam, level, o.seed, array)
     }
@@ -287,7 +289,14 @@ pub fn read(dir: &Path, m: &Manifest) -> Result<Vec<Sensed<'static>>> {
     };
     let physics = match (info.sensing.as_str(), m.level) {
         ("kinematic", Level::Contacts) => None,
-        ("physics", Level::Streams) => Some(replay_sensing(dir, m, None)?),
+        ("physics", Level::Streams) => {
+            let levels = info.frontend.as_deref();
+            Some(replay_sensing(
+                dir,
+                m,
+                levels.map(|l| ("object_slam.frontend", l)),
+            )?)
+        }
         _ => {
             return Err(Error::field(
                 &file,
@@ -357,7 +366,8 @@ pub fn read(dir: &Path, m: &Manifest) -> Result<Vec<Sensed<'static>>> {
     Ok(out)
 }
 
-/// The default array of `whisker object-slam --sensing physics` (RCP at saturation).
+/// The default array of `whisker object-slam --sensing physics` (RCP at saturation; as
+/// [`PhysicsSensing::new`](crate::sensing::held::PhysicsSensing::new) makes it).
 fn sensing_configs() -> Vec<WhiskerConfig> {
     array::modules()
         .into_iter()

@@ -46,6 +46,7 @@ pub use trajectory::{Placement, Trajectory, mean_step};
 pub use walk::{Object, Sensed, Walk, WalkSensing, anticipated, stream, walk};
 
 use crate::record::Context;
+use crate::sensing::detection::Detection;
 use crate::sensing::held::{self as physics, PhysicsSensing};
 use nalgebra::Isometry3;
 use rayon::prelude::*;
@@ -127,7 +128,11 @@ pub fn sense(
                 .map_err(|e| Error::Failure(format!("{}: {e}", asset.name)))?;
             let target = SweepTarget::new(mesh);
             let physics = model.clone().map(|m| {
-                let mut p = PhysicsSensing::new(vec![(shape.clone(), Isometry3::identity())], m);
+                let mut p = PhysicsSensing::new(
+                    vec![(shape.clone(), Isometry3::identity())],
+                    m,
+                    &Detection::default_at(o.seed),
+                );
                 p.log = log.clone();
                 p
             });

@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use whisker_scenario::ScenarioFile;
 use whisker_scenario::plan::Plan;
-use whisker_scenario::{Error, Result, Sensing};
+use whisker_scenario::{DetectionLevels, Error, Result, Sensing};
 use whisker_sim::kinematics::Chain;
 use whisker_sim::sensing::noise::PointNoise;
 use whisker_sim::whisker::control::{RcpThreshold, WhiskingPattern};
@@ -66,6 +66,15 @@ pub fn map_sensing(file: &ScenarioFile) -> Result<MapSensing> {
     Ok(match scenario.sensing {
         Sensing::Physics => {
             let d = &scenario.frontend.detection;
+            let counts = match scenario.frontend.detection_levels() {
+                DetectionLevels::NoiseMultiple(k) => {
+                    format!("confirm and prominence {k} σ of each whisker's free whisking")
+                }
+                DetectionLevels::AsWritten => format!(
+                    "confirm {} counts, prominence {} counts",
+                    d.confirm_counts, d.peaks.min_prominence
+                ),
+            };
             let model = scenario
                 .frontend
                 .radial_model
@@ -74,8 +83,8 @@ pub fn map_sensing(file: &ScenarioFile) -> Result<MapSensing> {
             MapSensing {
                 mode: SensedBy::Physics,
                 array: format!(
-                    "{array}; detection: confirm {} counts, prominence {} counts, width {} samples, span {} samples (fitted to each RCP threshold); radial model {model}",
-                    d.confirm_counts, d.peaks.min_prominence, d.peaks.min_width, d.smoothing_span
+                    "{array}; detection: {counts}, width {} samples, span {} samples (fitted to each RCP threshold); radial model {model}",
+                    d.peaks.min_width, d.smoothing_span
                 ),
             }
         }

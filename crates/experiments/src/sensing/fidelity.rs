@@ -18,6 +18,7 @@
 
 use super::held::PhysicsSensing;
 use crate::record::Reporter;
+use crate::sensing::detection::Detection;
 use nalgebra::Isometry3;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -31,7 +32,6 @@ use whisker_sim::sensing::viewpoints;
 use whisker_sim::whisker::array;
 use whisker_sim::whisker::control::RcpThreshold;
 use whisker_sim::whisker::strategies::SpreadReduction;
-use whisker_slam::frontend::contact::FrontEndParams;
 use whisker_slam::radial::RadialEstimator;
 use whisker_slam::stats::percentile;
 
@@ -200,11 +200,23 @@ pub struct Summary {
     pub slope: [f64; 2],
 }
 
+/// The detection levels of one whisker length in one mode (the default rule:
+/// [`Detection::default_at`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct Levels {
+    pub mode: Mode,
+    pub length_mm: f64,
+    pub confirm_counts: f64,
+    pub smoothing_span: usize,
+}
+
 /// The comparison's result.
 #[derive(Debug, Clone, Serialize)]
 pub struct Fidelity {
     pub poses: usize,
     pub seed: u64,
+    /// Each mode's levels, per whisker length.
+    pub levels: Vec<Levels>,
     pub summaries: Vec<Summary>,
     #[serde(skip)]
     pub rows: Vec<Row>,
@@ -214,6 +226,25 @@ pub struct Fidelity {
 pub fn compare(s: &Settings, model: &RadialEstimator, reporter: &dyn Reporter) -> Result<Fidelity> {
     let mut rows = Vec::new();
     let mut summaries = Vec::new();
+    let mut levels = Vec::new();
+    for mode in Mode::ALL {
+        let configs = mode.configs(s.seed);
+        let params = Detection::default_at(s.seed).levels(&configs);
+        for (c, p) in configs.iter().zip(&params) {
+            let length_mm = 1e3 * c.module.beam.length;
+            if !levels
+                .iter()
+                .any(|l: &Levels| l.mode == mode && l.length_mm == length_mm)
+            {
+                levels.push(Levels {
+                    mode,
+                    length_mm,
+                    confirm_counts: p.confirm_counts,
+                    smoothing_span: p.smoothing_span,
+                });
+            }
+        }
+    }
     for name in &s.objects {
         let asset = CATALOGUE.iter().find(|a| a.name == name).ok_or_else(|| {
             let known: Vec<&str> = CATALOGUE.iter().map(|a| a.name).collect();
@@ -231,7 +262,7 @@ pub fn compare(s: &Settings, model: &RadialEstimator, reporter: &dyn Reporter) -
                 vec![(shape.clone(), Isometry3::identity())],
                 model.clone(),
                 mode.configs(s.seed),
-                &FrontEndParams::default(),
+                &Detection::default_at(s.seed),
             );
             let stream = format!("fidelity/{name}/{}", mode.name());
             let these: Vec<Row> = poses
@@ -263,6 +294,7 @@ pub fn compare(s: &Settings, model: &RadialEstimator, reporter: &dyn Reporter) -
     Ok(Fidelity {
         poses: s.poses,
         seed: s.seed,
+        levels,
         summaries,
         rows,
     })
@@ -394,6 +426,25 @@ impl Fidelity {
         s
     }
 
+    /// The levels table: each mode's confirmation (counts) and span (samples) per whisker
+    /// length.
+    pub fn levels_table(&self) -> String {
+        let mut s = String::from(
+            "| mode | whisker mm | confirmation counts | span samples |\n|---|---|---|---|\n",
+        );
+        for l in &self.levels {
+            let _ = writeln!(
+                s,
+                "| {} | {:.0} | {:.1} | {} |",
+                l.mode.name(),
+                l.length_mm,
+                l.confirm_counts,
+                l.smoothing_span
+            );
+        }
+        s
+    }
+
     /// `fidelity.csv`: one row per anticipated or detected contact.
     pub fn csv(&self) -> Result<String> {
         let mut w = csv::Writer::from_writer(Vec::new());
@@ -418,14 +469,16 @@ pub fn run(s: &Settings, out: &std::path::Path, ctx: crate::record::Context) -> 
     let f = compare(s, &model, ctx.reporter)?;
     whisker_scenario::files::create_dir(out)?;
     let md = format!(
-        "# Front-end fidelity: physics against the anticipated contacts\n\n{} poses per object, noise seed {} (`whisker fidelity`); errors are |detected − anticipated| over the contacts both found on the same whisker.\n\n{}",
+        "# Front-end fidelity: physics against the anticipated contacts\n\n{} poses per object, noise seed {} (`whisker fidelity`); errors are |detected − anticipated| over the contacts both found on the same whisker.\n\n{}\n## Detection levels\n\nThe default rule (`[frontend] levels = \"noise\"`: 10 σ of each whisker's free whisking), fitted to each mode's RCP threshold.\n\n{}",
         f.poses,
         f.seed,
-        f.table()
+        f.table(),
+        f.levels_table()
     );
     whisker_scenario::files::write_atomic(&out.join("fidelity.md"), md.as_bytes())?;
     whisker_scenario::files::write_atomic(&out.join("fidelity.csv"), f.csv()?.as_bytes())?;
     whisker_scenario::files::write_json(&out.join("summary.json"), &f)?;
+    ctx.say(&f.levels_table());
     ctx.say(&f.table());
     Ok(f)
 }

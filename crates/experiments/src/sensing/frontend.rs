@@ -29,7 +29,7 @@ use whisker_slam::sensor::Sample;
 
 /// The front end along a physics run.
 pub struct FrontEnd {
-    /// Each whisker's detection levels ([`super::detection::levels`]).
+    /// Each whisker's detection levels ([`super::detection::Detection::levels`]).
     params: Vec<FrontEndParams>,
     model: RadialEstimator,
     whiskers: Vec<RigidWhisker>,
@@ -49,7 +49,7 @@ impl FrontEnd {
         let scenario = &file.scenario;
         let model = scenario.frontend.model(&file.path)?;
         Ok(Self {
-            params: super::detection::levels(configs, &scenario.frontend.detection),
+            params: super::detection::Detection::of_scenario(scenario).levels(configs),
             model,
             whiskers: configs.iter().map(WhiskerConfig::rigid).collect(),
             pattern: configs[0].pattern,

@@ -17,6 +17,7 @@
 //! flat (0), as a missing SDA entry does.
 
 use super::contact::estimate;
+use super::detection::Detection;
 use crate::record::Reporter;
 use nalgebra::Isometry3;
 use rayon::prelude::*;
@@ -52,9 +53,13 @@ pub type WhiskLog = std::sync::Arc<dyn Fn(&str, usize, &[Vec<Reading>]) + Send +
 
 impl PhysicsSensing {
     /// The default array in the radial-distance models' training condition (1 Hz, RCP at
-    /// the sensor's saturation, §4.1.1) with the default detection levels, against
+    /// the sensor's saturation, §4.1.1) detecting as `detection` says, against
     /// `environment`.
-    pub fn new(environment: Vec<EnvironmentPiece>, model: RadialEstimator) -> Self {
+    pub fn new(
+        environment: Vec<EnvironmentPiece>,
+        model: RadialEstimator,
+        detection: &Detection,
+    ) -> Self {
         let configs = array::modules()
             .into_iter()
             .map(|m| {
@@ -64,7 +69,7 @@ impl PhysicsSensing {
                 c
             })
             .collect();
-        Self::with_configs(environment, model, configs, &FrontEndParams::default())
+        Self::with_configs(environment, model, configs, detection)
     }
 
     /// The array and front end of the scenario in `file` against `environment`: its
@@ -83,20 +88,20 @@ impl PhysicsSensing {
             environment,
             model,
             configs,
-            &scenario.frontend.detection,
+            &Detection::of_scenario(scenario),
         ))
     }
 
     /// The array of `configs` (their RCP thresholds calibrated) against `environment`,
-    /// detecting at the levels [`super::detection::levels`] makes of `detection`.
+    /// detecting at the levels `detection` sets ([`Detection::levels`]).
     pub fn with_configs(
         environment: Vec<EnvironmentPiece>,
         model: RadialEstimator,
         configs: Vec<WhiskerConfig>,
-        detection: &FrontEndParams,
+        detection: &Detection,
     ) -> Self {
         let rigid = configs.iter().map(WhiskerConfig::rigid).collect();
-        let params = super::detection::levels(&configs, detection);
+        let params = detection.levels(&configs);
         Self {
             environment,
             model,
@@ -306,7 +311,11 @@ mod tests {
         let far = Isometry3::from_parts(Translation3::new(2.0, 0.0, 0.2), near.rotation);
         let target = SweepTarget::of(&environment);
         let model = whisker_scenario::radial_model::load_or_default(None).unwrap();
-        let sensing = PhysicsSensing::new(vec![(shape, Isometry3::identity())], model);
+        let sensing = PhysicsSensing::new(
+            vec![(shape, Isometry3::identity())],
+            model,
+            &Detection::default_at(0),
+        );
         let cycles = sensing.sense(&target, &[far, near], 0, "test", &crate::record::Silent);
         assert!(cycles[0].contacts.is_empty());
         let contacts = &cycles[1].contacts;
@@ -340,7 +349,11 @@ mod tests {
         let (near, _) = viewpoints::busiest(&environment, &shape, asset.size).unwrap();
         let target = SweepTarget::of(&environment);
         let model = whisker_scenario::radial_model::load_or_default(None).unwrap();
-        let sensing = PhysicsSensing::new(vec![(shape, Isometry3::identity())], model);
+        let sensing = PhysicsSensing::new(
+            vec![(shape, Isometry3::identity())],
+            model,
+            &Detection::default_at(0),
+        );
         let live = sensing.whisk(&target, 3, &near, 7, "t/physics/3");
         let streams = sensing.streams(&target, &near, 7, "t/physics/3");
         let labels: Vec<String> = sensing.rigid.iter().map(|w| w.module.pixel()).collect();

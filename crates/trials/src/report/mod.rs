@@ -43,6 +43,14 @@ struct Group<'a> {
     entries: Vec<&'a Entry>,
 }
 
+/// `whisker trials report DIR`: [`write`], refused (exit 2) while another process works on
+/// the batch ([`crate::lock`]).
+pub fn command(dir: &Path) -> Result<PathBuf> {
+    Meta::read(dir)?;
+    let _lock = crate::lock::Lock::exclusive(dir)?;
+    write(dir)
+}
+
 /// Writes `dir/report.md` and `dir/figures/`; returns the report's path.
 pub fn write(dir: &Path) -> Result<PathBuf> {
     let meta = Meta::read(dir)?;
