@@ -33,7 +33,7 @@ impl Error {
     pub fn interrupted(signal: i32) -> Self {
         Self::Interrupted {
             signal,
-            message: format!("stopped by {}", crate::stop::name(signal)),
+            message: format!("stopped by {}", signal_name(signal)),
         }
     }
 
@@ -57,6 +57,15 @@ impl std::error::Error for Error {}
 impl From<whisker_sim::kinematics::UrdfError> for Error {
     fn from(e: whisker_sim::kinematics::UrdfError) -> Self {
         Self::Input(e.to_string())
+    }
+}
+
+/// A signal's name: SIGINT, SIGTERM, else "signal N".
+pub fn signal_name(signal: i32) -> String {
+    match signal {
+        2 => "SIGINT".into(),
+        15 => "SIGTERM".into(),
+        s => format!("signal {s}"),
     }
 }
 

@@ -40,10 +40,4 @@ pub fn check() -> Result {
 }
 
 /// The signal's name.
-pub fn name(signal: i32) -> String {
-    match signal {
-        2 => "SIGINT".into(),
-        15 => "SIGTERM".into(),
-        s => format!("signal {s}"),
-    }
-}
+pub use crate::error::signal_name as name;
