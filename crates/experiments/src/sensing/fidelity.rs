@@ -16,6 +16,7 @@
 //! `fidelity/<object>` of seed 0, the array face 2–8 cm from the surface; sensor noise
 //! from sub-streams `fidelity/<object>/<mode>/<pose>` of `seed`.
 
+use super::fidelity_figure::{Example, example};
 use super::held::PhysicsSensing;
 use crate::record::Reporter;
 use crate::sensing::detection::Detection;
@@ -220,6 +221,9 @@ pub struct Fidelity {
     pub summaries: Vec<Summary>,
     #[serde(skip)]
     pub rows: Vec<Row>,
+    /// The whisks of `tip.svg` ([`super::fidelity_figure`]).
+    #[serde(skip)]
+    pub examples: Vec<Example>,
 }
 
 /// Senses every object of `s` in every mode both ways and compares.
@@ -227,6 +231,7 @@ pub fn compare(s: &Settings, model: &RadialEstimator, reporter: &dyn Reporter) -
     let mut rows = Vec::new();
     let mut summaries = Vec::new();
     let mut levels = Vec::new();
+    let mut examples = Vec::new();
     for mode in Mode::ALL {
         let configs = mode.configs(s.seed);
         let params = Detection::default_at(s.seed).levels(&configs);
@@ -278,6 +283,24 @@ pub fn compare(s: &Settings, model: &RadialEstimator, reporter: &dyn Reporter) -
                         })
                 })
                 .collect();
+            if name == "box" && mode == Mode::RcpSaturation {
+                let pattern = sensing.pattern(0);
+                let stroke = (
+                    pattern.retracted.to_degrees(),
+                    pattern.protracted.to_degrees(),
+                );
+                examples = pick_examples(&these, stroke)
+                    .into_iter()
+                    .filter_map(|(label, r)| {
+                        let i = sensing
+                            .rigid()
+                            .iter()
+                            .position(|w| w.module.pixel() == r.whisker)?;
+                        let at = (r.pose, &poses[r.pose]);
+                        example(&sensing, &target, at, (s.seed, &stream), (i, label))
+                    })
+                    .collect();
+            }
             let summary = summarise(name, mode, &these);
             reporter.note(&format!(
                 "  {name:<10} {:<16} recall {:5.1} %  precision {:5.1} %  ({} anticipated, {} detected)",
@@ -297,7 +320,38 @@ pub fn compare(s: &Settings, model: &RadialEstimator, reporter: &dyn Reporter) -
         levels,
         summaries,
         rows,
+        examples,
     })
+}
+
+/// The whisks `tip.svg` shows: the first anticipated contact on the middle of the shaft
+/// (35–65 % of its length) that was detected, and of those on its last 5 % the one with
+/// the least peak deflection, both away from the stroke's ends (`stroke`: retracted and protracted
+/// angle, °; the *start* and *end* classes of [`Miss`]).
+fn pick_examples(rows: &[Row], stroke: (f64, f64)) -> Vec<(&'static str, &Row)> {
+    let fraction = |r: &&Row| r.anticipated_fraction.unwrap_or(0.0);
+    let inside = |r: &&Row| {
+        r.anticipated_angle_deg
+            .is_some_and(|a| a > stroke.0 + 10.0 && a < stroke.1 - 2.5)
+    };
+    let mid = rows
+        .iter()
+        .filter(inside)
+        .find(|r| r.detected && (0.35..=0.65).contains(&fraction(r)));
+    let tips: Vec<&Row> = rows
+        .iter()
+        .filter(inside)
+        .filter(|r| fraction(r) >= 0.95)
+        .collect();
+    // The tip that loaded the follicle least: one that slid off rather than pressed.
+    let tip = tips
+        .iter()
+        .min_by(|a, b| a.peak_counts.total_cmp(&b.peak_counts))
+        .copied();
+    [("mid-shaft", mid), ("tip", tip)]
+        .into_iter()
+        .filter_map(|(label, r)| r.map(|r| (label, r)))
+        .collect()
 }
 
 /// The rows of one pose: every whisker with an anticipated or a detected contact.
@@ -460,7 +514,8 @@ impl Fidelity {
 }
 
 /// `whisker fidelity`: compares (printing a line per object and mode), writes
-/// `fidelity.md` (the table), `fidelity.csv` (every contact) and `summary.json` into `out`.
+/// `fidelity.md` (the table), `fidelity.csv` (every contact), `summary.json` and, with the
+/// Box among the objects, `tip.svg` ([`super::fidelity_figure`]) into `out`.
 pub fn run(s: &Settings, out: &std::path::Path, ctx: crate::record::Context) -> Result<Fidelity> {
     if s.poses == 0 {
         return Err(Error::Input("--poses: expected at least 1".into()));
@@ -478,6 +533,11 @@ pub fn run(s: &Settings, out: &std::path::Path, ctx: crate::record::Context) -> 
     whisker_scenario::files::write_atomic(&out.join("fidelity.md"), md.as_bytes())?;
     whisker_scenario::files::write_atomic(&out.join("fidelity.csv"), f.csv()?.as_bytes())?;
     whisker_scenario::files::write_json(&out.join("summary.json"), &f)?;
+    if !f.examples.is_empty() {
+        let path = out.join("tip.svg");
+        let svg = super::fidelity_figure::svg(&path, &f.examples)?;
+        whisker_scenario::files::write_atomic(&path, svg.as_bytes())?;
+    }
     ctx.say(&f.levels_table());
     ctx.say(&f.table());
     Ok(f)
@@ -519,5 +579,54 @@ mod tests {
         assert!(sat.anticipated >= 5, "{sat:?}");
         assert!(sat.recall >= 0.8 && sat.precision == 1.0, "{sat:?}");
         assert!(sat.onset_deg[0] < 5.0, "{sat:?}");
+        // The figure's whisks are anticipated contacts: each whisker's samples span the
+        // stroke and the anticipated onset lies inside it.
+        for e in &f.examples {
+            let (lo, hi) = e
+                .samples
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |a, s| {
+                    (a.0.min(s.0), a.1.max(s.0))
+                });
+            assert!(
+                lo < e.anticipated_deg && e.anticipated_deg < hi,
+                "{}",
+                e.title
+            );
+            assert!(e.confirm > 0.0);
+        }
+    }
+
+    /// The figure's picks: a detected contact at 35–65 % of the shaft, the tip contact
+    /// (≥ 95 %) with the least peak, neither within the stroke's start or end classes.
+    #[test]
+    fn the_figure_picks_a_mid_shaft_and_the_weakest_tip_contact_inside_the_stroke() {
+        let row = |pose: usize, angle: f64, fraction: f64, peak: f64, detected: bool| Row {
+            object: "box".into(),
+            mode: Mode::RcpSaturation,
+            pose,
+            whisker: "A1".into(),
+            anticipated: true,
+            detected,
+            onset_error_deg: None,
+            radial_error_mm: None,
+            point_error_mm: None,
+            slope_error: None,
+            anticipated_angle_deg: Some(angle),
+            anticipated_fraction: Some(fraction),
+            peak_counts: peak,
+            miss: None,
+        };
+        let rows = [
+            row(0, 45.0, 0.5, 900.0, true),  // at the start: no
+            row(1, 90.0, 0.5, 900.0, false), // missed: no
+            row(2, 90.0, 0.4, 900.0, true),  // the mid-shaft one
+            row(3, 139.0, 1.0, 5.0, true),   // at the end: no
+            row(4, 120.0, 0.97, 300.0, true),
+            row(5, 110.0, 0.99, 40.0, false), // the weakest tip inside the stroke
+        ];
+        let picked = pick_examples(&rows, (40.0, 140.0));
+        let poses: Vec<(&str, usize)> = picked.iter().map(|(l, r)| (*l, r.pose)).collect();
+        assert_eq!(poses, [("mid-shaft", 2), ("tip", 5)]);
     }
 }
