@@ -19,7 +19,6 @@ pub mod array_run;
 pub mod contact;
 pub mod detection;
 pub mod fidelity;
-pub mod fidelity_figure;
 pub mod frontend;
 pub mod held;
 pub mod sweep;

@@ -14,16 +14,21 @@
 //! 4.1), the contact-point error and the slope error (§5.1.1.1.3 against the contacted
 //! triangle's slope, Eq 6.12–6.14). Poses: [`viewpoints::facing`] of sub-stream
 //! `fidelity/<object>` of seed 0, the array face 2–8 cm from the surface; sensor noise
-//! from sub-streams `fidelity/<object>/<mode>/<pose>` of `seed`.
+//! from sub-streams `fidelity/<object>/<mode>/<pose>` of `seed`. The tables and files:
+//! [`output`]; the picture of a tip contact: [`figure`].
 
-use super::fidelity_figure::{Example, example};
+pub mod figure;
+pub mod output;
+
+pub use output::run;
+
 use super::held::PhysicsSensing;
 use crate::record::Reporter;
 use crate::sensing::detection::Detection;
+use figure::{Example, example, pick_examples};
 use nalgebra::Isometry3;
 use rayon::prelude::*;
 use serde::Serialize;
-use std::fmt::Write as _;
 use whisker_scenario::{Error, Result};
 use whisker_sim::environment::assets::{CATALOGUE, placed};
 use whisker_sim::sensing::calibration::calibrate_array_rcp;
@@ -324,36 +329,6 @@ pub fn compare(s: &Settings, model: &RadialEstimator, reporter: &dyn Reporter) -
     })
 }
 
-/// The whisks `tip.svg` shows: the first anticipated contact on the middle of the shaft
-/// (35–65 % of its length) that was detected, and of those on its last 5 % the one with
-/// the least peak deflection, both away from the stroke's ends (`stroke`: retracted and protracted
-/// angle, °; the *start* and *end* classes of [`Miss`]).
-fn pick_examples(rows: &[Row], stroke: (f64, f64)) -> Vec<(&'static str, &Row)> {
-    let fraction = |r: &&Row| r.anticipated_fraction.unwrap_or(0.0);
-    let inside = |r: &&Row| {
-        r.anticipated_angle_deg
-            .is_some_and(|a| a > stroke.0 + 10.0 && a < stroke.1 - 2.5)
-    };
-    let mid = rows
-        .iter()
-        .filter(inside)
-        .find(|r| r.detected && (0.35..=0.65).contains(&fraction(r)));
-    let tips: Vec<&Row> = rows
-        .iter()
-        .filter(inside)
-        .filter(|r| fraction(r) >= 0.95)
-        .collect();
-    // The tip that loaded the follicle least: one that slid off rather than pressed.
-    let tip = tips
-        .iter()
-        .min_by(|a, b| a.peak_counts.total_cmp(&b.peak_counts))
-        .copied();
-    [("mid-shaft", mid), ("tip", tip)]
-        .into_iter()
-        .filter_map(|(label, r)| r.map(|r| (label, r)))
-        .collect()
-}
-
 /// The rows of one pose: every whisker with an anticipated or a detected contact.
 fn compare_pose(
     sensing: &PhysicsSensing,
@@ -451,98 +426,6 @@ fn summarise(object: &str, mode: Mode, rows: &[Row]) -> Summary {
     }
 }
 
-impl Fidelity {
-    /// The table printed and written as `fidelity.md`.
-    pub fn table(&self) -> String {
-        let mut s = String::from(
-            "| object | mode | anticipated | detected | recall | precision | misses: start, end, tip, weak, other | onset ° (median, p90) | radial mm | point mm | slope |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
-        );
-        let pair = |v: [f64; 2], digits: usize| format!("{:.digits$}, {:.digits$}", v[0], v[1]);
-        for m in &self.summaries {
-            let _ = writeln!(
-                s,
-                "| {} | {} | {} | {} | {:.1} % | {:.1} % | {} | {} | {} | {} | {} |",
-                m.object,
-                m.mode.name(),
-                m.anticipated,
-                m.detected,
-                100.0 * m.recall,
-                100.0 * m.precision,
-                [Miss::Start, Miss::End, Miss::Tip, Miss::Weak, Miss::Other]
-                    .map(|c| m.misses.get(&c).copied().unwrap_or(0).to_string())
-                    .join(", "),
-                pair(m.onset_deg, 1),
-                pair(m.radial_mm, 1),
-                pair(m.point_mm, 1),
-                pair(m.slope, 2),
-            );
-        }
-        s
-    }
-
-    /// The levels table: each mode's confirmation (counts) and span (samples) per whisker
-    /// length.
-    pub fn levels_table(&self) -> String {
-        let mut s = String::from(
-            "| mode | whisker mm | confirmation counts | span samples |\n|---|---|---|---|\n",
-        );
-        for l in &self.levels {
-            let _ = writeln!(
-                s,
-                "| {} | {:.0} | {:.1} | {} |",
-                l.mode.name(),
-                l.length_mm,
-                l.confirm_counts,
-                l.smoothing_span
-            );
-        }
-        s
-    }
-
-    /// `fidelity.csv`: one row per anticipated or detected contact.
-    pub fn csv(&self) -> Result<String> {
-        let mut w = csv::Writer::from_writer(Vec::new());
-        for r in &self.rows {
-            w.serialize(r)
-                .map_err(|e| Error::Failure(format!("fidelity.csv: {e}")))?;
-        }
-        let bytes = w
-            .into_inner()
-            .map_err(|e| Error::Failure(format!("fidelity.csv: {e}")))?;
-        Ok(String::from_utf8_lossy(&bytes).into_owned())
-    }
-}
-
-/// `whisker fidelity`: compares (printing a line per object and mode), writes
-/// `fidelity.md` (the table), `fidelity.csv` (every contact), `summary.json` and, with the
-/// Box among the objects, `tip.svg` ([`super::fidelity_figure`]) into `out`.
-pub fn run(s: &Settings, out: &std::path::Path, ctx: crate::record::Context) -> Result<Fidelity> {
-    if s.poses == 0 {
-        return Err(Error::Input("--poses: expected at least 1".into()));
-    }
-    let model = whisker_scenario::radial_model::load_or_default(None)?;
-    let f = compare(s, &model, ctx.reporter)?;
-    whisker_scenario::files::create_dir(out)?;
-    let md = format!(
-        "# Front-end fidelity: physics against the anticipated contacts\n\n{} poses per object, noise seed {} (`whisker fidelity`); errors are |detected − anticipated| over the contacts both found on the same whisker.\n\n{}\n## Detection levels\n\nThe default rule (`[frontend] levels = \"noise\"`: 10 σ of each whisker's free whisking), fitted to each mode's RCP threshold.\n\n{}",
-        f.poses,
-        f.seed,
-        f.table(),
-        f.levels_table()
-    );
-    whisker_scenario::files::write_atomic(&out.join("fidelity.md"), md.as_bytes())?;
-    whisker_scenario::files::write_atomic(&out.join("fidelity.csv"), f.csv()?.as_bytes())?;
-    whisker_scenario::files::write_json(&out.join("summary.json"), &f)?;
-    if !f.examples.is_empty() {
-        let path = out.join("tip.svg");
-        let svg = super::fidelity_figure::svg(&path, &f.examples)?;
-        whisker_scenario::files::write_atomic(&path, svg.as_bytes())?;
-    }
-    ctx.say(&f.levels_table());
-    ctx.say(&f.table());
-    Ok(f)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -595,38 +478,5 @@ mod tests {
             );
             assert!(e.confirm > 0.0);
         }
-    }
-
-    /// The figure's picks: a detected contact at 35–65 % of the shaft, the tip contact
-    /// (≥ 95 %) with the least peak, neither within the stroke's start or end classes.
-    #[test]
-    fn the_figure_picks_a_mid_shaft_and_the_weakest_tip_contact_inside_the_stroke() {
-        let row = |pose: usize, angle: f64, fraction: f64, peak: f64, detected: bool| Row {
-            object: "box".into(),
-            mode: Mode::RcpSaturation,
-            pose,
-            whisker: "A1".into(),
-            anticipated: true,
-            detected,
-            onset_error_deg: None,
-            radial_error_mm: None,
-            point_error_mm: None,
-            slope_error: None,
-            anticipated_angle_deg: Some(angle),
-            anticipated_fraction: Some(fraction),
-            peak_counts: peak,
-            miss: None,
-        };
-        let rows = [
-            row(0, 45.0, 0.5, 900.0, true),  // at the start: no
-            row(1, 90.0, 0.5, 900.0, false), // missed: no
-            row(2, 90.0, 0.4, 900.0, true),  // the mid-shaft one
-            row(3, 139.0, 1.0, 5.0, true),   // at the end: no
-            row(4, 120.0, 0.97, 300.0, true),
-            row(5, 110.0, 0.99, 40.0, false), // the weakest tip inside the stroke
-        ];
-        let picked = pick_examples(&rows, (40.0, 140.0));
-        let poses: Vec<(&str, usize)> = picked.iter().map(|(l, r)| (*l, r.pose)).collect();
-        assert_eq!(poses, [("mid-shaft", 2), ("tip", 5)]);
     }
 }

@@ -6,7 +6,8 @@
 //! and slides off, loading the follicle by a few tens of counts. The anticipated onset
 //! (the rigid sweep's) and the whisker's confirmation level are drawn on each.
 
-use super::held::PhysicsSensing;
+use super::Row;
+use crate::sensing::held::PhysicsSensing;
 use plotters::prelude::*;
 use std::path::Path;
 use whisker_scenario::{Error, Result};
@@ -133,4 +134,73 @@ fn draw(svg: &mut String, examples: &[Example]) -> Drawn {
     }
     root.present()?;
     Ok(())
+}
+
+/// The whisks `tip.svg` shows: the first anticipated contact on the middle of the shaft
+/// (35–65 % of its length) that was detected, and of those on its last 5 % the one with
+/// the least peak deflection, both away from the stroke's ends (`stroke`: retracted and protracted
+/// angle, °; the *start* and *end* classes of [`super::Miss`]).
+pub(super) fn pick_examples(rows: &[Row], stroke: (f64, f64)) -> Vec<(&'static str, &Row)> {
+    let fraction = |r: &&Row| r.anticipated_fraction.unwrap_or(0.0);
+    let inside = |r: &&Row| {
+        r.anticipated_angle_deg
+            .is_some_and(|a| a > stroke.0 + 10.0 && a < stroke.1 - 2.5)
+    };
+    let mid = rows
+        .iter()
+        .filter(inside)
+        .find(|r| r.detected && (0.35..=0.65).contains(&fraction(r)));
+    let tips: Vec<&Row> = rows
+        .iter()
+        .filter(inside)
+        .filter(|r| fraction(r) >= 0.95)
+        .collect();
+    // The tip that loaded the follicle least: one that slid off rather than pressed.
+    let tip = tips
+        .iter()
+        .min_by(|a, b| a.peak_counts.total_cmp(&b.peak_counts))
+        .copied();
+    [("mid-shaft", mid), ("tip", tip)]
+        .into_iter()
+        .filter_map(|(label, r)| r.map(|r| (label, r)))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::Mode;
+    use super::*;
+
+    /// The figure's picks: a detected contact at 35–65 % of the shaft, the tip contact
+    /// (≥ 95 %) with the least peak, neither within the stroke's start or end classes.
+    #[test]
+    fn the_figure_picks_a_mid_shaft_and_the_weakest_tip_contact_inside_the_stroke() {
+        let row = |pose: usize, angle: f64, fraction: f64, peak: f64, detected: bool| Row {
+            object: "box".into(),
+            mode: Mode::RcpSaturation,
+            pose,
+            whisker: "A1".into(),
+            anticipated: true,
+            detected,
+            onset_error_deg: None,
+            radial_error_mm: None,
+            point_error_mm: None,
+            slope_error: None,
+            anticipated_angle_deg: Some(angle),
+            anticipated_fraction: Some(fraction),
+            peak_counts: peak,
+            miss: None,
+        };
+        let rows = [
+            row(0, 45.0, 0.5, 900.0, true),  // at the start: no
+            row(1, 90.0, 0.5, 900.0, false), // missed: no
+            row(2, 90.0, 0.4, 900.0, true),  // the mid-shaft one
+            row(3, 139.0, 1.0, 5.0, true),   // at the end: no
+            row(4, 120.0, 0.97, 300.0, true),
+            row(5, 110.0, 0.99, 40.0, false), // the weakest tip inside the stroke
+        ];
+        let picked = pick_examples(&rows, (40.0, 140.0));
+        let poses: Vec<(&str, usize)> = picked.iter().map(|(l, r)| (*l, r.pose)).collect();
+        assert_eq!(poses, [("mid-shaft", 2), ("tip", 5)]);
+    }
 }
