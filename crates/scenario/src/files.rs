@@ -133,7 +133,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result {
 /// Writes `value` as compact JSON to `path` atomically: the format of
 /// `ObjectMap::save`, the way every other output is written.
 pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result {
-    let text = serde_json::to_string(value).map_err(|e| Error::output(path, e))?;
+    // A value that cannot be serialised is the work's failure, not the machine's.
+    let text = serde_json::to_string(value)
+        .map_err(|e| Error::Failure(format!("cannot write {}: {e}", path.display())))?;
     write_atomic(path, text.as_bytes())
 }
 

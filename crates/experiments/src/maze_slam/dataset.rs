@@ -215,11 +215,8 @@ fn physics_log(
         }
     }
     let key = substream_key(run.seed, "maze-slam/physics");
-    let configs = maze_physics::calibrated(configs, *rcp, key);
-    let front = ImageFrontEnd::new(
-        &configs,
-        &crate::sensing::detection::Detection::of_scenario(&run.file.scenario).at(key),
-    );
+    let detection = crate::sensing::detection::Detection::of_scenario(&run.file.scenario);
+    let (configs, front) = maze_physics::calibrated(configs, *rcp, &detection, key);
     let whiskers = front.rigid.clone();
     let labels = array_info(&whiskers).labels;
     let model = configs[0].sensor;

@@ -124,16 +124,19 @@ pub fn cycles(updates: usize, frequency: f64) -> usize {
 }
 
 /// `configs` with their contact thresholds calibrated (mode `contact`, noise from
-/// `seed`).
+/// `seed`), and their front end detecting as `detection` says, its free-whisking σ
+/// measured on the same `seed`.
 pub fn calibrated(
     mut configs: Vec<WhiskerConfig>,
     contact: Option<RcpThreshold>,
+    detection: &Detection,
     seed: u64,
-) -> Vec<WhiskerConfig> {
+) -> (Vec<WhiskerConfig>, ImageFrontEnd) {
     if let Some(mode) = contact {
         calibrate_array_rcp(&mut configs, mode, seed, DT);
     }
-    configs
+    let front = ImageFrontEnd::new(&configs, &detection.at(seed));
+    (configs, front)
 }
 
 /// Simulates the whole path with whiskers `configs` (calibrated) and hands each whisk
@@ -181,8 +184,7 @@ pub fn images(
     g: &Geometry,
     reporter: &dyn Reporter,
 ) -> whisker_scenario::Result<Images> {
-    let configs = calibrated(whiskers.configs.clone(), whiskers.contact, seed);
-    let front = ImageFrontEnd::new(&configs, detection);
+    let (configs, front) = calibrated(whiskers.configs.clone(), whiskers.contact, detection, seed);
     let mut by_cycle = Vec::new();
     simulate(
         path,

@@ -291,8 +291,7 @@ pub(super) fn sense(
                 truth,
                 &environment.physics_pieces(),
                 whiskers,
-                &crate::sensing::detection::Detection::of_scenario(scenario)
-                    .at(substream_key(seed, "maze-slam/physics")),
+                &crate::sensing::detection::Detection::of_scenario(scenario),
                 substream_key(seed, "maze-slam/physics"),
                 g,
                 ctx.reporter,

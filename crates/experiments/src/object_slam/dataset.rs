@@ -20,8 +20,7 @@ use crate::dataset_format::whisks::{WhiskFiles, put_model, replay_sensing};
 use crate::dataset_format::{Staging, array_info};
 use crate::object_slam::{self, Sensed, Walk};
 use crate::record::Context;
-use crate::sensing::detection::Detection;
-use crate::sensing::held::PhysicsSensing;
+use crate::sensing::held::{PhysicsSensing, training_configs};
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use rayon::prelude::*;
 use std::fmt::Write;
@@ -80,14 +79,17 @@ pub fn write(o: &ObjectDataset, s: &mut Staging, ctx: Context) -> Result<Manifes
         ..Default::default()
     };
     let whiskers: Vec<RigidWhisker> = match physics {
-        true => sensing_configs().iter().map(WhiskerConfig::rigid).collect(),
+        true => training_configs()
+            .iter()
+            .map(WhiskerConfig::rigid)
+            .collect(),
         false => array::modules()
             .into_iter()
             .map(|m| RigidWhisker::new(m, 3.0e-3))
             .collect(),
     };
     let array = array_info(&whiskers);
-    let sensor = sensing_configs()[0].sensor;
+    let sensor = training_configs()[0].sensor;
     // Physics: each whisk's samples straight to its file, as the walks are simulated.
     let files = physics.then(|| {
         let dir = s.path("log");
@@ -193,7 +195,7 @@ fn manifest(
     array: crate::dataset_format::manifest::ArrayInfo,
 ) -> Manifest {
     let physics = o.sensing == SensingMode::Physics;
-    let first = sensing_configs().swap_remove(0);
+    let first = training_configs().swap_remove(0);
     let sensor = first.sensor;
     let noise = if o.clean || physics {
         ContactNoise::NONE
@@ -228,7 +230,7 @@ fn manifest(
             sensing: if physics { "physics" } else { "kinematic" }.into(),
             placement: o.placement.name().into(),
             walks,
-            frontend: physics.then(|| Detection::default_at(o.seed).levels(&sensing_configs())),
+            frontend: physics.then(|| object_slam::physics_levels(o.seed)),
         }),
         ..Manifest::new(Experiment::ObjectSlam, level, o.seed, array)
     }
@@ -364,21 +366,6 @@ pub fn read(dir: &Path, m: &Manifest) -> Result<Vec<Sensed<'static>>> {
         });
     }
     Ok(out)
-}
-
-/// The default array of `whisker object-slam --sensing physics` (RCP at saturation; as
-/// [`PhysicsSensing::new`](crate::sensing::held::PhysicsSensing::new) makes it).
-fn sensing_configs() -> Vec<WhiskerConfig> {
-    array::modules()
-        .into_iter()
-        .map(|m| {
-            let mut c = WhiskerConfig::with_defaults(m);
-            c.contact_threshold
-                .get_or_insert(c.sensor.saturation_counts);
-            c.control.rcp = true;
-            c
-        })
-        .collect()
 }
 
 /// The trajectory named `A` or `B`.

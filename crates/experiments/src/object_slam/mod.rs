@@ -100,6 +100,12 @@ pub fn objects(names: &[String]) -> Result<Vec<&'static Asset>> {
         .collect()
 }
 
+/// The detection levels of `--sensing physics`: the defaults ([`Detection::default_at`])
+/// on the training condition's array ([`physics::training_configs`]), σ on `seed`.
+pub fn physics_levels(seed: u64) -> Vec<whisker_slam::frontend::contact::FrontEndParams> {
+    Detection::default_at(seed).levels(&physics::training_configs())
+}
+
 /// Senses every object of `o` (walks A and B); `noise` false: a clean dataset's walks;
 /// physics sensing hands every whisk's samples to `log` (a dataset writer).
 pub fn sense(
@@ -120,6 +126,8 @@ pub fn sense(
             path.as_deref(),
         )?),
     };
+    // The levels once for every object (a free-whisking calibration of each whisker).
+    let levels = model.as_ref().map(|_| physics_levels(o.seed));
     assets
         .par_iter()
         .map(|asset| {
@@ -127,11 +135,12 @@ pub fn sense(
             let shape = whisker_sim::environment::solids::shape(&mesh)
                 .map_err(|e| Error::Failure(format!("{}: {e}", asset.name)))?;
             let target = SweepTarget::new(mesh);
-            let physics = model.clone().map(|m| {
-                let mut p = PhysicsSensing::new(
+            let physics = model.clone().zip(levels.clone()).map(|(m, levels)| {
+                let mut p = PhysicsSensing::with_params(
                     vec![(shape.clone(), Isometry3::identity())],
                     m,
-                    &Detection::default_at(o.seed),
+                    physics::training_configs(),
+                    levels,
                 );
                 p.log = log.clone();
                 p

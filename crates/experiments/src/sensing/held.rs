@@ -48,6 +48,20 @@ pub struct PhysicsSensing {
     params: Vec<FrontEndParams>,
 }
 
+/// The default array in the radial-distance models' training condition: 1 Hz, RCP at the
+/// sensor's saturation (§4.1.1) — what `whisker object-slam --sensing physics` whisks.
+pub fn training_configs() -> Vec<WhiskerConfig> {
+    array::modules()
+        .into_iter()
+        .map(|m| {
+            let mut c = WhiskerConfig::with_defaults(m);
+            c.control.rcp = true;
+            c.contact_threshold = Some(c.sensor.saturation_counts);
+            c
+        })
+        .collect()
+}
+
 /// A receiver of whisks' samples: (stream, whisk number, every whisker's samples).
 pub type WhiskLog = std::sync::Arc<dyn Fn(&str, usize, &[Vec<Reading>]) + Send + Sync>;
 
@@ -60,16 +74,7 @@ impl PhysicsSensing {
         model: RadialEstimator,
         detection: &Detection,
     ) -> Self {
-        let configs = array::modules()
-            .into_iter()
-            .map(|m| {
-                let mut c = WhiskerConfig::with_defaults(m);
-                c.control.rcp = true;
-                c.contact_threshold = Some(c.sensor.saturation_counts);
-                c
-            })
-            .collect();
-        Self::with_configs(environment, model, configs, detection)
+        Self::with_configs(environment, model, training_configs(), detection)
     }
 
     /// The array and front end of the scenario in `file` against `environment`: its
@@ -100,8 +105,19 @@ impl PhysicsSensing {
         configs: Vec<WhiskerConfig>,
         detection: &Detection,
     ) -> Self {
-        let rigid = configs.iter().map(WhiskerConfig::rigid).collect();
         let params = detection.levels(&configs);
+        Self::with_params(environment, model, configs, params)
+    }
+
+    /// The array of `configs` against `environment`, detecting at each whisker's `params`
+    /// (levels already set: computed once for many environments).
+    pub fn with_params(
+        environment: Vec<EnvironmentPiece>,
+        model: RadialEstimator,
+        configs: Vec<WhiskerConfig>,
+        params: Vec<FrontEndParams>,
+    ) -> Self {
+        let rigid = configs.iter().map(WhiskerConfig::rigid).collect();
         Self {
             environment,
             model,

@@ -38,6 +38,7 @@ use whisker_sim::sensing::viewpoints;
 use whisker_sim::whisker::array;
 use whisker_sim::whisker::control::RcpThreshold;
 use whisker_sim::whisker::strategies::SpreadReduction;
+use whisker_slam::frontend::contact::FrontEndParams;
 use whisker_slam::radial::RadialEstimator;
 use whisker_slam::stats::percentile;
 
@@ -226,7 +227,7 @@ pub struct Fidelity {
     pub summaries: Vec<Summary>,
     #[serde(skip)]
     pub rows: Vec<Row>,
-    /// The whisks of `tip.svg` ([`super::fidelity_figure`]).
+    /// The whisks of `tip.svg` ([`figure`]).
     #[serde(skip)]
     pub examples: Vec<Example>,
 }
@@ -237,10 +238,18 @@ pub fn compare(s: &Settings, model: &RadialEstimator, reporter: &dyn Reporter) -
     let mut summaries = Vec::new();
     let mut levels = Vec::new();
     let mut examples = Vec::new();
-    for mode in Mode::ALL {
-        let configs = mode.configs(s.seed);
-        let params = Detection::default_at(s.seed).levels(&configs);
-        for (c, p) in configs.iter().zip(&params) {
+    // Each mode's array and levels, calibrated once for every object.
+    let arrays: Vec<(Mode, Vec<WhiskerConfig>, Vec<FrontEndParams>)> = Mode::ALL
+        .into_iter()
+        .map(|mode| {
+            let configs = mode.configs(s.seed);
+            let params = Detection::default_at(s.seed).levels(&configs);
+            (mode, configs, params)
+        })
+        .collect();
+    for (mode, configs, params) in &arrays {
+        let mode = *mode;
+        for (c, p) in configs.iter().zip(params) {
             let length_mm = 1e3 * c.module.beam.length;
             if !levels
                 .iter()
@@ -267,12 +276,13 @@ pub fn compare(s: &Settings, model: &RadialEstimator, reporter: &dyn Reporter) -
             placed(asset).map_err(|e| Error::Failure(format!("{name}: {e}")))?;
         let target = SweepTarget::of(&environment);
         let poses = viewpoints::facing(&shape, asset.size, s.poses, &format!("fidelity/{name}"));
-        for mode in Mode::ALL {
-            let sensing = PhysicsSensing::with_configs(
+        for (mode, configs, params) in &arrays {
+            let mode = *mode;
+            let sensing = PhysicsSensing::with_params(
                 vec![(shape.clone(), Isometry3::identity())],
                 model.clone(),
-                mode.configs(s.seed),
-                &Detection::default_at(s.seed),
+                configs.clone(),
+                params.clone(),
             );
             let stream = format!("fidelity/{name}/{}", mode.name());
             let these: Vec<Row> = poses
