@@ -1295,9 +1295,12 @@ fn write_summary_and_footer_magic<W: Write + Seek>(
     summary: &Summary,
     options: &WriteOptions,
 ) -> McapResult<()> {
-    let all_channels: Vec<_> = summary
-        .channels
-        .iter()
+    // whisker-slam patch 1: the summary's channels and schemas in id order, not the
+    // HashMaps' (randomly seeded) order, so that the same input gives the same file.
+    let mut channel_ids: Vec<_> = summary.channels.iter().collect();
+    channel_ids.sort_by_key(|(&id, _)| id);
+    let all_channels: Vec<_> = channel_ids
+        .into_iter()
         .map(|(&id, channel)| {
             let schema_id = channel.schema.as_ref().map(|schema| schema.id).unwrap_or(0);
             records::Channel {
@@ -1309,9 +1312,10 @@ fn write_summary_and_footer_magic<W: Write + Seek>(
             }
         })
         .collect();
-    let all_schemas: Vec<_> = summary
-        .schemas
-        .iter()
+    let mut schema_ids: Vec<_> = summary.schemas.iter().collect();
+    schema_ids.sort_by_key(|(&id, _)| id);
+    let all_schemas: Vec<_> = schema_ids
+        .into_iter()
         .map(|(&id, schema)| Record::Schema {
             header: records::SchemaHeader {
                 id,
