@@ -50,6 +50,9 @@ enum Command {
     Dataset(cli::dataset::Args),
     /// Run the front end and the SLAM a dataset's manifest names, from the dataset alone.
     Slam(cli::dataset::SlamArgs),
+    /// Write a dataset or a run's output as a ROS 2 bag (MCAP), readable by the ROS 2 tools;
+    /// `whisker slam --mcap` replays a dataset's bag.
+    Export(cli::export::Args),
     /// Radial distance to contact (thesis Ch 4): data sets, the Table 4.1 models, validation.
     Radial {
         #[command(subcommand)]
@@ -144,6 +147,7 @@ fn dispatch(command: Command, ctx: Context) -> whisker_scenario::Result {
         Command::MazeSlam(a) => cli::maze_slam::run(&a, ctx),
         Command::Dataset(a) => cli::dataset::run(&a, ctx),
         Command::Slam(a) => cli::dataset::slam(&a, ctx),
+        Command::Export(a) => cli::export::run(&a),
         Command::Radial { command } => cli::radial::run(&command, ctx),
         Command::Assets { command } => cli::tools::assets(&command, ctx),
         Command::Urdf { command } => cli::tools::urdf(&command, ctx),

@@ -54,6 +54,10 @@ pub struct WriteArgs {
     /// Change a scenario field by its dotted path, as `whisker run --set` (repeatable).
     #[arg(long = "set", value_name = "PATH=VALUE", value_parser = Override::parse)]
     pub set: Vec<Override>,
+    /// Also write the dataset as a ROS 2 bag (MCAP) to this file (must not exist;
+    /// docs/dataset.md, "ROS 2 bags").
+    #[arg(long)]
+    pub mcap: Option<PathBuf>,
 }
 
 /// `whisker dataset noise`.
@@ -85,6 +89,10 @@ pub struct NoiseArgs {
     /// σ of the contact slope.
     #[arg(long, default_value_t = 0.33)]
     pub slope_sigma: f64,
+    /// Also write the dataset as a ROS 2 bag (MCAP) to this file (must not exist;
+    /// docs/dataset.md, "ROS 2 bags").
+    #[arg(long)]
+    pub mcap: Option<PathBuf>,
 }
 
 /// `whisker dataset object-slam`.
@@ -115,13 +123,22 @@ pub struct ObjectArgs {
     /// --placement`); recorded in the manifest.
     #[arg(long, value_parser = choice::<Placement>(), default_value = "thesis")]
     pub placement: Placement,
+    /// Also write the dataset as a ROS 2 bag (MCAP) to this file (must not exist;
+    /// docs/dataset.md, "ROS 2 bags").
+    #[arg(long)]
+    pub mcap: Option<PathBuf>,
 }
 
 /// Run the front end and the SLAM a dataset's manifest names, from the dataset alone.
 #[derive(clap::Args, Debug)]
 pub struct SlamArgs {
     /// The dataset's directory.
-    pub dataset: PathBuf,
+    #[arg(required_unless_present = "mcap")]
+    pub dataset: Option<PathBuf>,
+    /// Replay the dataset a ROS 2 bag carries (`whisker export --mcap`) instead of a
+    /// directory: the same result.
+    #[arg(long, conflicts_with = "dataset")]
+    pub mcap: Option<PathBuf>,
     /// Directory for the results (as the experiment's own command writes them).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -132,6 +149,12 @@ pub struct SlamArgs {
 
 /// `whisker dataset …`.
 pub fn run(a: &Args, ctx: Context) -> Result {
+    let mcap = match &a.command {
+        Some(Command::Noise(n)) => n.mcap.as_ref(),
+        Some(Command::ObjectSlam(o)) => o.mcap.as_ref(),
+        None => a.write.mcap.as_ref(),
+    };
+    super::export::check_new(mcap)?;
     let written = match &a.command {
         Some(Command::Noise(n)) => dataset_runs::noise::run(&NoiseSettings {
             input: n.input.clone(),
@@ -174,12 +197,13 @@ pub fn run(a: &Args, ctx: Context) -> Result {
         }
     };
     eprint!("{written}");
-    Ok(())
+    super::export::also(&written.out, mcap)
 }
 
 /// `whisker slam DIR`.
 pub fn slam(a: &SlamArgs, ctx: Context) -> Result {
-    let report = dataset_runs::slam(&a.dataset, a.out.as_deref(), ctx)?;
+    let (dir, _unpacked) = super::export::dataset(a.dataset.as_ref(), a.mcap.as_ref())?;
+    let report = dataset_runs::slam(&dir, a.out.as_deref(), ctx)?;
     match a.json {
         true => print_json(&report, false),
         false => print!("{report}"),

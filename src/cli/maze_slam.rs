@@ -69,6 +69,9 @@ pub struct Args {
     /// simulator: its log, its parameters and, when present, its ground truth.
     #[arg(long, conflicts_with_all = ["seeds", "images", "sensing", "rcp", "bending", "segments", "substeps", "set"])]
     pub dataset: Option<PathBuf>,
+    /// Run from the dataset a ROS 2 bag carries (`whisker export --mcap`): as `--dataset`.
+    #[arg(long, conflicts_with_all = ["dataset", "seeds", "images", "sensing", "rcp", "bending", "segments", "substeps", "set"])]
+    pub mcap: Option<PathBuf>,
     #[command(flatten)]
     pub rrd: RrdArgs,
 }
@@ -91,7 +94,14 @@ pub fn run(a: &Args, ctx: Context) -> Result {
         set: a.set.clone(),
         rrd: a.rrd.target(),
     };
-    let report = match &a.dataset {
+    let (dataset, _unpacked) = match (&a.dataset, &a.mcap) {
+        (None, None) => (None, None),
+        (d, m) => {
+            let (dir, u) = super::export::dataset(d.as_ref(), m.as_ref())?;
+            (Some(dir), u)
+        }
+    };
+    let report = match &dataset {
         Some(dir) => maze_slam::replay(&settings, dir, &Manifest::read(dir)?, ctx)?,
         None => maze_slam::run(&settings, ctx)?,
     };

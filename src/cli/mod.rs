@@ -5,6 +5,7 @@ pub mod bench;
 pub mod characterize;
 pub mod console;
 pub mod dataset;
+pub mod export;
 pub mod fidelity;
 pub mod maze_slam;
 pub mod object_slam;

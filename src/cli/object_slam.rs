@@ -49,6 +49,9 @@ pub struct Args {
     /// simulator: its objects, seed and contacts.
     #[arg(long, conflicts_with_all = ["objects", "seed", "sensing", "radial_model", "placement", "point_noise"])]
     pub dataset: Option<PathBuf>,
+    /// Run from the dataset a ROS 2 bag carries (`whisker export --mcap`): as `--dataset`.
+    #[arg(long, conflicts_with_all = ["dataset", "objects", "seed", "sensing", "radial_model", "placement", "point_noise"])]
+    pub mcap: Option<PathBuf>,
     #[command(flatten)]
     pub rrd: RrdArgs,
 }
@@ -66,7 +69,14 @@ pub fn run(a: &Args, ctx: Context) -> Result {
         point_noise: a.point_noise,
         rrd: a.rrd.target(),
     };
-    let report = match &a.dataset {
+    let (dataset, _unpacked) = match (&a.dataset, &a.mcap) {
+        (None, None) => (None, None),
+        (d, m) => {
+            let (dir, u) = super::export::dataset(d.as_ref(), m.as_ref())?;
+            (Some(dir), u)
+        }
+    };
+    let report = match &dataset {
         Some(dir) => object_slam::replay(&settings, dir, ctx)?,
         None => object_slam::run(&settings, ctx)?,
     };

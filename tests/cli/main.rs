@@ -14,6 +14,7 @@ mod explore;
 mod fuzz;
 mod inputs;
 mod maze_slam;
+
 mod object_slam;
 mod office;
 mod office_objects;
@@ -22,6 +23,7 @@ mod physics_loop;
 mod radial;
 mod recording;
 mod recording_slam;
+mod ros2_bag;
 mod trials;
 mod trials_faults;
 mod urdf;

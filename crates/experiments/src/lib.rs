@@ -30,6 +30,7 @@ pub mod navigation;
 pub mod object_slam;
 pub mod radial;
 pub mod record;
+pub mod ros2_bag;
 pub mod run;
 mod sensing;
 mod surface;
