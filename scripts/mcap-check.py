@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """Decode a bag written by `whisker export --mcap` with the Python MCAP readers (`mcap`,
 `mcap-ros2-support`: an independent CDR decoder driven by the bag's own ros2msg schemas)
-and compare every table and whisk file with the dataset's CSV files.
+and compare every table and whisk file with the dataset's CSV files; then, when `rosbags`
+is installed, deserialise every message again with its typestore (a second decoder, whose
+.msg parser also checks the schemas' syntax).
 
-    pip install mcap mcap-ros2-support
+    pip install mcap mcap-ros2-support rosbags
     python3 scripts/mcap-check.py FILE.mcap DATASET_DIR
 
 Exits 1 on the first difference, naming the topic, the message and the field.
@@ -78,8 +80,35 @@ def main():
     print(f"{bag}: {sum(counts.values())} messages on {len(counts)} topics decoded "
           f"(written by {library}); {checked} rows and samples "
           f"equal to {dataset}")
+    rosbags_check(bag)
     for topic in sorted(counts):
         print(f"  {topic:45s} {channels[topic].schema_id:3d} {counts[topic]:8d}")
+
+
+def rosbags_check(bag):
+    try:
+        from rosbags.typesys import Stores, get_typestore, get_types_from_msg
+    except ImportError:
+        print("rosbags not installed: second decoder skipped")
+        return
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    separator = "=" * 80 + "\n"
+    with open(bag, "rb") as f:
+        reader = make_reader(f)
+        types = {}
+        for schema in reader.get_summary().schemas.values():
+            parts = schema.data.decode().split(separator)
+            types.update(get_types_from_msg(parts[0], schema.name))
+            for dependency in parts[1:]:
+                name, body = dependency.split("\n", 1)
+                package, short = name.removeprefix("MSG: ").split("/")
+                types.update(get_types_from_msg(body, f"{package}/msg/{short}"))
+        store.register(types)
+        n = 0
+        for schema, _channel, message in reader.iter_messages():
+            store.deserialize_cdr(message.data, schema.name)
+            n += 1
+    print(f"rosbags deserialised all {n} messages")
 
 
 if __name__ == "__main__":

@@ -3,7 +3,7 @@
 //! samples, the standard views beside them, every other file as an MCAP attachment.
 
 use super::bag::Bag;
-use super::table::{Table, type_name};
+use super::table::Table;
 use super::{hall, schema, topic, views};
 use crate::dataset_format::manifest::{self, Manifest};
 use std::collections::BTreeMap;
@@ -199,7 +199,7 @@ fn write_bag(
             .then(|| std::str::from_utf8(&bytes).ok().and_then(Table::parse))
             .flatten();
         match table {
-            Some(t) => put_table(&mut bag, path, &bytes, &t, experiment)?,
+            Some(mut t) => put_table(&mut bag, path, &bytes, &mut t, experiment)?,
             None => bag.attach(path, &bytes)?,
         }
     }
@@ -218,23 +218,21 @@ fn put_table(
     bag: &mut Bag,
     path: &str,
     bytes: &[u8],
-    t: &Table,
+    t: &mut Table,
     experiment: Option<manifest::Experiment>,
 ) -> Result {
     let text = std::str::from_utf8(bytes).expect("parsed");
     let header = text.lines().next().expect("a header");
     let name = topic(path);
+    // The type first: a known table's columns take their declared kinds.
+    let ty = super::known::type_of(path, header, t);
     let meta = BTreeMap::from([
         ("csv_path".to_string(), path.to_string()),
         ("csv_header".to_string(), header.to_string()),
         ("csv_kinds".to_string(), t.kinds()),
     ]);
     let frame = frame_of(path, experiment);
-    let rows = bag.channel(
-        &name,
-        &schema::row(&type_name(path, header), &t.columns),
-        meta,
-    )?;
+    let rows = bag.channel(&name, &schema::row(&ty, &t.columns), meta)?;
     for i in 0..t.rows.len() {
         bag.write(rows, i, t.stamp(i), &t.encode(i, ""))?;
     }

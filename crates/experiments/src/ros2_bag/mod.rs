@@ -22,6 +22,7 @@ pub mod cdr;
 mod export;
 mod hall;
 mod import;
+pub mod known;
 mod scan;
 pub mod schema;
 pub mod table;

@@ -42,7 +42,7 @@ impl Kind {
     }
 
     /// Whether `text` is carried exactly by this kind.
-    fn fits(self, text: &str) -> bool {
+    pub fn fits(self, text: &str) -> bool {
         match self {
             Kind::Int => text.parse::<i64>().is_ok_and(|v| v.to_string() == text),
             Kind::Debug => text
@@ -215,48 +215,6 @@ fn field_names(names: &[&str]) -> Vec<String> {
         out.push(f);
     }
     out
-}
-
-/// The message type's name for a table: the dataset's own tables by their role, any
-/// other by its file name (`explore.csv` → `ExploreRow`).
-pub fn type_name(path: &str, header: &str) -> String {
-    use crate::dataset_format::records::{CONTACT_COLUMNS, POSE_COLUMNS, TRUTH_POSE_COLUMNS};
-    let known = [
-        (CONTACT_COLUMNS, "Contact"),
-        (POSE_COLUMNS, "PoseLogEntry"),
-        (TRUTH_POSE_COLUMNS, "TruePose"),
-        (
-            crate::maze_slam::dataset::ODOMETRY_COLUMNS,
-            "PlanarOdometry",
-        ),
-        (
-            crate::object_slam::dataset::ODOMETRY_COLUMNS,
-            "BodyOdometry",
-        ),
-        (crate::navigation::dataset::ODOMETRY_COLUMNS, "BaseOdometry"),
-        (crate::navigation::dataset::TRUTH_COLUMNS, "PlanarPose"),
-        (crate::navigation::dataset::STOPS_COLUMNS, "Stop"),
-        (crate::navigation::dataset::TRUTH_STOPS_COLUMNS, "TrueStop"),
-    ];
-    if let Some((_, name)) = known.iter().find(|(h, _)| *h == header) {
-        return name.to_string();
-    }
-    let stem = path.rsplit('/').next().unwrap_or(path);
-    let stem = stem.strip_suffix(".csv").unwrap_or(stem);
-    let mut name = String::new();
-    let mut upper = true;
-    for ch in stem.chars() {
-        if ch.is_ascii_alphanumeric() {
-            name.push(if upper { ch.to_ascii_uppercase() } else { ch });
-            upper = false;
-        } else {
-            upper = true;
-        }
-    }
-    if !name.starts_with(|c: char| c.is_ascii_alphabetic()) {
-        name.insert_str(0, "Table");
-    }
-    name + "Row"
 }
 
 #[cfg(test)]
