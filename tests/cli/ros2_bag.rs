@@ -267,3 +267,38 @@ fn damaged_bags_are_refused_naming_the_byte() {
         stderr(&o)
     );
 }
+
+/// Object walks (`dataset object-slam … --mcap`): `object-slam --mcap` equals
+/// `object-slam --dataset`, and the walks' pose logs are views of their own.
+#[test]
+fn object_walks_bag_replays_as_the_dataset() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    let (d, bag) = (t.join("d"), t.join("walks.mcap"));
+    ok(
+        2,
+        &[
+            "dataset",
+            "object-slam",
+            "--objects",
+            "box",
+            "--out",
+            s(&d),
+            "--mcap",
+            s(&bag),
+        ],
+    );
+    let dir = ok(
+        2,
+        &["object-slam", "--dataset", s(&d), "--json", "--no-rrd"],
+    );
+    let from_bag = ok(2, &["object-slam", "--mcap", s(&bag), "--json", "--no-rrd"]);
+    assert_eq!(stdout(&dir), stdout(&from_bag));
+    for walk in ["A", "B"] {
+        let poses = messages(&bag, &format!("/log/box/{walk}/poses/pose"));
+        assert_eq!(
+            poses.len(),
+            csv_rows(&d.join(format!("log/box/{walk}/poses.csv"))).len()
+        );
+    }
+}
