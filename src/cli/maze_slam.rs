@@ -49,8 +49,8 @@ pub struct Args {
     /// angles, or physics whiskers through the front end.
     #[arg(long, value_parser = choice::<SensingMode>())]
     pub sensing: Option<SensingMode>,
-    /// Physics: whisk with RCP at 20 × the free-whisking σ (§3.2.2) [scenario:
-    /// `array.rcp`].
+    /// Physics: whisk with Chapter 3's RCP, §3.2.2's amplitude controller at 20 × the
+    /// free-whisking σ [scenario: `array.rcp = "noise"`, `array.rcp_control = "amplitude"`].
     #[arg(long)]
     pub rcp: bool,
     /// Physics: shaft joint model [scenario: `array.bending`].

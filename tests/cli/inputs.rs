@@ -277,6 +277,27 @@ fn malformed_scenarios_exit_2_naming_file_and_field_and_write_nothing() {
             "array.whisking.release_cycles",
         ),
         (
+            "rcp_amplitude_gain_negative",
+            format!(
+                "sensing = \"physics\"\n{ARM}[array]\nrcp = \"noise\"\nrcp_control = \"amplitude\"\nrcp_amplitude_gain = -1\n{WAYPOINT}{OUTPUT}"
+            ),
+            "array.rcp_amplitude_gain",
+        ),
+        (
+            "rcp_amplitude_gain_with_retract",
+            format!(
+                "sensing = \"physics\"\n{ARM}[array]\nrcp = \"noise\"\nrcp_amplitude_gain = 2\n{WAYPOINT}{OUTPUT}"
+            ),
+            "array.rcp_amplitude_gain",
+        ),
+        (
+            "rcp_control_unknown",
+            format!(
+                "sensing = \"physics\"\n{ARM}[array]\nrcp = \"noise\"\nrcp_control = \"halt\"\n{WAYPOINT}{OUTPUT}"
+            ),
+            "rcp_control",
+        ),
+        (
             "whisking_unknown",
             format!(
                 "sensing = \"physics\"\n{ARM}[array.whisking]\nspread = true\n{WAYPOINT}{OUTPUT}"

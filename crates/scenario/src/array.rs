@@ -8,7 +8,7 @@ use std::path::Path;
 use whisker_sim::sensing::physics::{DEFAULT_SUBSTEPS, WhiskerConfig};
 use whisker_sim::whisker::array::{self, COLUMNS, RINGS};
 use whisker_sim::whisker::beam::Bending;
-use whisker_sim::whisker::control::{RcpThreshold, WhiskingPattern};
+use whisker_sim::whisker::control::{AmplitudeRcp, RcpThreshold, WhiskingPattern};
 use whisker_sim::whisker::follicle::FollicleDesign;
 use whisker_sim::whisker::sensor::SensorModel;
 use whisker_sim::whisker::strategies::{SpreadReduction, WhiskingControl};
@@ -35,6 +35,18 @@ pub enum RcpConfig {
     Noise,
     /// Threshold = the sensor's saturation (§4.1.1).
     Saturation,
+}
+
+/// Which RCP controller, as written in scenarios (`[array] rcp_control`).
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum RcpControl {
+    /// Retract at the threshold by the cycle's end (§4.1.1; Ch 4–6).
+    #[default]
+    Retract,
+    /// Scale the stroke by the mean deflection over the threshold, the initial angle kept
+    /// (§3.2.2; Ch 3).
+    Amplitude,
 }
 
 /// `[array.whisking]`: the contact-triggered whisking strategies beyond RCP (thesis
@@ -124,6 +136,12 @@ pub struct ArrayConfig {
     /// RCP mode.
     #[serde(default)]
     pub rcp: RcpConfig,
+    /// Which RCP controller (no effect with `rcp = "off"`).
+    #[serde(default)]
+    pub rcp_control: RcpControl,
+    /// `rcp_control = "amplitude"`: the stroke's gain 1 − gain · P / (saturation −
+    /// threshold) for a mean excess P [1].
+    pub rcp_amplitude_gain: Option<f64>,
     /// Multiple of the free-whisking σ for `rcp = "noise"` (and for the contact
     /// threshold of the `[array.whisking]` strategies without RCP).
     pub rcp_noise_multiple: Option<f64>,
@@ -203,8 +221,16 @@ impl ArrayConfig {
         } else {
             None
         };
+        let saturation = self
+            .sensor
+            .saturation_counts
+            .unwrap_or(SensorModel::default().saturation_counts);
         Ok(WhiskingControl {
             rcp: self.rcp != RcpConfig::Off,
+            rcp_amplitude: (self.rcp_control == RcpControl::Amplitude).then(|| AmplitudeRcp {
+                gain: self.rcp_amplitude_gain.unwrap_or(1.0),
+                saturation,
+            }),
             spread_reduction,
             asymmetry: w.asymmetry,
         })
@@ -272,6 +298,22 @@ impl ArrayConfig {
                         "no such whisker: expected a pixel label {}1 … {}3",
                         COLUMNS[0], COLUMNS[5]
                     ),
+                ));
+            }
+        }
+        if let Some(g) = finite(file, "array.rcp_amplitude_gain", self.rcp_amplitude_gain)? {
+            if g <= 0.0 {
+                return Err(field_error(
+                    file,
+                    "array.rcp_amplitude_gain",
+                    format!("expected a positive number, got {g}"),
+                ));
+            }
+            if self.rcp_control != RcpControl::Amplitude {
+                return Err(field_error(
+                    file,
+                    "array.rcp_amplitude_gain",
+                    "only with rcp_control = \"amplitude\"",
                 ));
             }
         }

@@ -1,5 +1,5 @@
 //! Whisking against a fixed pole: one contact peak per whisk of the right sign, RCP
-//! stopping protraction, no tunnelling or NaN at 10 Hz, and bit-identical streams
+//! stopping protraction, §3.2.2's RCP shortening the stroke, no tunnelling or NaN at 10 Hz, and bit-identical streams
 //! whatever the number of threads.
 
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
@@ -9,8 +9,8 @@ use whisker_sim::sensing::physics::{
     DEFAULT_SUBSTEPS, EnvironmentPiece, Lever, PhysicsArray, WhiskerConfig, WhiskerUnit,
 };
 use whisker_sim::whisker::array::{self, Module};
-use whisker_sim::whisker::control::RcpThreshold;
 use whisker_sim::whisker::control::WhiskingPattern;
+use whisker_sim::whisker::control::{AmplitudeRcp, RcpThreshold};
 use whisker_sim::whisker::follicle::FollicleDesign;
 use whisker_sim::whisker::sensor::SensorModel;
 use whisker_sim::whisker::strategies::WhiskingControl;
@@ -179,6 +179,62 @@ fn rcp_stops_protraction_within_20_ms_of_the_threshold_crossing() {
             samples[peak].angle_rad.to_degrees()
         );
     }
+}
+
+/// §3.2.2's amplitude RCP against the same pole (at 110° for the rigid shaft): every cycle
+/// still starts at the retraction limit (the initial angle kept), the stroke settles near
+/// the pole instead of the open loop's 140° while the whisker keeps pressing on it (seen:
+/// peaks 111.5° and 109.5°, ~750 samples a cycle over the threshold, mean |y| ~440 counts:
+/// the amplitude reduced, not abandoned), and a whisker that touches nothing whisks exactly
+/// as the open loop does.
+#[test]
+fn amplitude_rcp_shortens_the_stroke_in_contact_and_nothing_else() {
+    let module = array::modules()[6].clone();
+    let (piece, _, _) = pole(&module, 0.06, 110f64.to_radians());
+    let threshold = 20.0 * SensorModel::default().noise_counts;
+    let amplitude = |module: Module| {
+        let mut c = config(module, 1.0, Some(threshold));
+        c.control.rcp_amplitude = Some(AmplitudeRcp {
+            gain: 1.0,
+            saturation: SensorModel::default().saturation_counts,
+        });
+        c
+    };
+    let run = |config: WhiskerConfig, pieces: &[EnvironmentPiece]| -> Vec<Sample> {
+        let mut unit = WhiskerUnit::new(config, pieces, &Isometry3::identity(), 4, 5e-4);
+        (0..4000)
+            .map(|_| unit.step(&Isometry3::identity()))
+            .collect()
+    };
+    let touched = run(amplitude(module.clone()), std::slice::from_ref(&piece));
+    let open = WhiskingPattern::default();
+    for cycle in 0..2 {
+        let range = cycle * 2000..(cycle + 1) * 2000;
+        let first = &touched[range.start];
+        assert!(
+            (first.angle_rad - open.retracted).abs() < 0.5f64.to_radians(),
+            "cycle {cycle} starts at {}°",
+            first.angle_rad.to_degrees()
+        );
+        let peak = range
+            .clone()
+            .map(|i| touched[i].angle_rad)
+            .fold(f64::MIN, f64::max);
+        assert!(
+            peak < open.protracted - 20f64.to_radians() && peak > 100f64.to_radians(),
+            "cycle {cycle}: peak {}°",
+            peak.to_degrees()
+        );
+        let pressing = range.filter(|&i| touched[i].y.abs() >= threshold).count();
+        assert!(
+            pressing > 100,
+            "cycle {cycle}: {pressing} samples in contact"
+        );
+    }
+    // Nothing to touch: the open loop's samples, bit for bit.
+    let free = run(amplitude(module.clone()), &[]);
+    let open_loop = run(config(module, 1.0, None), &[]);
+    assert_eq!(free, open_loop);
 }
 
 #[test]

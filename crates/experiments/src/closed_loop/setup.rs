@@ -129,10 +129,10 @@ fn sensor(file: &ScenarioFile, environment: &Environment, log: Option<WhiskLog>)
             let whiskers = configs.iter().map(|c| c.rigid()).collect();
             let patterns = configs.iter().map(|c| c.pattern).collect();
             let noise = scenario.kinematic.noise(&file.path)?;
-            Sensor::Kinematic(
+            Sensor::Kinematic(Box::new(
                 KinematicArray::new(whiskers, patterns, noise, scenario.seed)
                     .with_control(configs[0].control),
-            )
+            ))
         }
     })
 }

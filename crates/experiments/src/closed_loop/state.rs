@@ -54,7 +54,7 @@ pub struct Outcome {
 pub enum Sensor {
     /// The anticipated intersect with the §6.1.3.1.2 noise (sub-streams
     /// `kinematic/whisker/NN`).
-    Kinematic(KinematicArray),
+    Kinematic(Box<KinematicArray>),
     /// Physics whiskers of `[array]` held still for one whisk (RCP as `[array] rcp`
     /// says), the signal front end of `[frontend]` (detection levels, radial-distance
     /// model; sub-streams `explore/physics/<whisk>`).

@@ -50,7 +50,7 @@ impl Loop<'_> {
         }
         rec.pose("world/array", w.pose)?;
         let (truth, shafts) = match &self.sensing {
-            Sensor::Kinematic(a) => (crate::sensing::contact::intersects(a), Some(a)),
+            Sensor::Kinematic(a) => (crate::sensing::contact::intersects(a), Some(&**a)),
             Sensor::Physics(p) => (
                 crate::sensing::contact::anticipated(&self.target, p.rigid(), w.pose),
                 None,

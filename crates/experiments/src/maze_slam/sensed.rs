@@ -98,7 +98,9 @@ fn physics_configs(file: &ScenarioFile, o: &Settings) -> Result<PhysicsWhiskers>
     array.segments = o.segments.or(array.segments);
     array.substeps = o.substeps.or(array.substeps);
     if o.rcp {
+        // Chapter 3's RCP: §3.2.2's amplitude controller at 20 σ.
         array.rcp = RcpConfig::Noise;
+        array.rcp_control = whisker_scenario::array::RcpControl::Amplitude;
         array.rcp_noise_multiple = Some(20.0);
     }
     let overridden = o.bending.is_some() || o.segments.is_some() || o.substeps.is_some();

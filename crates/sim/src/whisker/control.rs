@@ -6,13 +6,24 @@
 //! A = (θ_p − θ_r)/2 — fully retracted (40°) at the start of each cycle, fully protracted
 //! (140°) half way through (1 Hz by default, §2.2.2).
 //!
-//! RCP: once the magnitude of the y deflection reaches a threshold while protracting,
-//! protraction stops at once and the whisker retracts from where it is, on a half-cosine
-//! that reaches the retraction limit at the end of the current cycle; the next cycle
-//! starts open-loop again. The threshold is either 20 × the standard deviation of the
-//! deflection during free whisking (§3.2.2) or the sensor's saturation value (§4.1.1) —
-//! "reaches", not "exceeds": a saturated reading equals the saturation value and never
-//! exceeds it.
+//! RCP, two controllers:
+//! - **retract** (§4.1.1, Ch 4–6): once the magnitude of the y deflection reaches a
+//!   threshold while protracting, protraction stops at once and the whisker retracts from
+//!   where it is, on a half-cosine that reaches the retraction limit at the end of the
+//!   current cycle; the next cycle starts open-loop again.
+//! - **amplitude** (§3.2.2, Ch 3): the desired trajectory is "perturbed by local feedback
+//!   from the whisker deflection sensors": the perturbation P is the mean of the |y| in
+//!   excess of the threshold over this cycle's samples in contact, and the stroke is scaled
+//!   about the cycle's initial angle by g = max(0, 1 − gain · P / (saturation − threshold))
+//!   — "an increase in perturbation resulted in a decrease of whisking amplitude, while
+//!   keeping the initial whisking angle at the start of each cycle constant". P starts at
+//!   the threshold's excess (≈ 0), so the command stays continuous; each cycle starts with
+//!   g = 1. The thesis gives no gain; 1 (the default) stops the stroke when the mean
+//!   reading in contact saturates.
+//!
+//! The threshold is either 20 × the standard deviation of the deflection during free
+//! whisking (§3.2.2) or the sensor's saturation value (§4.1.1) — "reaches", not
+//! "exceeds": a saturated reading equals the saturation value and never exceeds it.
 
 use std::f64::consts::{PI, TAU};
 
@@ -78,6 +89,25 @@ impl WhiskingPattern {
     }
 }
 
+/// §3.2.2's RCP: the stroke scaled by 1 − `gain` · P / (`saturation` − threshold).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AmplitudeRcp {
+    /// Dimensionless gain (1: the stroke stops when the mean reading in contact saturates).
+    pub gain: f64,
+    /// The sensor's saturation (counts).
+    pub saturation: f64,
+}
+
+/// The amplitude controller's cycle: its index, its initial angle, and the samples in
+/// contact so far (count, sum of |y| − threshold).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Perturbation {
+    cycle: i64,
+    start: f64,
+    samples: u32,
+    excess: f64,
+}
+
 /// A whisker's motor controller: the pattern, RCP if enabled, and the stroke shaping of
 /// the array's strategies ([`super::strategies`]: spread reduction, contact-induced
 /// asymmetry) if enabled.
@@ -87,8 +117,12 @@ pub struct Controller {
     pub pattern: WhiskingPattern,
     /// Contact threshold on |y| in ADC counts (None: contacts are not detected).
     pub contact_threshold: Option<f64>,
-    /// Whether a contact stops protraction at once and retracts (RCP).
+    /// Whether a contact stops protraction at once and retracts (RCP) — or, with
+    /// `amplitude`, scales the stroke (§3.2.2).
     pub rcp: bool,
+    /// §3.2.2's amplitude RCP instead of the retraction (None: retract).
+    amplitude: Option<AmplitudeRcp>,
+    perturbation: Option<Perturbation>,
     /// Stroke shaping (None: the open-loop cosine, bit for bit).
     shaping: Option<Shaping>,
     /// Active early retraction: (cycle, start time, start angle, target angle).
@@ -183,6 +217,8 @@ impl Controller {
             pattern,
             contact_threshold,
             rcp,
+            amplitude: None,
+            perturbation: None,
             shaping: None,
             retraction: None,
             last_command: pattern.angle(0.0),
@@ -205,6 +241,24 @@ impl Controller {
         self
     }
 
+    /// The same controller with §3.2.2's amplitude RCP instead of the retraction (when
+    /// `rcp` is on).
+    pub fn with_amplitude(mut self, amplitude: AmplitudeRcp) -> Self {
+        self.amplitude = Some(amplitude);
+        self
+    }
+
+    /// The amplitude RCP's stroke gain this cycle so far (1: unperturbed).
+    pub fn amplitude_gain(&self) -> f64 {
+        match (self.amplitude, self.perturbation, self.contact_threshold) {
+            (Some(a), Some(p), Some(t)) if p.samples > 0 => {
+                let mean = p.excess / f64::from(p.samples);
+                (1.0 - a.gain * mean / (a.saturation - t).max(f64::MIN_POSITIVE)).max(0.0)
+            }
+            _ => 1.0,
+        }
+    }
+
     /// Whether an early retraction is under way.
     pub fn retracting_early(&self) -> bool {
         self.retraction.is_some()
@@ -223,7 +277,7 @@ impl Controller {
     /// The strategies' state after the last command.
     pub fn state(&self) -> ControlState {
         ControlState {
-            rcp: self.retraction.is_some(),
+            rcp: self.retraction.is_some() || self.amplitude_gain() < 1.0,
             narrowed: self.shaping.is_some_and(|s| s.narrowed),
             held: self.shaping.is_some_and(|s| s.hold.is_some() && !s.half.1),
         }
@@ -271,6 +325,12 @@ impl Controller {
                 (a, !s.half.1)
             }
         };
+        if let (true, Some(_)) = (self.rcp, self.amplitude) {
+            let angle = self.scaled(k, stroke, y);
+            self.protracting = protracting;
+            self.last_command = angle;
+            return angle;
+        }
         if self.rcp && self.retraction.is_none() && protracting && self.in_contact(y) {
             // Back to the retraction limit by the cycle's end: the pattern's, or the
             // narrowed one of spread reduction (never forwards).
@@ -294,6 +354,29 @@ impl Controller {
     }
 }
 
+impl Controller {
+    /// §3.2.2: `stroke` at cycle `k` scaled about the cycle's initial angle by the gain of
+    /// this cycle's contacts, `y` counted first.
+    fn scaled(&mut self, k: i64, stroke: f64, y: f64) -> f64 {
+        let p = match self.perturbation {
+            Some(p) if p.cycle == k => p,
+            _ => Perturbation {
+                cycle: k,
+                start: stroke,
+                samples: 0,
+                excess: 0.0,
+            },
+        };
+        self.perturbation = Some(p);
+        if let (true, Some(t)) = (self.in_contact(y), self.contact_threshold) {
+            let q = self.perturbation.as_mut().expect("set");
+            q.samples += 1;
+            q.excess += y.abs() - t;
+        }
+        p.start + (stroke - p.start) * self.amplitude_gain()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -307,6 +390,62 @@ mod tests {
         assert_eq!(p.cycle(0.0), 0);
         assert_eq!(p.cycle(0.999), 0);
         assert_eq!(p.cycle(1.0), 1);
+    }
+
+    /// §3.2.2: pressed from 0.1 s of a cycle on at a steady reading Y, the stroke's peak
+    /// excursion falls to (1 − (Y − T)/(S − T)) of the open loop's — in proportion to the
+    /// mean deflection in excess of the threshold — while the cycle starts and ends at the
+    /// same initial angle; a cycle without contact is the open loop, bit for bit.
+    #[test]
+    fn amplitude_rcp_scales_the_stroke_by_the_mean_deflection() {
+        let p = WhiskingPattern::default();
+        let (t, s) = (40.0, 2047.0);
+        let dt = 1.0 / 2000.0;
+        let full = p.protracted - p.retracted;
+        let mut peaks = Vec::new();
+        for y_contact in [200.0, 600.0, 1000.0] {
+            let mut c = Controller::new(p, Some(t), true).with_amplitude(AmplitudeRcp {
+                gain: 1.0,
+                saturation: s,
+            });
+            let mut trace = Vec::new();
+            for i in 0..4000 {
+                let time = i as f64 * dt;
+                let y = if (0.1..1.0).contains(&time) {
+                    y_contact
+                } else {
+                    0.0
+                };
+                trace.push(c.command(time, y));
+                if (0.2..0.9).contains(&time) {
+                    assert!(c.state().rcp);
+                }
+            }
+            assert_eq!(trace[0], p.angle(0.0));
+            assert!((trace[1999] - p.retracted).abs() < 1e-4, "{}", trace[1999]);
+            let peak = trace[..2000].iter().cloned().fold(f64::MIN, f64::max) - p.retracted;
+            let expected = full * (1.0 - (y_contact - t) / (s - t));
+            assert!((peak - expected).abs() < 1e-6, "{peak} vs {expected}");
+            // The second cycle touches nothing: the open loop exactly.
+            for i in 2000..4000 {
+                assert_eq!(trace[i], p.angle(i as f64 * dt), "sample {i}");
+            }
+            peaks.push(peak);
+        }
+        // The amplitude lost grows in proportion to the excess: (Y − T) 160, 560, 960.
+        let lost: Vec<f64> = peaks.iter().map(|pk| full - pk).collect();
+        assert!((lost[1] / lost[0] - 560.0 / 160.0).abs() < 1e-9);
+        assert!((lost[2] / lost[0] - 960.0 / 160.0).abs() < 1e-9);
+        // Without contact at all the controller is the open loop.
+        let mut c = Controller::new(p, Some(t), true).with_amplitude(AmplitudeRcp {
+            gain: 1.0,
+            saturation: s,
+        });
+        for i in 0..2000 {
+            let time = i as f64 * dt;
+            assert_eq!(c.command(time, 30.0), p.angle(time));
+            assert!(!c.state().rcp);
+        }
     }
 
     #[test]

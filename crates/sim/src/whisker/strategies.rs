@@ -31,7 +31,7 @@
 //! reaches the motors' protraction limit, Fig 2.8). With RCP as well, the touching
 //! whisker itself retracts while its side holds.
 
-use super::control::{Controller, WhiskingPattern};
+use super::control::{AmplitudeRcp, Controller, WhiskingPattern};
 use whisker_slam::invalid::Invalid;
 
 /// Spread reduction's parameters.
@@ -113,6 +113,8 @@ impl SpreadReduction {
 pub struct WhiskingControl {
     /// RCP (per whisker).
     pub rcp: bool,
+    /// RCP scales the stroke (§3.2.2) instead of retracting (§4.1.1) (None: retract).
+    pub rcp_amplitude: Option<AmplitudeRcp>,
     /// Spread reduction, if enabled.
     pub spread_reduction: Option<SpreadReduction>,
     /// Contact-induced asymmetry.
@@ -129,7 +131,8 @@ impl WhiskingControl {
     /// A short name: `open-loop`, or the strategies joined by `+` (`rcp+sr+cia`).
     pub fn name(&self) -> String {
         let parts: Vec<&str> = [
-            (self.rcp, "rcp"),
+            (self.rcp && self.rcp_amplitude.is_none(), "rcp"),
+            (self.rcp && self.rcp_amplitude.is_some(), "rcp-amplitude"),
             (self.spread_reduction.is_some(), "sr"),
             (self.asymmetry, "cia"),
         ]
@@ -150,7 +153,10 @@ impl WhiskingControl {
         pattern: WhiskingPattern,
         contact_threshold: Option<f64>,
     ) -> Controller {
-        let c = Controller::new(pattern, contact_threshold, self.rcp);
+        let mut c = Controller::new(pattern, contact_threshold, self.rcp);
+        if let Some(a) = self.rcp_amplitude {
+            c = c.with_amplitude(a);
+        }
         match (self.couples(), self.spread_reduction) {
             (false, _) => c,
             (true, Some(sr)) => c.shaped(sr.limits(&pattern)),
@@ -385,6 +391,7 @@ mod tests {
     fn without_contacts_the_shaped_stroke_is_the_open_loop_one() {
         let control = WhiskingControl {
             rcp: true,
+            rcp_amplitude: None,
             spread_reduction: Some(SpreadReduction::default()),
             asymmetry: true,
         };
