@@ -42,6 +42,12 @@ pub struct Args {
     /// to this directory, instead of sensing (re-running RatSLAM on recorded images).
     #[arg(long)]
     pub images: Option<PathBuf>,
+    /// Tune (§3.2.1): per image set and variant, choose from the `--match-threshold` ×
+    /// `--inject-energy` grid the pair with the lowest mean Energy Metric over the seeds
+    /// (ties: the higher ARR) and write FILE, beside the scenario, as a scenario over it
+    /// (`[maze_slam.tuned]`). Tune on seeds that are not reported.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["dataset", "mcap"])]
+    pub tune: Option<PathBuf>,
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,
@@ -105,6 +111,13 @@ pub fn run(a: &Args, ctx: Context) -> Result {
         Some(dir) => maze_slam::replay(&settings, dir, &Manifest::read(dir)?, ctx)?,
         None => maze_slam::run(&settings, ctx)?,
     };
+    if let Some(file) = &a.tune {
+        let command: Vec<String> = std::env::args().collect();
+        let command = format!("whisker {}", command[1..].join(" "));
+        for c in maze_slam::tuning::tune(file, &a.scenario, &report.runs, &command)? {
+            eprintln!("tuned      {c}");
+        }
+    }
     match a.json {
         true => print_json(&report, false),
         false => print!("{report}"),

@@ -109,3 +109,128 @@ fn physics_only_options_are_refused_with_kinematic_sensing() {
     assert!(stderr(&o).contains("segments"), "{}", stderr(&o));
     assert!(!out.exists());
 }
+
+/// `--tune` (§3.2.1): per image set and variant the written pair is the grid's lowest mean
+/// Energy Metric over the tuning seeds (ties: higher ARR), recomputed here from the runs
+/// the same command printed; the tuned scenario then runs each variant with its own pair;
+/// a file elsewhere than beside the scenario, or no grid to choose from, is refused.
+#[test]
+fn tuning_writes_the_best_pair_per_variant_and_the_tuned_scenario_uses_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    std::fs::create_dir(t.join("scenarios")).unwrap();
+    std::os::unix::fs::symlink(repo("assets"), t.join("assets")).unwrap();
+    for f in ["maze.toml", "maze_kinematic.toml"] {
+        std::fs::copy(repo("scenarios").join(f), t.join("scenarios").join(f)).unwrap();
+    }
+    let scenario = t.join("scenarios/maze_kinematic.toml");
+    let tuned = t.join("scenarios/tuned.toml");
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let grid = [
+        "--match-threshold",
+        "5,10",
+        "--inject-energy",
+        "0.1,0.3",
+        "--kidnap",
+        "--json",
+    ];
+    let o = whisker(
+        &[
+            &["maze-slam", &s(&scenario), "--seeds", "100,101"][..],
+            &grid,
+            &["--tune", &s(&tuned)],
+        ]
+        .concat(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let runs: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    // key → [((threshold, energy), mean EM, mean ARR)] over the two seeds.
+    type Pairs = Vec<((f64, f64), f64, f64)>;
+    let mut scores: std::collections::BTreeMap<String, Pairs> = Default::default();
+    for r in runs["runs"].as_array().unwrap() {
+        let key = format!(
+            "{}/{}",
+            r["images"].as_str().unwrap(),
+            r["variant"].as_str().unwrap()
+        );
+        let pair = (
+            r["match_threshold"].as_f64().unwrap(),
+            r["inject_energy"].as_f64().unwrap(),
+        );
+        let list = scores.entry(key).or_default();
+        let (em, arr) = (
+            r["energy_metric"].as_f64().unwrap(),
+            r["arr"].as_f64().unwrap(),
+        );
+        match list.iter_mut().find(|(p, ..)| *p == pair) {
+            Some(e) => {
+                e.1 += em / 2.0;
+                e.2 += arr / 2.0;
+            }
+            None => list.push((pair, em / 2.0, arr / 2.0)),
+        }
+    }
+    let written: toml::Value = toml::from_str(&std::fs::read_to_string(&tuned).unwrap()).unwrap();
+    assert_eq!(written["base"].as_str(), Some("maze_kinematic.toml"));
+    let table = written["maze_slam"]["tuned"].as_table().unwrap();
+    assert_eq!(table.len(), 2, "{table:?}");
+    for (key, list) in &scores {
+        assert_eq!(list.len(), 4);
+        let best = list
+            .iter()
+            .min_by(|a, b| a.1.total_cmp(&b.1).then(b.2.total_cmp(&a.2)))
+            .unwrap();
+        let entry = &table[key.as_str()];
+        assert_eq!(entry["match_threshold"].as_float(), Some(best.0.0), "{key}");
+        assert_eq!(entry["inject_energy"].as_float(), Some(best.0.1), "{key}");
+    }
+    // The tuned scenario: each variant with its own pair.
+    let o = whisker(&[
+        "maze-slam",
+        &s(&tuned),
+        "--seeds",
+        "0",
+        "--kidnap",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let runs: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    for r in runs["runs"].as_array().unwrap() {
+        let key = format!(
+            "{}/{}",
+            r["images"].as_str().unwrap(),
+            r["variant"].as_str().unwrap()
+        );
+        assert_eq!(
+            r["match_threshold"].as_f64(),
+            table[&key]["match_threshold"].as_float()
+        );
+        assert_eq!(
+            r["inject_energy"].as_f64(),
+            table[&key]["inject_energy"].as_float()
+        );
+    }
+    // Refusals.
+    let elsewhere = t.join("tuned.toml");
+    let o = whisker(
+        &[
+            &["maze-slam", &s(&scenario), "--seeds", "100"][..],
+            &grid,
+            &["--tune", &s(&elsewhere)],
+        ]
+        .concat(),
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("beside the scenario"), "{}", stderr(&o));
+    assert!(!elsewhere.exists());
+    let o = whisker(&[
+        "maze-slam",
+        &s(&scenario),
+        "--seeds",
+        "100",
+        "--tune",
+        &s(&t.join("scenarios/one.toml")),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("one parameter pair"), "{}", stderr(&o));
+}

@@ -1,7 +1,8 @@
 //! `[maze_slam]`: the planar RatSLAM experiment of `whisker maze-slam` (thesis Ch 3).
 
 use crate::error::{Error, Result};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::Path;
 use whisker_slam::ratslam::RatSlamParams;
 use whisker_slam::ratslam::odometry::OdometryNoise;
@@ -52,6 +53,22 @@ pub struct MazeSlamConfig {
     /// `[maze_slam.odometry]`: the odometry error model (§3.1.2 by default).
     #[serde(default)]
     pub odometry: OdometryNoise,
+    /// `[maze_slam.tuned]`: the local-view parameters per image set and variant, keyed
+    /// `<images>/<variant>` (`"rcp-amplitude/contact_angle/kidnapped"`), as `whisker
+    /// maze-slam --tune` chose them (§3.2.1: RatSLAM retuned per variant); runs without an
+    /// entry take `ratslam.local_view`.
+    #[serde(default)]
+    pub tuned: BTreeMap<String, Tuned>,
+}
+
+/// One `[maze_slam.tuned]` entry: the two parameters §3.2.1 tuned.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Tuned {
+    /// Local-view match threshold (Eq 3.1).
+    pub match_threshold: f64,
+    /// Pose-cell inject energy.
+    pub inject_energy: f64,
 }
 
 impl Default for MazeSlamConfig {
@@ -62,6 +79,7 @@ impl Default for MazeSlamConfig {
             circuits: all_circuits(),
             ratslam: RatSlamParams::default(),
             odometry: OdometryNoise::default(),
+            tuned: BTreeMap::new(),
         }
     }
 }
@@ -99,6 +117,24 @@ impl MazeSlamConfig {
         self.ratslam
             .validate()
             .map_err(|e| Error::field(file, "maze_slam.ratslam", e))?;
+        for (key, t) in &self.tuned {
+            let mut p = self.ratslam;
+            p.local_view.match_threshold = t.match_threshold;
+            p.local_view.inject_energy = t.inject_energy;
+            p.validate()
+                .map_err(|e| Error::field(file, &format!("maze_slam.tuned.\"{key}\""), e))?;
+            let variant = key
+                .rsplit_once('/')
+                .map(|(images, v)| (images.is_empty(), v));
+            if !matches!(variant, Some((false, "normal" | "kidnapped"))) {
+                return Err(Error::field(
+                    file,
+                    &format!("maze_slam.tuned.\"{key}\""),
+                    "expected a key <images>/<variant>, e.g. \"open-loop/max_angle/normal\" \
+                     or \"kinematic/kidnapped\"",
+                ));
+            }
+        }
         self.odometry
             .validate()
             .map_err(|e| Error::field(file, "maze_slam.odometry", e))

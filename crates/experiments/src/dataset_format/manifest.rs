@@ -331,6 +331,13 @@ impl Manifest {
             m.ratslam
                 .validate()
                 .map_err(|e| Error::field(path, "maze.ratslam", e))?;
+            for (key, t) in &m.tuned {
+                let mut p = m.ratslam;
+                p.local_view.match_threshold = t.match_threshold;
+                p.local_view.inject_energy = t.inject_energy;
+                p.validate()
+                    .map_err(|e| Error::field(path, &format!("maze.tuned.{key:?}"), e))?;
+            }
         }
         if let Some(c) = &self.closed_loop {
             let sub = |name: &str, r: std::result::Result<(), Invalid>| {

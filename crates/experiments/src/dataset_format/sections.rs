@@ -33,6 +33,9 @@ pub struct MazeInfo {
     pub frontend: Option<Vec<FrontEndParams>>,
     /// RatSLAM's parameters.
     pub ratslam: RatSlamParams,
+    /// The scenario's `[maze_slam.tuned]` entries (absent: none).
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub tuned: std::collections::BTreeMap<String, whisker_scenario::maze_slam::Tuned>,
 }
 
 /// `object_slam`: the walks around each object (§5.2, Fig 5.14a).

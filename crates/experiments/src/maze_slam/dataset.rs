@@ -153,6 +153,7 @@ pub fn write(
             image_sets: log.image_sets,
             frontend: log.frontend,
             ratslam: config.ratslam,
+            tuned: config.tuned.clone(),
         }),
         ..Manifest::new(Experiment::MazeSlam, log.level, seed, array)
     })
@@ -373,9 +374,17 @@ fn pose_log(
     csv
 }
 
-/// Reads a maze dataset: RatSLAM's input, its parameters and whether to run the
-/// kidnapped variant.
-pub fn read(dir: &Path, m: &Manifest) -> Result<(Sensed, RatSlamParams, bool)> {
+/// What a maze dataset's replay runs: RatSLAM's input, its parameters, the tuned ones per
+/// image set and variant, and whether to run the kidnapped variant.
+pub type Replay = (
+    Sensed,
+    RatSlamParams,
+    std::collections::BTreeMap<String, whisker_scenario::maze_slam::Tuned>,
+    bool,
+);
+
+/// Reads a maze dataset ([`Replay`]).
+pub fn read(dir: &Path, m: &Manifest) -> Result<Replay> {
     let info = m.maze_section(dir)?;
     let file = dir.join(crate::dataset_format::manifest::FILE);
     check_info(&file, info, m.level)?;
@@ -414,7 +423,7 @@ pub fn read(dir: &Path, m: &Manifest) -> Result<(Sensed, RatSlamParams, bool)> {
         steps,
         image_sets,
     };
-    Ok((sensed, info.ratslam, info.kidnap))
+    Ok((sensed, info.ratslam, info.tuned.clone(), info.kidnap))
 }
 
 /// The `maze` section's rate and circuits, as a maze run can replay them.

@@ -49,12 +49,14 @@ pub mod physics_images;
 pub mod run_recording;
 mod sensed;
 mod settings;
+pub mod tuning;
 
 pub use geometry::{Geometry, UPDATE_HZ};
 pub use sensed::{
     ImageSet, Sensed, Setup, image_set_names, kinematic_contacts, kinematic_whiskers, physics_sets,
 };
 pub use settings::Settings;
+pub use tuning::Tunings;
 
 /// The figures of one RatSLAM run: one seed, variant, image set and tuning.
 #[derive(Debug, Clone, Serialize)]
@@ -156,40 +158,6 @@ impl Evaluation {
     }
 }
 
-/// The RatSLAM parameter sets to run: the scenario's, or one per pair of the
-/// command line's lists.
-fn tunings(base: RatSlamParams, o: &Settings) -> Result<Vec<RatSlamParams>> {
-    let lv = base.local_view;
-    let thresholds = o
-        .match_threshold
-        .clone()
-        .unwrap_or(vec![lv.match_threshold]);
-    let energies = o.inject_energy.clone().unwrap_or(vec![lv.inject_energy]);
-    // Only the options' values: the scenario's or dataset's were checked where read (and
-    // an injection energy of 0 is allowed there).
-    let mut given = o.match_threshold.iter().chain(&o.inject_energy).flatten();
-    if let Some(bad) = given.find(|v| !(v.is_finite() && **v > 0.0)) {
-        return Err(Error::Input(format!(
-            "--match-threshold / --inject-energy: expected positive numbers, got {}",
-            whisker_sim::whisker::short(*bad)
-        )));
-    }
-    let mut out = Vec::new();
-    for &threshold in &thresholds {
-        for &energy in &energies {
-            let mut p = base;
-            p.local_view.match_threshold = threshold;
-            p.local_view.inject_energy = energy;
-            // The scenario's or the dataset's own parameters were checked where they were
-            // read (`Scenario::load`, `Manifest::read`): what fails here is the options'.
-            p.validate()
-                .map_err(|e| Error::Input(format!("--match-threshold / --inject-energy: {e}")))?;
-            out.push(p);
-        }
-    }
-    Ok(out)
-}
-
 /// `v` without the items in `cut`.
 fn without<T: Copy>(v: &[T], cut: &std::ops::Range<usize>) -> Vec<T> {
     (0..v.len())
@@ -223,7 +191,7 @@ pub fn replay(
             dir.join(crate::dataset_format::manifest::FILE).display()
         )));
     }
-    let (sensed, params, kidnap) = dataset::read(dir, manifest)?;
+    let (sensed, params, tuned, kidnap) = dataset::read(dir, manifest)?;
     if o.kidnap && sensed.starts.len() < 4 {
         return Err(Error::Input(format!(
             "--kidnap: the dataset {} has {} circuits; the kidnapped variant needs 4",
@@ -231,9 +199,10 @@ pub fn replay(
             sensed.starts.len()
         )));
     }
-    let tunings = tunings(params, o)?;
+    let tunings = Tunings::of(params, &tuned, o)?;
     let kidnap = kidnap || o.kidnap;
     let sets: Vec<String> = sensed.image_sets.iter().map(|(n, _)| n.clone()).collect();
+    note_unused(&tunings, &sets, ctx);
     let stem = dir.file_name().unwrap_or_default().to_string_lossy();
     let runs = run_names(&[sensed.seed], &sets, &tunings, kidnap);
     let recording = open_recording(o, ctx, true, &stem, &[sensed.seed], runs, None)?;
@@ -255,14 +224,19 @@ pub struct Plane<'a> {
     pub recording: Option<&'a dyn Recorder>,
 }
 
+/// Says which `[maze_slam.tuned]` entries name none of the run's image `sets`.
+fn note_unused(tunings: &Tunings, sets: &[String], ctx: Context) {
+    for key in tunings.unused(sets) {
+        ctx.note(&format!(
+            "[maze_slam.tuned] {key:?}: not used (this run's image sets: {})",
+            sets.join(", ")
+        ));
+    }
+}
+
 /// The names of the runs of `seeds` × variants × image `sets` × `tunings`, as
 /// [`slam_runs`] names them.
-fn run_names(
-    seeds: &[u64],
-    sets: &[String],
-    tunings: &[RatSlamParams],
-    kidnap: bool,
-) -> Vec<String> {
+fn run_names(seeds: &[u64], sets: &[String], tunings: &Tunings, kidnap: bool) -> Vec<String> {
     let variants: &[&str] = if kidnap {
         &["normal", "kidnapped"]
     } else {
@@ -272,11 +246,11 @@ fn run_names(
     for &seed in seeds {
         for variant in variants {
             for set in sets {
-                for params in tunings {
+                for params in tunings.for_run(set, variant) {
                     names.push(run_recording::run_name(
                         set,
                         variant,
-                        &tuning_tag(params, tunings.len() > 1),
+                        &tuning::tag(&params, tunings.sweep()),
                         seed,
                     ));
                 }
@@ -284,29 +258,6 @@ fn run_names(
         }
     }
     names
-}
-
-/// The tag of a tuning in a sweep (`-t<threshold>-e<energy>`), or nothing.
-fn tuning_tag(params: &RatSlamParams, sweep: bool) -> String {
-    if sweep {
-        let lv = params.local_view;
-        // Short in any case: a file name holds at most 255 bytes, 1e308 written out 309.
-        let short = |v: f64| {
-            let plain = v.to_string();
-            if plain.len() <= 12 {
-                plain
-            } else {
-                format!("{v:e}")
-            }
-        };
-        format!(
-            "-t{}-e{}",
-            short(lv.match_threshold),
-            short(lv.inject_energy)
-        )
-    } else {
-        String::new()
-    }
 }
 
 /// The recording of a maze-slam (`--rrd`, else `run.rrd` in `--out` when `default_on`).
@@ -381,7 +332,8 @@ pub fn evaluate(o: &Settings, file: &ScenarioFile, ctx: Context) -> Result<Vec<R
     let scenario = &file.scenario;
     let setup = Setup::new(o, file)?;
     let environment = file.environment()?.environment;
-    let tunings = tunings(scenario.maze_slam.ratslam, o)?;
+    let tunings = Tunings::of(scenario.maze_slam.ratslam, &scenario.maze_slam.tuned, o)?;
+    note_unused(&tunings, &setup.set_names, ctx);
     let kidnap = o.kidnap || scenario.maze_slam.kidnap;
     let seeds = o.seeds.clone().unwrap_or(vec![scenario.seed]);
     let stem = o.scenario.file_stem().unwrap_or_default().to_string_lossy();
@@ -418,7 +370,7 @@ pub fn evaluate(o: &Settings, file: &ScenarioFile, ctx: Context) -> Result<Vec<R
 /// One seed's RatSLAM runs ([`slam_runs`]), its image files written to `out` first.
 fn run_sensed(
     sensed: &Sensed,
-    tunings: &[RatSlamParams],
+    tunings: &Tunings,
     kidnap: bool,
     out: Option<&Path>,
     plane: &Plane,
@@ -440,14 +392,14 @@ fn run_sensed(
 /// one) of every image set with every tuning; trajectories written to `out`.
 pub fn slam_runs(
     sensed: &Sensed,
-    tunings: &[RatSlamParams],
+    tunings: &Tunings,
     kidnap: bool,
     out: Option<&Path>,
     plane: &Plane,
     ctx: Context,
 ) -> Result<Vec<RunResult>> {
     let seed = sensed.seed;
-    let sweep = tunings.len() > 1;
+    let sweep = tunings.sweep();
     let starts = &sensed.starts;
     let mut results = Vec::new();
     let variants: &[bool] = if kidnap { &[false, true] } else { &[false] };
@@ -465,8 +417,8 @@ pub fn slam_runs(
         let updates = steps.len();
         for (images_name, images) in &sensed.image_sets {
             let images = without(images, &cut);
-            for params in tunings {
-                let tuning = tuning_tag(params, sweep);
+            for params in &tunings.for_run(images_name, name) {
+                let tuning = tuning::tag(params, sweep);
                 let mut record = plane.recording.map(|rec| RunRecording {
                     rec,
                     name: run_recording::run_name(images_name, name, &tuning, seed),
