@@ -43,8 +43,9 @@ pub struct Args {
     #[arg(long)]
     pub images: Option<PathBuf>,
     /// Tune (§3.2.1): per image set and variant, choose from the `--match-threshold` ×
-    /// `--inject-energy` grid the pair with the lowest mean Energy Metric over the seeds
-    /// (ties: the higher ARR) and write FILE, beside the scenario, as a scenario over it
+    /// `--inject-energy` grid, among the pairs whose mean Energy Metric over the seeds is
+    /// within 25 % of the lowest, the one of highest mean ARR × ARCR (ties: the lower EM),
+    /// and write FILE, beside the scenario, as a scenario over it
     /// (`[maze_slam.tuned]`). Tune on seeds that are not reported.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["dataset", "mcap"])]
     pub tune: Option<PathBuf>,
