@@ -334,15 +334,12 @@ fn simulate(
         if soaked.broken {
             break;
         }
-        if k % 2000 == 0 {
-            ctx.reporter.status(&format!(
-                "{name}: {:.0} of {} s simulated",
-                k as f64 * DT,
-                o.duration
-            ));
+        // A bar on a terminal; off one (a log, a batch job) a line at each tenth.
+        if k % 2000 == 0 || k >= steps {
+            let what = format!("steps of {name} ({} s simulated)", o.duration);
+            ctx.reporter.progress(&what, k as u64, steps as u64);
         }
     }
-    ctx.reporter.status("");
     if let Some(r) = record {
         r.finish()?;
     }
