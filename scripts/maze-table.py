@@ -4,6 +4,9 @@ variant, the mean ± sd of ARR, ARCR and EM over the seeds, and between two cond
 exact two-sided Mann–Whitney p on each metric (all rank assignments; fine for n ≤ 10).
 
     python3 scripts/maze-table.py LABEL=REPORT.json [LABEL=REPORT.json …] [--compare A B]
+        [--variants]
+
+`--variants` adds normal against kidnapped within each condition and image set.
 
 A report's runs are grouped by (images without their control prefix, variant), so the
 open-loop and RCP reports line up on max_angle / contact_angle × normal / kidnapped.
@@ -43,6 +46,8 @@ def mann_whitney(a, b):
 def main():
     args = sys.argv[1:]
     compare = None
+    variants = "--variants" in args
+    args = [a for a in args if a != "--variants"]
     if "--compare" in args:
         i = args.index("--compare")
         compare = args[i + 1 : i + 3]
@@ -77,6 +82,20 @@ def main():
                 for m in ("arr", "arcr", "energy_metric")
             ]
             print(f"| {images} | {variant} | {p[0]:.3f} | {p[1]:.3f} | {p[2]:.3f} |")
+
+    if variants:
+        print("\nMann–Whitney normal vs kidnapped (exact, two-sided):\n")
+        print("| condition | images | p ARR | p ARCR | p EM |")
+        print("|---|---|---|---|---|")
+        for (label, images, variant), runs in sorted(groups.items()):
+            other = groups.get((label, images, "kidnapped"))
+            if variant != "normal" or other is None:
+                continue
+            p = [
+                mann_whitney([r[m] for r in runs], [r[m] for r in other])
+                for m in ("arr", "arcr", "energy_metric")
+            ]
+            print(f"| {label} | {images} | {p[0]:.3f} | {p[1]:.3f} | {p[2]:.3f} |")
 
 
 if __name__ == "__main__":
