@@ -203,6 +203,7 @@ pub fn run(a: &Args, ctx: Context) -> Result {
 /// `whisker slam DIR`.
 pub fn slam(a: &SlamArgs, ctx: Context) -> Result {
     let (dir, _unpacked) = super::export::dataset(a.dataset.as_ref(), a.mcap.as_ref())?;
+    let dir = dir.ok_or_else(|| Error::Input("expected a dataset DIR or --mcap FILE".into()))?;
     let report = dataset_runs::slam(&dir, a.out.as_deref(), ctx)?;
     match a.json {
         true => print_json(&report, false),

@@ -48,18 +48,17 @@ pub fn also(dir: &Path, mcap: Option<&PathBuf>) -> Result {
     Ok(())
 }
 
-/// The dataset a replay reads: `dir` itself, or the bag `mcap` unpacked (kept while the
-/// returned guard lives).
+/// The dataset a replay reads, if any: `dir` itself, or the bag `mcap` unpacked (kept while
+/// the returned guard lives).
 pub fn dataset(
     dir: Option<&PathBuf>,
     mcap: Option<&PathBuf>,
-) -> Result<(PathBuf, Option<Unpacked>)> {
+) -> Result<(Option<PathBuf>, Option<Unpacked>)> {
     match (dir, mcap) {
         (_, Some(f)) => {
             let u = ros2_bag::unpack(f)?;
-            Ok((u.dir.clone(), Some(u)))
+            Ok((Some(u.dir.clone()), Some(u)))
         }
-        (Some(d), None) => Ok((d.clone(), None)),
-        (None, None) => Err(Error::Input("expected a dataset DIR or --mcap FILE".into())),
+        (d, None) => Ok((d.cloned(), None)),
     }
 }

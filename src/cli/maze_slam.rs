@@ -101,13 +101,7 @@ pub fn run(a: &Args, ctx: Context) -> Result {
         set: a.set.clone(),
         rrd: a.rrd.target(),
     };
-    let (dataset, _unpacked) = match (&a.dataset, &a.mcap) {
-        (None, None) => (None, None),
-        (d, m) => {
-            let (dir, u) = super::export::dataset(d.as_ref(), m.as_ref())?;
-            (Some(dir), u)
-        }
-    };
+    let (dataset, _unpacked) = super::export::dataset(a.dataset.as_ref(), a.mcap.as_ref())?;
     let report = match &dataset {
         Some(dir) => maze_slam::replay(&settings, dir, &Manifest::read(dir)?, ctx)?,
         None => maze_slam::run(&settings, ctx)?,

@@ -22,16 +22,6 @@ fn f64_at(b: &[u8], at: usize) -> f64 {
     f64::from_le_bytes(b[at..at + 8].try_into().unwrap())
 }
 
-/// The numbers of a CSV file's rows (the header skipped), by column.
-fn csv_rows(path: &Path) -> Vec<Vec<String>> {
-    std::fs::read_to_string(path)
-        .unwrap()
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').map(String::from).collect())
-        .collect()
-}
-
 /// The kinematic maze: export, read back byte for byte, replay from the bag = replay
 /// from the directory (`whisker slam` and `whisker maze-slam`), and the pose log's
 /// `geometry_msgs/PoseStamped` view decodes to the log's numbers.
@@ -84,9 +74,9 @@ fn maze_bag_replays_as_the_dataset() {
     // PoseStamped by hand: sec, nanosec, frame "world" (4 + 6 bytes), padding to 24, then
     // position x y z and orientation x y z w as float64.
     let poses = messages(&bag, "/log/poses/pose");
-    let rows = csv_rows(&d.join("log/poses.csv"));
-    assert_eq!(poses.len(), rows.len());
-    for (m, r) in poses.iter().zip(&rows) {
+    let logged = rows(&d.join("log/poses.csv"));
+    assert_eq!(poses.len(), logged.len());
+    for (m, r) in poses.iter().zip(&logged) {
         assert_eq!(&m[..4], &[0, 1, 0, 0]);
         let stamp = u32::from_le_bytes(m[4..8].try_into().unwrap()) as f64
             + u32::from_le_bytes(m[8..12].try_into().unwrap()) as f64 * 1e-9;
@@ -103,7 +93,7 @@ fn maze_bag_replays_as_the_dataset() {
     // The contacts' table topic has one message per row.
     assert_eq!(
         messages(&bag, "/log/contacts").len(),
-        csv_rows(&d.join("log/contacts.csv")).len()
+        rows(&d.join("log/contacts.csv")).len()
     );
 }
 
@@ -145,7 +135,7 @@ fn streams_bag_carries_the_whisk_files() {
     let n = m["sensor"]["samples_per_whisk"].as_u64().unwrap() as usize;
     let angles = messages(&bag, "/log/whisks/joint_states");
     assert_eq!(angles.len(), 3 * n);
-    let first = csv_rows(&d.join("log/whisks/whisk_000001.csv"));
+    let first = rows(&d.join("log/whisks/whisk_000001.csv"));
     // JointState: header (stamp 8, frame "" 4+1 → 17), names (count + 18 strings), then
     // the positions: found after the last name, aligned to 8.
     let msg = &angles[n + 10];
@@ -298,7 +288,7 @@ fn object_walks_bag_replays_as_the_dataset() {
         let poses = messages(&bag, &format!("/log/box/{walk}/poses/pose"));
         assert_eq!(
             poses.len(),
-            csv_rows(&d.join(format!("log/box/{walk}/poses.csv"))).len()
+            rows(&d.join(format!("log/box/{walk}/poses.csv"))).len()
         );
     }
 }

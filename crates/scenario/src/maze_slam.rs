@@ -71,6 +71,16 @@ pub struct Tuned {
     pub inject_energy: f64,
 }
 
+impl Tuned {
+    /// `base` with this entry's local-view parameters.
+    pub fn over(&self, base: RatSlamParams) -> RatSlamParams {
+        let mut p = base;
+        p.local_view.match_threshold = self.match_threshold;
+        p.local_view.inject_energy = self.inject_energy;
+        p
+    }
+}
+
 impl Default for MazeSlamConfig {
     fn default() -> Self {
         Self {
@@ -118,10 +128,8 @@ impl MazeSlamConfig {
             .validate()
             .map_err(|e| Error::field(file, "maze_slam.ratslam", e))?;
         for (key, t) in &self.tuned {
-            let mut p = self.ratslam;
-            p.local_view.match_threshold = t.match_threshold;
-            p.local_view.inject_energy = t.inject_energy;
-            p.validate()
+            t.over(self.ratslam)
+                .validate()
                 .map_err(|e| Error::field(file, &format!("maze_slam.tuned.\"{key}\""), e))?;
             let variant = key
                 .rsplit_once('/')

@@ -332,10 +332,8 @@ impl Manifest {
                 .validate()
                 .map_err(|e| Error::field(path, "maze.ratslam", e))?;
             for (key, t) in &m.tuned {
-                let mut p = m.ratslam;
-                p.local_view.match_threshold = t.match_threshold;
-                p.local_view.inject_energy = t.inject_energy;
-                p.validate()
+                t.over(m.ratslam)
+                    .validate()
                     .map_err(|e| Error::field(path, &format!("maze.tuned.{key:?}"), e))?;
             }
         }

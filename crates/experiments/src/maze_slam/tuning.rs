@@ -68,12 +68,8 @@ impl Tunings {
         if let Some(g) = &self.grid {
             return g.clone();
         }
-        let mut p = self.base;
-        if let Some(t) = self.tuned.get(&key(images, variant)) {
-            p.local_view.match_threshold = t.match_threshold;
-            p.local_view.inject_energy = t.inject_energy;
-        }
-        vec![p]
+        let tuned = self.tuned.get(&key(images, variant));
+        vec![tuned.map_or(self.base, |t| t.over(self.base))]
     }
 }
 
