@@ -12,7 +12,6 @@ use super::state::{Loop, Outcome, Sensor, Tally, Whisked, relocalised_into};
 use nalgebra::{Isometry3, Point3, Translation3, Vector3};
 use whisker_scenario::Result;
 use whisker_scenario::explore::{Strategy, Task};
-use whisker_slam::rng::substream;
 
 /// Attempts at a goal per iteration before the array whisks where it is.
 const GOAL_ATTEMPTS: usize = 8;
@@ -22,63 +21,9 @@ const RETREAT_M: f64 = 0.02;
 const RETREATS: usize = 5;
 
 impl Loop<'_> {
-    /// Runs the loop from the array's pose `start` (random draws from `seed`).
-    pub(super) fn run(&mut self, seed: u64, start: Isometry3<f64>) -> Result<Outcome> {
-        let objects: Vec<String> = self.config.maps.keys().cloned().collect();
-        let mut out = Outcome {
-            csv: log::header(&objects, self.robot.chain.dof()),
-            summary: serde_json::Value::Null,
-            map: None,
-            poses: Vec::new(),
-            contacts: Vec::new(),
-            contacts_csv: crate::sensing::contact::HEADER.to_string(),
-            times: Vec::new(),
-            joints: Vec::new(),
-            cycles: Vec::new(),
-            odometry: Vec::new(),
-            start,
-            levels: match &self.sensing {
-                Sensor::Physics(p) => Some(p.levels().to_vec()),
-                Sensor::Kinematic(_) => None,
-            },
-        };
-        let mut tally = Tally {
-            odometry_rng: substream(seed, "explore/odometry"),
-            previous: start,
-            relocalisations: 0,
-            truth_at_creation: Vec::new(),
-            truth_at_revisit: Vec::new(),
-            rc_sums: objects.iter().map(|o| (o.clone(), 0.0)).collect(),
-            objects,
-            pixels: whisker_sim::whisker::array::labels(),
-        };
-        for iteration in 0..self.config.max_iterations {
-            if self.done() {
-                break;
-            }
-            whisker_scenario::stop::check()?;
-            // 1–2. Goal and move.
-            let (goal, status) = self.go();
-            if self.done() {
-                break;
-            }
-            let w = self.whisk(iteration, seed, &mut tally);
-            let decision = self.decide(&w);
-            self.log(
-                iteration,
-                (goal.as_ref(), status),
-                w,
-                decision,
-                &mut tally,
-                &mut out,
-            )?;
-        }
-        self.finish(tally, out)
-    }
-
     /// Steps 3–5: one whisk where the array is, odometry since the last, WhiskerRatSLAM,
     /// and recognition.
-    fn whisk(&mut self, iteration: usize, seed: u64, tally: &mut Tally) -> Whisked {
+    pub(super) fn whisk(&mut self, iteration: usize, seed: u64, tally: &mut Tally) -> Whisked {
         // 3. Whisk where the array is.
         let pose = self.robot.array_pose();
         let start = self.time;
@@ -132,7 +77,7 @@ impl Loop<'_> {
     }
 
     /// Step 6: the SPC's decision on the whisk's contacts and the strategy's bookkeeping.
-    fn decide(&mut self, w: &Whisked) -> SpcDecision {
+    pub(super) fn decide(&mut self, w: &Whisked) -> SpcDecision {
         let decision = if self.config.spc {
             let p = &self.config.placement;
             self.spc.decide(p, &w.pose, &w.world, &mut self.fallbacks)
@@ -146,7 +91,7 @@ impl Loop<'_> {
             && let Some(r) = &self.recognition
         {
             self.course.replan(
-                (self.config, &self.slam.map),
+                (&self.config, &self.slam.map),
                 r,
                 (w.onto.as_deref(), step.experience),
                 (&w.features, &w.pose),
@@ -158,7 +103,7 @@ impl Loop<'_> {
 
     /// The whisk's row of `explore.csv`, its contacts, its record and its place in the
     /// outcome; progress every 10 physics whisks.
-    fn log(
+    pub(super) fn log(
         &mut self,
         iteration: usize,
         (goal, status): (Option<&(Isometry3<f64>, GoalKind)>, &'static str),
@@ -220,7 +165,7 @@ impl Loop<'_> {
     }
 
     /// The run's summary (and end of the recording); the map built.
-    fn finish(&mut self, tally: Tally, mut out: Outcome) -> Result<Outcome> {
+    pub(super) fn finish(&mut self, tally: Tally, mut out: Outcome) -> Result<Outcome> {
         let iterations = out.poses.len();
         let map_accuracy = map_accuracy::measure(
             &self.slam.map,
@@ -260,7 +205,7 @@ impl Loop<'_> {
         Ok(out)
     }
 
-    fn done(&self) -> bool {
+    pub(super) fn done(&self) -> bool {
         match (&self.recognition, self.config.task) {
             (_, Task::Map) => self.course.loops() >= self.config.map_loops,
             (Some(r), Task::Recognise) => {
@@ -271,20 +216,38 @@ impl Loop<'_> {
         }
     }
 
-    /// Step 2: the next goal (the SPC's pending correction, else the strategy's), and the
-    /// move there; a refused goal is counted and the next one tried, up to
-    /// [`GOAL_ATTEMPTS`]. Returns the last goal tried and the move's status.
-    fn go(&mut self) -> (Option<(Isometry3<f64>, GoalKind)>, &'static str) {
+    /// Step 1: the first goal the loop tries next — the SPC's pending correction, else the
+    /// strategy's next goal (none: the array whisks where it is). Taking it moves the SPC
+    /// and the strategy on, as trying it does.
+    pub(super) fn next_goal(&mut self) -> Option<(Isometry3<f64>, GoalKind)> {
+        let level = self.robot.array_pose().rotation * Vector3::y();
+        match self.spc.take() {
+            Some(p) => Some((p, GoalKind::Spc)),
+            None => self.course.next_goal(&level),
+        }
+    }
+
+    /// Step 2: the move to `first` (the goal of [`Self::next_goal`], its pose possibly
+    /// replaced by a caller's); a refused goal is counted and, when `retry`, the next one
+    /// tried ([`Self::next_goal`]), up to [`GOAL_ATTEMPTS`]. Returns the last goal tried
+    /// and the move's status.
+    pub(super) fn go(
+        &mut self,
+        first: Option<(Isometry3<f64>, GoalKind)>,
+        retry: bool,
+    ) -> (Option<(Isometry3<f64>, GoalKind)>, &'static str) {
         let mut goal = None;
         let mut status = "none";
-        for _ in 0..GOAL_ATTEMPTS {
-            let level = self.robot.array_pose().rotation * Vector3::y();
-            let (mut pose, kind) = match self.spc.take() {
-                Some(p) => (p, GoalKind::Spc),
-                None => match self.course.next_goal(&level) {
-                    Some(g) => g,
-                    None => break,
-                },
+        let mut next = first;
+        for attempt in 0..GOAL_ATTEMPTS {
+            if attempt > 0 {
+                if !retry {
+                    break;
+                }
+                next = self.next_goal();
+            }
+            let Some((mut pose, kind)) = next.take() else {
+                break;
             };
             let mut motion = self.robot.move_to(&pose);
             // A face goal inside the object (a sphere cuts a box's corners) is pushed back

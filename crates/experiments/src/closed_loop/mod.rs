@@ -29,6 +29,7 @@
 //! `spc_limit` (a region left unsettled after K adjustments).
 
 pub mod dataset;
+mod episode;
 mod goal;
 mod iteration;
 mod log;
@@ -42,7 +43,8 @@ mod state;
 mod strategy;
 mod whisk_recording;
 
+pub use episode::{Episode, LastWhisk, Refused};
 pub use log::{CSV_NAME, SUMMARY_NAME};
 pub use outputs::{describe, record_arm, write};
-pub use session::{run, run_knowing, run_logged, run_recorded};
+pub use session::{episode, run, run_knowing, run_logged, run_recorded};
 pub use state::Outcome;

@@ -2,6 +2,7 @@
 //! tests, datasets and batch trials all call [`run`] or [`run_logged`]; the mobile robot's
 //! stops call [`run_knowing`] with the maps it built.
 
+use super::episode::{Episode, Refused};
 use super::setup::{self, Outlets};
 use super::state::Outcome;
 use crate::record::{Recorder, Reporter, Silent};
@@ -56,10 +57,31 @@ pub fn run_recorded(
     )
 }
 
-/// Runs a built loop from the array's pose, its random draws from `seed`.
-fn start(mut state: super::state::Loop<'_>, seed: u64) -> Result<Outcome> {
-    let at = state.robot.array_pose();
-    state.run(seed, at)
+/// Runs a built loop from the array's pose, its random draws from `seed`: its
+/// [`Episode`] stepped to the end with the loop's own goals.
+fn start(state: super::state::Loop<'_>, seed: u64) -> Result<Outcome> {
+    let mut episode = Episode::new(state, seed);
+    while episode.step(None, Refused::Strategy)? {}
+    episode.finish()
+}
+
+/// The closed loop `config` of the scenario in `file` in `environment`, ready to be
+/// stepped ([`Episode::step`]) by a caller that chooses the goals (nothing recorded or
+/// said); its random draws from the scenario's seed.
+pub fn episode(
+    file: &ScenarioFile,
+    config: &ExploreConfig,
+    plan: Plan,
+    environment: &Environment,
+) -> Result<Episode<'static>> {
+    let outlets = Outlets {
+        log: None,
+        recording: None,
+        reporter: &Silent,
+        learned: &[],
+    };
+    let state = setup::build(file, config, plan, environment, outlets)?;
+    Ok(Episode::new(state, file.scenario.seed))
 }
 
 /// [`run`], physics whisks' samples handed to `log` (stream `explore/physics/<k>`), each

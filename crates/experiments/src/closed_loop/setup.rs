@@ -41,7 +41,7 @@ pub struct Outlets<'a> {
 /// to start.
 pub fn build<'a>(
     file: &ScenarioFile,
-    config: &'a ExploreConfig,
+    config: &ExploreConfig,
     plan: Plan,
     environment: &Environment,
     outlets: Outlets<'a>,
@@ -93,7 +93,7 @@ pub fn build<'a>(
     };
     let own_links = map.links.len();
     Ok(Loop {
-        config,
+        config: config.clone(),
         truth,
         robot,
         sensing,

@@ -99,7 +99,7 @@ impl Sensor {
 /// recorded. Built by `setup::build`, run by `Loop::run` (`iteration`); its parts keep
 /// their own state behind their own methods.
 pub struct Loop<'a> {
-    pub(super) config: &'a ExploreConfig,
+    pub(super) config: ExploreConfig,
     /// The explored object's name.
     pub(super) truth: String,
     pub(super) robot: Robot,
