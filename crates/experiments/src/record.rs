@@ -200,8 +200,9 @@ pub enum Layout {
 }
 
 /// A recording being written. Every method logs at the time set last by [`Self::at`] (and
-/// [`Self::at_step`]), except the static ones.
-pub trait Recorder {
+/// [`Self::at_step`]), except the static ones. `Sync`, so that a run holding one can move
+/// between threads (the Python package steps closed loops on several).
+pub trait Recorder: Sync {
     /// Sets the simulated time (s) of what is logged next, and no other timeline.
     fn at(&self, t: f64);
     /// Adds a sequence timeline (`update`, `whisk`) to the time of what is logged next

@@ -57,9 +57,9 @@ pub struct Recording {
     path: PathBuf,
     finished: bool,
     /// Contacts waiting for their other half (ground truth or estimate) of a cycle.
-    pending: std::cell::RefCell<world::Pending>,
+    pending: std::sync::Mutex<world::Pending>,
     /// Links of the arm logged (their axes are logged at the end).
-    links: std::cell::Cell<usize>,
+    links: std::sync::atomic::AtomicUsize,
 }
 
 pub(crate) fn fail(path: &Path, e: impl std::fmt::Display) -> Error {

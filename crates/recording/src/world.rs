@@ -99,7 +99,8 @@ impl Recording {
         for (k, link) in links.iter().enumerate() {
             self.log(format!("world/arm/links/{k}"), &transform(link))?;
         }
-        self.links.set(links.len());
+        self.links
+            .store(links.len(), std::sync::atomic::Ordering::Relaxed);
         self.log("world/arm/tip", &transform(tip))
     }
 
@@ -118,7 +119,7 @@ impl Recording {
     /// change).
     pub fn frame_axes(&self) -> Result {
         self.log_static("world/arm/tip", &rerun::TransformAxes3D::new(0.05))?;
-        for k in 0..self.links.get() {
+        for k in 0..self.links.load(std::sync::atomic::Ordering::Relaxed) {
             self.log_static(
                 format!("world/arm/links/{k}"),
                 &rerun::TransformAxes3D::new(0.03),
@@ -172,7 +173,7 @@ impl Recording {
         )?;
         let key = (prefix.to_string(), cycle);
         let pair = {
-            let mut pending = self.pending.borrow_mut();
+            let mut pending = self.pending.lock().unwrap_or_else(|e| e.into_inner());
             let entry = pending
                 .entry(key.clone())
                 .or_insert_with(|| (self.now(), None, None));

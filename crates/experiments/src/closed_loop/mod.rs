@@ -47,4 +47,6 @@ pub use episode::{Episode, LastWhisk, Refused};
 pub use log::{CSV_NAME, SUMMARY_NAME};
 pub use outputs::{describe, record_arm, write};
 pub use session::{episode, run, run_knowing, run_logged, run_recorded};
-pub use state::Outcome;
+pub use crate::sensing::array::array_chain;
+pub use setup::sensor;
+pub use state::{Outcome, Sensor};

@@ -116,7 +116,11 @@ pub fn build<'a>(
 
 /// How the run of the scenario in `file` whisks in `environment`: physics whiskers
 /// (their samples handed to `log`) or the kinematic sweep.
-fn sensor(file: &ScenarioFile, environment: &Environment, log: Option<WhiskLog>) -> Result<Sensor> {
+pub fn sensor(
+    file: &ScenarioFile,
+    environment: &Environment,
+    log: Option<WhiskLog>,
+) -> Result<Sensor> {
     let scenario = &file.scenario;
     Ok(match scenario.sensing {
         Sensing::Physics => {
