@@ -8,7 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
-use whisker_experiments::dataset_format::manifest::{FILE, Manifest};
+use whisker_experiments::dataset_format::manifest::{FILE, Manifest, Role};
 use whisker_experiments::dataset_format::records::{CONTACT_COLUMNS, read_poses, whisk_name};
 use whisker_experiments::dataset_format::table::Table;
 use whisker_experiments::dataset_format::whisk_streams;
@@ -16,8 +16,8 @@ use whisker_experiments::dataset_format::whisk_streams;
 /// The dataset in `path`: a dict with `manifest` (dataset.json's text), `streams` ({folder:
 /// (whisks, samples, whiskers, 3) array of whisk angle in rad and x, y deflection in Hall
 /// counts}; level `streams` only), `contacts` ({file: {column: array}} for every
-/// `contacts.csv`; `point_m` (n, 3) in the array frame) and `poses` ({file: {"time_s": (n,),
-/// "pose": (n, 7) [x, y, z, qx, qy, qz, qw], "whisk": [str]}} for every `poses.csv`). Every
+/// `contacts.csv` of the log; `point_m` (n, 3) in the array frame) and `poses` ({file: {"time_s": (n,),
+/// "pose": (n, 7) [x, y, z, qx, qy, qz, qw], "whisk": [str]}} for every `poses.csv` of the log; ground truth is left to the files). Every
 /// file is checked as `whisker slam` checks it; errors raise `InputError` naming the file
 /// and line. The GIL is released while it reads.
 #[pyfunction]
@@ -115,7 +115,7 @@ fn read(dir: &std::path::Path) -> whisker_scenario::Result<Read> {
     }
     let mut contacts = BTreeMap::new();
     let mut poses = BTreeMap::new();
-    for f in &m.files {
+    for f in m.files.iter().filter(|f| f.role == Role::Log) {
         let path = m.file(dir, &f.path)?;
         if f.path.ends_with("contacts.csv") {
             contacts.insert(f.path.clone(), read_contacts(&path)?);

@@ -37,11 +37,28 @@ impl Episode {
 
 /// A caller's goal: None, or 7 numbers.
 fn goal(g: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<Option<nalgebra::Isometry3<f64>>> {
-    g.map(|g| pose::from_slice(g.as_slice()?, "goal")).transpose()
+    g.map(|g| pose::from_slice(g.as_slice()?, "goal"))
+        .transpose()
+}
+
+/// One step, then the next proposal, so that both are made without the GIL (and in
+/// parallel in [`step_many`]); the proposal is what the next step would take anyway.
+fn step_and_propose(
+    e: &mut Inner,
+    goal: Option<nalgebra::Isometry3<f64>>,
+    how: Refused,
+) -> whisker_scenario::Result<bool> {
+    let stepped = e.step(goal, how)?;
+    e.proposal();
+    Ok(stepped)
 }
 
 fn refused(stay: bool) -> Refused {
-    if stay { Refused::Stay } else { Refused::Strategy }
+    if stay {
+        Refused::Stay
+    } else {
+        Refused::Strategy
+    }
 }
 
 #[pymethods]
@@ -100,7 +117,7 @@ impl Episode {
     ) -> PyResult<bool> {
         let goal = self::goal(goal)?;
         let inner = self.get_mut()?;
-        py.detach(|| inner.step(goal, refused(stay_if_refused)))
+        py.detach(|| step_and_propose(inner, goal, refused(stay_if_refused)))
             .map_err(raise)
     }
 
@@ -137,8 +154,7 @@ impl Episode {
         d.set_item("array_pose", pose::to_array(&at).to_vec().into_pyarray(py))?;
         let confidence: Vec<f64> = e.confidence().iter().flat_map(|&(r, i)| [r, i]).collect();
         let n = confidence.len() / 2;
-        let confidence =
-            Array2::from_shape_vec((n, 2), confidence).expect("two numbers an object");
+        let confidence = Array2::from_shape_vec((n, 2), confidence).expect("two numbers an object");
         d.set_item("confidence", confidence.into_pyarray(py))?;
         let (cell, experiences) = e.pose_cells();
         d.set_item("pose_cell", cell.to_vec().into_pyarray(py))?;
@@ -228,8 +244,29 @@ pub fn step_many(
         inners
             .par_iter_mut()
             .zip(goals)
-            .map(|(e, g)| e.step(g, how))
+            .map(|(e, g)| step_and_propose(e, g, how))
             .collect::<Result<Vec<bool>, _>>()
+    })
+    .map_err(raise)
+}
+
+/// The baseline of `python/examples/bench.py`: the closed loop of `scenario` stepped to its
+/// end in Rust with its own goals, as `whisker run` steps it. Returns (whisks, seconds of
+/// stepping; set-up and outputs excluded). The GIL is released.
+#[pyfunction]
+#[pyo3(signature = (scenario, overrides = Vec::new(), seed = None))]
+pub fn time_loop(
+    py: Python<'_>,
+    scenario: String,
+    overrides: Vec<String>,
+    seed: Option<u64>,
+) -> PyResult<(usize, f64)> {
+    let mut e = Episode::new(py, scenario, overrides, seed)?;
+    let inner = e.get_mut()?;
+    py.detach(|| {
+        let t = std::time::Instant::now();
+        while inner.step(None, Refused::Strategy)? {}
+        Ok((inner.whisks(), t.elapsed().as_secs_f64()))
     })
     .map_err(raise)
 }

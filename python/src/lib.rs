@@ -61,9 +61,7 @@ pub(crate) fn scenario(
 fn parse_overrides(overrides: &[String]) -> PyResult<Vec<Override>> {
     overrides
         .iter()
-        .map(|o| {
-            Override::parse(o).map_err(|e| InputError::new_err(format!("overrides: {e}")))
-        })
+        .map(|o| Override::parse(o).map_err(|e| InputError::new_err(format!("overrides: {e}"))))
         .collect()
 }
 
@@ -108,6 +106,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(whisk::sense, m)?)?;
     m.add_function(wrap_pyfunction!(whisk::array_pose, m)?)?;
     m.add_function(wrap_pyfunction!(episode::step_many, m)?)?;
+    m.add_function(wrap_pyfunction!(episode::time_loop, m)?)?;
     m.add_class::<episode::Episode>()?;
     Ok(())
 }

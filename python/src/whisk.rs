@@ -1,7 +1,10 @@
 //! The arm, the array and one whisk from Python: the array's pose at joint values, and one
 //! whisk cycle with the array held at a pose — kinematic (the anticipated intersect with
 //! the scenario's noise) or physics (Rapier whiskers through the scenario's front end), as
-//! the scenario's `sensing` says, exactly the whisk number `k` of the closed loop there.
+//! the scenario's `sensing` says: the closed loop's whisk number `k` there. Physics draws
+//! its noise from the whisk's own sub-stream (`explore/physics/<k>`), so it is that whisk
+//! exactly; the kinematic contact noise comes from per-whisker streams drawn in sequence
+//! over a run, so a fresh `sense` equals the loop's whisk k with that noise off.
 
 use crate::{InputError, pose, raise};
 use numpy::ndarray::Array3;
@@ -38,7 +41,8 @@ pub fn array_pose<'py>(
 
 /// One whisk with the array held at `pose` (`[x, y, z, qx, qy, qz, qw]`, world) in the
 /// scenario's environment, sensed as the scenario says (`sensing`), its random draws those
-/// of the closed loop's whisk number `k` with `seed` (default: the scenario's). Returns a
+/// of the closed loop's whisk number `k` with `seed` (default: the scenario's; module
+/// documentation). Returns a
 /// dict: `contacts` (a dict of arrays, one entry per contact: `whisker`, `time_s`,
 /// `angle_rad`, `radial_distance_m`, `point_m` (n, 3) in the array frame, `slope`),
 /// `streams` (physics: (18, samples, 3) — whisk angle in rad, x and y deflection in Hall

@@ -43,10 +43,10 @@ mod state;
 mod strategy;
 mod whisk_recording;
 
+pub use crate::sensing::array::array_chain;
 pub use episode::{Episode, LastWhisk, Refused};
 pub use log::{CSV_NAME, SUMMARY_NAME};
 pub use outputs::{describe, record_arm, write};
 pub use session::{episode, run, run_knowing, run_logged, run_recorded};
-pub use crate::sensing::array::array_chain;
 pub use setup::sensor;
 pub use state::{Outcome, Sensor};
