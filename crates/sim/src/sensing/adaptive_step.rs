@@ -30,6 +30,7 @@
 
 use crate::whisker::body::Whisker;
 use nalgebra::Point3;
+use rapier3d_f64::parry::bounding_volume::{Aabb, BoundingVolume};
 use rapier3d_f64::parry::query;
 use rapier3d_f64::prelude::*;
 
@@ -43,6 +44,7 @@ pub fn next_step(world: &PhysicsWorld, whisker: &Whisker, left: f64, dt: f64) ->
     let limit = 0.5 * p.normalized_prediction_distance * p.length_unit;
     let l = whisker.beam.segment_length();
     let mut fastest: f64 = 0.0;
+    let mut fixed_boxes: Option<Vec<(&Collider, Aabb)>> = None;
     for &h in &whisker.segments {
         let body = &world.bodies[h];
         let pose = Whisker::pose(world, h);
@@ -55,11 +57,18 @@ pub fn next_step(world: &PhysicsWorld, whisker: &Whisker, left: f64, dt: f64) ->
             continue;
         }
         let reach = speed * left + 2.0 * limit;
+        // Only colliders whose bounding box comes within `reach` of the segment's can be
+        // within `reach` of it (box separation ≤ shape separation on every axis): the
+        // exact distance is asked of those alone — the same answer, without the distance
+        // queries to the far walls of an office (bit-identical streams).
+        let fixed = fixed_boxes.get_or_insert_with(|| fixed(world).collect());
         let near = body.colliders().iter().any(|&c| {
             let segment = &world.colliders[c];
-            fixed(world).any(|x| {
-                query::distance(segment.position(), segment.shape(), x.position(), x.shape())
-                    .is_ok_and(|d| d.distance <= reach)
+            let bounds = segment.compute_aabb().loosened(reach);
+            fixed.iter().any(|(x, b)| {
+                bounds.intersects(b)
+                    && query::distance(segment.position(), segment.shape(), x.position(), x.shape())
+                        .is_ok_and(|d| d.distance <= reach)
             })
         });
         if near {
@@ -73,10 +82,10 @@ pub fn next_step(world: &PhysicsWorld, whisker: &Whisker, left: f64, dt: f64) ->
     }
 }
 
-/// The world's fixed colliders (the environment: no parent body).
-fn fixed(world: &PhysicsWorld) -> impl Iterator<Item = &Collider> {
+/// The world's fixed colliders (the environment: no parent body) and their bounding boxes.
+fn fixed(world: &PhysicsWorld) -> impl Iterator<Item = (&Collider, Aabb)> {
     world
         .colliders
         .iter()
-        .filter_map(|(_, c)| c.parent().is_none().then_some(c))
+        .filter_map(|(_, c)| c.parent().is_none().then(|| (c, c.compute_aabb())))
 }
