@@ -215,3 +215,46 @@ fn kidnapped_office_dataset_replays_the_live_run() {
     assert_eq!(m["navigate"]["kidnap"], true);
     assert_eq!(m["navigate"]["object"]["dock"], "base");
 }
+
+/// The office on physics whiskers (issue #62; one lap, the fast sweep-plane whiskers,
+/// 4-whisk recognitions and 6-whisk map buildings at the stops to keep it short): the run touches at ≥ 90 % of the updates where the
+/// kinematic sweep touches on the same route, and its dataset — the front end's contacts
+/// with the sensor noise declared — replays to the live run's files.
+#[test]
+fn physics_office_touches_as_kinematic_does_and_its_dataset_replays_the_live_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    let short = |s: String| {
+        let s = office::swap(s, "laps = 2", "laps = 1");
+        office::swap(s, "max_iterations = 800", "max_iterations = 4")
+    };
+    let physics = move |s: String| {
+        let s = office::swap(short(s), "sensing = \"kinematic\"", "sensing = \"physics\"");
+        s.replace("/assets/maps/", "/assets/maps/physics/")
+            + "\n[array]\nrcp = \"saturation\"\nbending = \"sweep-plane\"\nsegments = 8\nsubsteps = 2\n"
+            + "[navigate.object]\nmap_whisks = 6\n"
+    };
+    let (kinematic, _) = office_run(t, "kin", short);
+    let (d, live) = live_equals_replay(t, "phys", physics);
+    let touched = |dir: &Path| -> Vec<bool> {
+        rows(&dir.join("path.csv"))
+            .iter()
+            .map(|r| r[11].parse::<usize>().unwrap() > 0)
+            .collect()
+    };
+    let (k, p) = (touched(&kinematic), touched(&live));
+    assert_eq!(k.len(), p.len(), "the same route, update by update");
+    let both = k.iter().zip(&p).filter(|(a, b)| **a && **b).count();
+    let kinematic_touched = k.iter().filter(|a| **a).count();
+    assert!(kinematic_touched > 50, "{kinematic_touched}");
+    assert!(
+        both as f64 >= 0.9 * kinematic_touched as f64,
+        "physics touched at {both} of the {kinematic_touched} updates kinematic touched"
+    );
+    let m = dataset::manifest(&d);
+    assert_eq!(m["level"], "contacts");
+    assert!(m["noise"]["contacts"].is_null());
+    assert!(m["noise"]["sensor"]["deflection_counts"].as_f64().unwrap() > 0.0);
+    let scenario = std::fs::read_to_string(d.join("truth/scenario.toml")).unwrap();
+    assert!(scenario.contains("sensing = \"physics\""));
+}
