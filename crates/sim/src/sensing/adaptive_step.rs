@@ -87,5 +87,6 @@ fn fixed(world: &PhysicsWorld) -> impl Iterator<Item = (&Collider, Aabb)> {
     world
         .colliders
         .iter()
-        .filter_map(|(_, c)| c.parent().is_none().then(|| (c, c.compute_aabb())))
+        .filter(|(_, c)| c.parent().is_none())
+        .map(|(_, c)| (c, c.compute_aabb()))
 }
