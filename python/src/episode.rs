@@ -191,6 +191,11 @@ impl Episode {
         Ok(self.get()?.identified())
     }
 
+    /// The seed of the episode's random draws (the scenario's unless given).
+    fn seed(&self) -> PyResult<u64> {
+        Ok(self.get()?.seed())
+    }
+
     /// Whisks made so far.
     fn whisks(&self) -> PyResult<usize> {
         Ok(self.get()?.whisks())

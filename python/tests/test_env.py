@@ -111,3 +111,15 @@ def test_vector_env_steps_every_copy_as_alone():
         for i in range(2):
             for k in obs:
                 np.testing.assert_array_equal(obs[k][i], alone[i][k])
+
+
+def test_reset_without_a_seed_takes_the_scenarios_then_the_next():
+    env = whisker_slam.RecognitionEnv(QUICK, overrides={"seed": 7, "explore.max_iterations": 5})
+    assert env.reset()[1]["seed"] == 7
+    assert env.reset()[1]["seed"] == 8
+    assert env.reset(seed=3)[1]["seed"] == 3
+    assert env.reset()[1]["seed"] == 4
+    # The same as whisker run --seed 7: the first proposal is the same goal.
+    a = whisker_slam.Episode(QUICK, ["explore.max_iterations=5"], 7).proposal()
+    b = whisker_slam.RecognitionEnv(QUICK, overrides={"seed": 7}).reset()[0]["proposal"]
+    np.testing.assert_array_equal(a[0], b)

@@ -163,15 +163,9 @@ class RecognitionEnv(gymnasium.Env):
         if seed is None and self._next_seed is not None:
             seed = self._next_seed
         self._loop = _Loop(self.scenario, self._overrides, seed)
-        used = seed if seed is not None else self._scenario_seed()
+        used = self._loop.episode.seed()
         self._next_seed = used + 1
         return self._loop.observe(), {"seed": used, "truth": self._loop.truth}
-
-    def _scenario_seed(self) -> int:
-        import tomllib
-
-        with open(self.scenario, "rb") as f:
-            return int(tomllib.load(f).get("seed", 0))
 
     def step(self, action):
         goal = self._loop.goal(action)
@@ -188,7 +182,8 @@ class RecognitionVectorEnv(VectorEnv):
     """``num_envs`` copies of :class:`RecognitionEnv` stepped together in Rust threads with
     the GIL released (``whisker_slam.step_many``). An episode that ends is reset in the same
     step (``autoreset_mode`` SAME_STEP) with its seed + ``num_envs``; its last observation
-    is in ``infos["final_obs"]``. ``reset(seed=s)`` seeds environment i with s + i."""
+    is in ``infos["final_obs"]``. ``reset(seed=s)`` seeds environment i with s + i (without a
+    seed, s is the scenario's)."""
 
     metadata = {"render_modes": [], "autoreset_mode": gymnasium.vector.AutoresetMode.SAME_STEP}
 
@@ -217,7 +212,8 @@ class RecognitionVectorEnv(VectorEnv):
         return {k: np.stack([o[k] for o in observations]) for k in observations[0]}
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
-        base = 0 if seed is None else seed
+        # Without a seed: the scenario's (as --set seed=… gives it) for the first copy.
+        base = self._loops[0].episode.seed() if seed is None else seed
         self._loops = [
             _Loop(self.scenario, self._overrides, base + i) for i in range(self.num_envs)
         ]

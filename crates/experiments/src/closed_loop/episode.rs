@@ -167,6 +167,11 @@ impl<'a> Episode<'a> {
         Ok(true)
     }
 
+    /// The seed of the run's random draws.
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
     /// The whisks made so far.
     pub fn whisks(&self) -> usize {
         self.iteration
