@@ -123,3 +123,26 @@ def test_reset_without_a_seed_takes_the_scenarios_then_the_next():
     a = whisker_slam.Episode(QUICK, ["explore.max_iterations=5"], 7).proposal()
     b = whisker_slam.RecognitionEnv(QUICK, overrides={"seed": 7}).reset()[0]["proposal"]
     np.testing.assert_array_equal(a[0], b)
+
+
+def test_physics_sensing_reproduces_whisker_run_too(tmp_path):
+    fast = {
+        "explore.max_iterations": 4,
+        "array.bending": "sweep-plane",
+        "array.segments": 8,
+        "array.substeps": 2,
+    }
+    name = scenario("recognise_box_physics.toml")
+    out = tmp_path / "cli"
+    sets = [a for k, v in fast.items() for a in ("--set", f"{k}={v}")]
+    cli("run", name, "--seed", "3", "--out", str(out), "--no-rrd", *sets)
+    env = whisker_slam.RecognitionEnv(name, overrides=fast)
+    obs, _ = env.reset(seed=3)
+    while True:
+        obs, _, term, trunc, _ = env.step(obs["proposal"])
+        assert env.observation_space.contains(obs)
+        if term or trunc:
+            break
+    got = env.finish()
+    assert got["explore_csv"] == (out / "explore.csv").read_text()
+    assert got["contacts_csv"] == (out / "contacts.csv").read_text()
