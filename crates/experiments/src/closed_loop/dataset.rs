@@ -139,10 +139,7 @@ fn manifest(
             } else {
                 ContactNoiseInfo::of(noise)
             },
-            sensor: physics.then_some(SensorNoise {
-                deflection_counts: sensor.noise_counts,
-                angle_rad: sensor.angle_noise_rad,
-            }),
+            sensor: physics.then_some(SensorNoise::of(&sensor)),
             ..NoiseInfo::default()
         },
         closed_loop: Some(ClosedLoopInfo {

@@ -96,8 +96,8 @@ impl Sensor {
 
 /// The state of a run: the robot and its sensing, WhiskerRatSLAM and recognition, the
 /// strategy's course, the SPC, the fallbacks counted, the simulated time and what is
-/// recorded. Built by `setup::build`, run by `Loop::run` (`iteration`); its parts keep
-/// their own state behind their own methods.
+/// recorded. Built by `setup::build`, stepped by `Episode` (`episode`, `iteration`); its
+/// parts keep their own state behind their own methods.
 pub struct Loop<'a> {
     pub(super) config: ExploreConfig,
     /// The explored object's name.

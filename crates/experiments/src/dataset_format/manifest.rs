@@ -178,6 +178,16 @@ pub struct SensorNoise {
     pub angle_rad: f64,
 }
 
+impl SensorNoise {
+    /// The readings' noise of the sensors `model`.
+    pub fn of(model: &whisker_sim::whisker::sensor::SensorModel) -> Self {
+        Self {
+            deflection_counts: model.noise_counts,
+            angle_rad: model.angle_noise_rad,
+        }
+    }
+}
+
 /// Contact noise (§6.1.3.1.2).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

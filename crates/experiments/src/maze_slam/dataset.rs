@@ -254,12 +254,8 @@ fn physics_log(
             angle_resolution_rad: model.angle_resolution_rad,
             saturation_counts: model.saturation_counts,
         }),
-        sensor_noise: (model.noise_counts > 0.0 || model.angle_noise_rad > 0.0).then_some(
-            SensorNoise {
-                deflection_counts: model.noise_counts,
-                angle_rad: model.angle_noise_rad,
-            },
-        ),
+        sensor_noise: (model.noise_counts > 0.0 || model.angle_noise_rad > 0.0)
+            .then_some(SensorNoise::of(&model)),
         contact_noise: None,
         frontend: Some(front.params.clone()),
         image_sets: run

@@ -74,14 +74,8 @@ pub fn write(
     let environment = file.environment()?.environment;
     outputs::check(file, config, &plan, &environment)?;
     let run = terrain::run(file, &plan, &environment, config, reporter, None)?;
-    // The whiskers the run's images were made with: the physics array's straight shafts,
-    // or the kinematic sweep's.
     let configs = file.whisker_configs()?;
-    let whiskers = match physics {
-        true => configs.iter().map(|c| c.rigid()).collect(),
-        false => crate::maze_slam::kinematic_whiskers(),
-    };
-    let array = array_info(&whiskers);
+    let array = array_info(&terrain::shafts(file, &configs));
     put_log(&run, &array.labels, s)?;
     let maps = match &config.object {
         Some(o) => crate::closed_loop::dataset::put_maps(&file.path, &o.explore, s)?,
@@ -128,10 +122,7 @@ pub fn write(
         // the streams would be ~0.7 MB a whisk, gigabytes for an office's stops).
         noise: match physics {
             true => NoiseInfo {
-                sensor: Some(SensorNoise {
-                    deflection_counts: configs[0].sensor.noise_counts,
-                    angle_rad: configs[0].sensor.angle_noise_rad,
-                }),
+                sensor: Some(SensorNoise::of(&configs[0].sensor)),
                 ..NoiseInfo::default()
             },
             false => NoiseInfo {

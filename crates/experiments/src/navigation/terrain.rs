@@ -52,6 +52,7 @@ use whisker_sim::arm::LinkShapes;
 use whisker_sim::environment::Environment;
 use whisker_sim::environment::solids::Solids;
 use whisker_sim::sensing::kinematic::{KinematicArray, RigidWhisker, SweepTarget};
+use whisker_sim::sensing::physics::WhiskerConfig;
 use whisker_sim::whisker::control::WhiskingPattern;
 use whisker_slam::contact::ContactCycle;
 use whisker_slam::navigation::base_odometry::BaseMotion;
@@ -120,15 +121,14 @@ fn whisks(
 ) -> Result<(Vec<RigidWhisker>, Whisks)> {
     let scenario = &file.scenario;
     let configs = file.whisker_configs()?;
+    let whiskers = shafts(file, &configs);
     Ok(match scenario.sensing {
         Sensing::Physics => {
             let physics = PhysicsSensing::of_scenario(file, environment.physics_pieces())?;
             let cycles = physics.sense(target, &poses(), scenario.seed, "navigate", reporter);
-            let whiskers = configs.iter().map(|c| c.rigid()).collect();
             (whiskers, Whisks::Physics(cycles.into_iter()))
         }
         _ => {
-            let whiskers = crate::maze_slam::kinematic_whiskers();
             let patterns = vec![WhiskingPattern::default(); whiskers.len()];
             let noise = scenario.kinematic.noise(&file.path)?;
             let key = substream_key(scenario.seed, "navigate/sensing");
@@ -137,6 +137,15 @@ fn whisks(
             (whiskers, Whisks::Kinematic(array))
         }
     })
+}
+
+/// The straight shafts a run's images and free points are made with (its whiskers
+/// `configs`): the physics array's, or the kinematic sweep's.
+pub fn shafts(file: &ScenarioFile, configs: &[WhiskerConfig]) -> Vec<RigidWhisker> {
+    match file.scenario.sensing {
+        Sensing::Physics => configs.iter().map(|c| c.rigid()).collect(),
+        _ => crate::maze_slam::kinematic_whiskers(),
+    }
 }
 
 /// One update of a terrain run.

@@ -218,10 +218,7 @@ fn manifest(
             saturation_counts: sensor.saturation_counts,
         }),
         noise: NoiseInfo {
-            sensor: physics.then_some(SensorNoise {
-                deflection_counts: sensor.noise_counts,
-                angle_rad: sensor.angle_noise_rad,
-            }),
+            sensor: physics.then_some(SensorNoise::of(&sensor)),
             odometry_6d: (!o.clean).then_some(Odometry6Noise::WALK),
             contacts: ContactNoiseInfo::of(noise),
             ..NoiseInfo::default()
