@@ -9,7 +9,7 @@ use pyo3::types::PyDict;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use whisker_experiments::dataset_format::manifest::{FILE, Manifest, Role};
-use whisker_experiments::dataset_format::records::{CONTACT_COLUMNS, read_poses, whisk_name};
+use whisker_experiments::dataset_format::records::{CONTACT_COLUMNS, read_poses};
 use whisker_experiments::dataset_format::table::Table;
 use whisker_experiments::dataset_format::whisk_streams;
 
@@ -98,8 +98,7 @@ fn read(dir: &std::path::Path) -> whisker_scenario::Result<Read> {
         let mut flat = Vec::new();
         let (mut samples, mut whiskers) = (0, 0);
         for k in 0..n {
-            // A gap in the numbering is named by the missing file.
-            m.file(dir, &format!("{folder}/{}", whisk_name(k)))?;
+            // A gap in the numbering is named by the missing file (`Manifest::file`).
             let s = whisk_streams(dir, &m, &folder, k)?;
             whiskers = s.len();
             samples = s.first().map_or(0, Vec::len);

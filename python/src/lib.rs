@@ -77,23 +77,12 @@ fn run(
     out: Option<String>,
     seed: Option<u64>,
 ) -> PyResult<String> {
-    let overrides = parse_overrides(&overrides)?;
-    let path = PathBuf::from(&scenario);
-    let file = ScenarioFile::load_with(&path, &overrides).map_err(raise)?;
+    let file = self::scenario(&scenario, &overrides, seed)?;
     let dir = out
         .map(PathBuf::from)
         .unwrap_or_else(|| file.scenario.output.dir.clone());
-    py.detach(|| {
-        whisker_experiments::run::run(
-            &path,
-            Some(dir.clone()),
-            seed,
-            &overrides,
-            &Target::off(),
-            Context::QUIET,
-        )
-    })
-    .map_err(raise)?;
+    py.detach(|| whisker_experiments::run::execute(&file, &dir, &Target::off(), Context::QUIET))
+        .map_err(raise)?;
     Ok(dir.to_string_lossy().into_owned())
 }
 
